@@ -1,0 +1,428 @@
+//! Analytic surfaces and curves (plane, cylinder, sphere, line, circle) and
+//! small ready-made models built from them. They let every crate test its
+//! stage on exactly known geometry without reading a CAD file.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::sync::Arc;
+
+use crate::model::*;
+use crate::traits::*;
+use crate::vec3::{self, add, cross, dot, scale, sub, Vec3};
+
+/// Shifts `x` by whole periods to the representative nearest `target`.
+fn nearest_period(x: f64, period: f64, target: f64) -> f64 {
+    x + ((target - x) / period).round() * period
+}
+
+/// The plane `origin + u·xdir + v·ydir` (xdir, ydir orthonormal).
+#[derive(Clone, Debug)]
+pub struct Plane {
+    /// Point at (0, 0).
+    pub origin: Vec3,
+    /// Unit u direction.
+    pub xdir: Vec3,
+    /// Unit v direction, orthogonal to `xdir`.
+    pub ydir: Vec3,
+    /// Bounds reported by `uv_bounds`.
+    pub bounds: Bounds2,
+}
+
+impl Surface for Plane {
+    fn eval(&self, uv: [f64; 2]) -> Vec3 {
+        add(self.origin, add(scale(self.xdir, uv[0]), scale(self.ydir, uv[1])))
+    }
+    fn derivs(&self, uv: [f64; 2]) -> SurfaceDerivs {
+        SurfaceDerivs { point: self.eval(uv), du: self.xdir, dv: self.ydir, duu: [0.0; 3], duv: [0.0; 3], dvv: [0.0; 3] }
+    }
+    fn uv_bounds(&self) -> Bounds2 {
+        self.bounds
+    }
+    fn periods(&self) -> [Option<f64>; 2] {
+        [None, None]
+    }
+    fn project(&self, p: Vec3, _hint: Option<[f64; 2]>) -> Option<([f64; 2], Vec3)> {
+        let d = sub(p, self.origin);
+        let uv = [dot(d, self.xdir), dot(d, self.ydir)];
+        Some((uv, self.eval(uv)))
+    }
+}
+
+/// The cylinder `center + r (cos u·xdir + sin u·ydir) + v·axis`, u periodic (2π).
+#[derive(Clone, Debug)]
+pub struct Cylinder {
+    /// Point on the axis at v = 0.
+    pub center: Vec3,
+    /// Unit direction of u = 0.
+    pub xdir: Vec3,
+    /// Unit direction of u = π/2.
+    pub ydir: Vec3,
+    /// Radius.
+    pub radius: f64,
+    /// v range reported by `uv_bounds`.
+    pub height: (f64, f64),
+}
+
+impl Cylinder {
+    fn axis(&self) -> Vec3 {
+        cross(self.xdir, self.ydir)
+    }
+}
+
+impl Surface for Cylinder {
+    fn eval(&self, uv: [f64; 2]) -> Vec3 {
+        let r = self.radius;
+        add(
+            self.center,
+            add(scale(self.xdir, r * uv[0].cos()), add(scale(self.ydir, r * uv[0].sin()), scale(self.axis(), uv[1]))),
+        )
+    }
+    fn derivs(&self, uv: [f64; 2]) -> SurfaceDerivs {
+        let (s, c) = uv[0].sin_cos();
+        let r = self.radius;
+        SurfaceDerivs {
+            point: self.eval(uv),
+            du: add(scale(self.xdir, -r * s), scale(self.ydir, r * c)),
+            dv: self.axis(),
+            duu: add(scale(self.xdir, -r * c), scale(self.ydir, -r * s)),
+            duv: [0.0; 3],
+            dvv: [0.0; 3],
+        }
+    }
+    fn uv_bounds(&self) -> Bounds2 {
+        Bounds2 { umin: 0.0, umax: TAU, vmin: self.height.0, vmax: self.height.1 }
+    }
+    fn periods(&self) -> [Option<f64>; 2] {
+        [Some(TAU), None]
+    }
+    fn project(&self, p: Vec3, hint: Option<[f64; 2]>) -> Option<([f64; 2], Vec3)> {
+        let d = sub(p, self.center);
+        let mut u = dot(d, self.ydir).atan2(dot(d, self.xdir));
+        u = match hint {
+            Some(h) => nearest_period(u, TAU, h[0]),
+            None => u.rem_euclid(TAU),
+        };
+        let uv = [u, dot(d, self.axis())];
+        Some((uv, self.eval(uv)))
+    }
+}
+
+/// The sphere `center + r (cos v cos u, cos v sin u, sin v)`; u periodic (2π),
+/// v in [−π/2, π/2] with poles at the ends.
+#[derive(Clone, Debug)]
+pub struct Sphere {
+    /// Centre.
+    pub center: Vec3,
+    /// Radius.
+    pub radius: f64,
+}
+
+impl Surface for Sphere {
+    fn eval(&self, uv: [f64; 2]) -> Vec3 {
+        let (su, cu) = uv[0].sin_cos();
+        let (sv, cv) = uv[1].sin_cos();
+        add(self.center, scale([cv * cu, cv * su, sv], self.radius))
+    }
+    fn derivs(&self, uv: [f64; 2]) -> SurfaceDerivs {
+        let (su, cu) = uv[0].sin_cos();
+        let (sv, cv) = uv[1].sin_cos();
+        let r = self.radius;
+        SurfaceDerivs {
+            point: self.eval(uv),
+            du: scale([-cv * su, cv * cu, 0.0], r),
+            dv: scale([-sv * cu, -sv * su, cv], r),
+            duu: scale([-cv * cu, -cv * su, 0.0], r),
+            duv: scale([sv * su, -sv * cu, 0.0], r),
+            dvv: scale([-cv * cu, -cv * su, -sv], r),
+        }
+    }
+    fn normal(&self, uv: [f64; 2]) -> Option<Vec3> {
+        vec3::normalize(sub(self.eval(uv), self.center))
+    }
+    fn uv_bounds(&self) -> Bounds2 {
+        Bounds2 { umin: 0.0, umax: TAU, vmin: -FRAC_PI_2, vmax: FRAC_PI_2 }
+    }
+    fn periods(&self) -> [Option<f64>; 2] {
+        [Some(TAU), None]
+    }
+    fn project(&self, p: Vec3, hint: Option<[f64; 2]>) -> Option<([f64; 2], Vec3)> {
+        let d = sub(p, self.center);
+        let rxy = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        let mut u = if rxy > 1e-14 * self.radius { d[1].atan2(d[0]) } else { hint.map_or(0.0, |h| h[0]) };
+        u = match hint {
+            Some(h) => nearest_period(u, TAU, h[0]),
+            None => u.rem_euclid(TAU),
+        };
+        let uv = [u, d[2].atan2(rxy)];
+        Some((uv, self.eval(uv)))
+    }
+}
+
+/// The line `origin + t·dir` on `range`.
+#[derive(Clone, Debug)]
+pub struct Line {
+    /// Point at t = 0.
+    pub origin: Vec3,
+    /// Direction (any length).
+    pub dir: Vec3,
+    /// Parameter range.
+    pub range: (f64, f64),
+}
+
+impl Curve for Line {
+    fn eval(&self, t: f64) -> Vec3 {
+        add(self.origin, scale(self.dir, t))
+    }
+    fn deriv(&self, _t: f64) -> Vec3 {
+        self.dir
+    }
+    fn range(&self) -> (f64, f64) {
+        self.range
+    }
+    fn project(&self, p: Vec3, _hint: Option<f64>) -> Option<(f64, Vec3)> {
+        let t = (dot(sub(p, self.origin), self.dir) / dot(self.dir, self.dir)).clamp(self.range.0, self.range.1);
+        Some((t, self.eval(t)))
+    }
+}
+
+/// The circle (or arc) `center + r (cos t·xdir + sin t·ydir)` on `range`.
+#[derive(Clone, Debug)]
+pub struct Circle {
+    /// Centre.
+    pub center: Vec3,
+    /// Unit direction of t = 0.
+    pub xdir: Vec3,
+    /// Unit direction of t = π/2.
+    pub ydir: Vec3,
+    /// Radius.
+    pub radius: f64,
+    /// Parameter range.
+    pub range: (f64, f64),
+}
+
+impl Curve for Circle {
+    fn eval(&self, t: f64) -> Vec3 {
+        add(self.center, add(scale(self.xdir, self.radius * t.cos()), scale(self.ydir, self.radius * t.sin())))
+    }
+    fn deriv(&self, t: f64) -> Vec3 {
+        add(scale(self.xdir, -self.radius * t.sin()), scale(self.ydir, self.radius * t.cos()))
+    }
+    fn range(&self) -> (f64, f64) {
+        self.range
+    }
+    fn project(&self, p: Vec3, hint: Option<f64>) -> Option<(f64, Vec3)> {
+        let d = sub(p, self.center);
+        let t0 = dot(d, self.ydir).atan2(dot(d, self.xdir));
+        let target = hint.unwrap_or(0.5 * (self.range.0 + self.range.1));
+        let t = nearest_period(t0, TAU, target).clamp(self.range.0, self.range.1);
+        Some((t, self.eval(t)))
+    }
+}
+
+/// The pcurve `origin + t·dir` in a parameter plane.
+#[derive(Clone, Debug)]
+pub struct Line2d {
+    /// Point at t = 0.
+    pub origin: [f64; 2],
+    /// Direction.
+    pub dir: [f64; 2],
+}
+
+impl Curve2d for Line2d {
+    fn eval(&self, t: f64) -> [f64; 2] {
+        [self.origin[0] + t * self.dir[0], self.origin[1] + t * self.dir[1]]
+    }
+    fn deriv(&self, _t: f64) -> [f64; 2] {
+        self.dir
+    }
+}
+
+/// The pcurve `center + r (cos t, sin t)` in a parameter plane.
+#[derive(Clone, Debug)]
+pub struct Circle2d {
+    /// Centre.
+    pub center: [f64; 2],
+    /// Radius.
+    pub radius: f64,
+}
+
+impl Curve2d for Circle2d {
+    fn eval(&self, t: f64) -> [f64; 2] {
+        [self.center[0] + self.radius * t.cos(), self.center[1] + self.radius * t.sin()]
+    }
+    fn deriv(&self, t: f64) -> [f64; 2] {
+        [-self.radius * t.sin(), self.radius * t.cos()]
+    }
+}
+
+fn line_use(curve: u32, forward: bool, origin: [f64; 2], dir: [f64; 2], seam: bool) -> CurveUse {
+    CurveUse { curve: CurveId(curve), forward, pcurve: Arc::new(Line2d { origin, dir }), seam }
+}
+
+/// A planar square `[0, side]²` in the z = 0 plane: 1 face, 4 line curves, 4 corners.
+pub fn square(side: f64) -> Model {
+    let p = [[0.0, 0.0, 0.0], [side, 0.0, 0.0], [side, side, 0.0], [0.0, side, 0.0]];
+    let corners = p.iter().map(|&point| Corner { point }).collect();
+    let mut curves = Vec::new();
+    let mut uses = Vec::new();
+    for i in 0..4 {
+        let a = p[i];
+        let b = p[(i + 1) % 4];
+        curves.push(CurveEntity {
+            geom: Some(Arc::new(Line { origin: a, dir: sub(b, a), range: (0.0, 1.0) })),
+            range: (0.0, 1.0),
+            start: CornerId(i as u32),
+            end: CornerId(((i + 1) % 4) as u32),
+            degenerate: false,
+        });
+        uses.push(line_use(i as u32, true, [a[0], a[1]], [b[0] - a[0], b[1] - a[1]], false));
+    }
+    let bounds = Bounds2 { umin: 0.0, umax: side, vmin: 0.0, vmax: side };
+    let plane = Plane { origin: [0.0; 3], xdir: [1.0, 0.0, 0.0], ydir: [0.0, 1.0, 0.0], bounds };
+    Model {
+        corners,
+        curves,
+        faces: vec![Face { surface: Arc::new(plane), reversed: false, loops: vec![Loop { uses, outer: true }], uv_bounds: bounds }],
+    }
+}
+
+/// A closed cylinder solid of radius `r` and height `h` along z: a side face
+/// (periodic, with a seam line) and two disc faces; 3 curves (2 circles, 1
+/// seam), 2 corners. Normals point outward.
+pub fn cylinder(r: f64, h: f64) -> Model {
+    let x = [1.0, 0.0, 0.0];
+    let y = [0.0, 1.0, 0.0];
+    let corners = vec![Corner { point: [r, 0.0, 0.0] }, Corner { point: [r, 0.0, h] }];
+    let circle = |z: f64| Circle { center: [0.0, 0.0, z], xdir: x, ydir: y, radius: r, range: (0.0, TAU) };
+    let curves = vec![
+        CurveEntity { geom: Some(Arc::new(circle(0.0))), range: (0.0, TAU), start: CornerId(0), end: CornerId(0), degenerate: false },
+        CurveEntity { geom: Some(Arc::new(circle(h))), range: (0.0, TAU), start: CornerId(1), end: CornerId(1), degenerate: false },
+        CurveEntity {
+            geom: Some(Arc::new(Line { origin: [r, 0.0, 0.0], dir: [0.0, 0.0, 1.0], range: (0.0, h) })),
+            range: (0.0, h),
+            start: CornerId(0),
+            end: CornerId(1),
+            degenerate: false,
+        },
+    ];
+    let side_bounds = Bounds2 { umin: 0.0, umax: TAU, vmin: 0.0, vmax: h };
+    let side = Face {
+        surface: Arc::new(Cylinder { center: [0.0; 3], xdir: x, ydir: y, radius: r, height: (0.0, h) }),
+        reversed: false,
+        loops: vec![Loop {
+            uses: vec![
+                line_use(0, true, [0.0, 0.0], [1.0, 0.0], false),
+                line_use(2, true, [TAU, 0.0], [0.0, 1.0], true),
+                line_use(1, false, [0.0, h], [1.0, 0.0], false),
+                line_use(2, false, [0.0, 0.0], [0.0, 1.0], true),
+            ],
+            outer: true,
+        }],
+        uv_bounds: side_bounds,
+    };
+    let disc = |z: f64, curve: u32, reversed: bool| {
+        let bounds = Bounds2 { umin: -r, umax: r, vmin: -r, vmax: r };
+        Face {
+            surface: Arc::new(Plane { origin: [0.0, 0.0, z], xdir: x, ydir: y, bounds }),
+            reversed,
+            loops: vec![Loop {
+                uses: vec![CurveUse { curve: CurveId(curve), forward: true, pcurve: Arc::new(Circle2d { center: [0.0, 0.0], radius: r }), seam: false }],
+                outer: true,
+            }],
+            uv_bounds: bounds,
+        }
+    };
+    Model { corners, curves, faces: vec![side, disc(0.0, 0, true), disc(h, 1, false)] }
+}
+
+/// A sphere of radius `r` at the origin: one face with a seam (a meridian) and
+/// two degenerate curves at the poles; 2 corners (the poles).
+pub fn sphere(r: f64) -> Model {
+    let corners = vec![Corner { point: [0.0, 0.0, -r] }, Corner { point: [0.0, 0.0, r] }];
+    let pole = |c: u32| CurveEntity { geom: None, range: (0.0, TAU), start: CornerId(c), end: CornerId(c), degenerate: true };
+    let meridian = Circle { center: [0.0; 3], xdir: [1.0, 0.0, 0.0], ydir: [0.0, 0.0, 1.0], radius: r, range: (-FRAC_PI_2, FRAC_PI_2) };
+    let curves = vec![
+        pole(0),
+        CurveEntity { geom: Some(Arc::new(meridian)), range: (-FRAC_PI_2, FRAC_PI_2), start: CornerId(0), end: CornerId(1), degenerate: false },
+        pole(1),
+    ];
+    let s = Sphere { center: [0.0; 3], radius: r };
+    let face = Face {
+        uv_bounds: s.uv_bounds(),
+        surface: Arc::new(s),
+        reversed: false,
+        loops: vec![Loop {
+            uses: vec![
+                line_use(0, true, [0.0, -FRAC_PI_2], [1.0, 0.0], false),
+                line_use(1, true, [TAU, 0.0], [0.0, 1.0], true),
+                line_use(2, false, [0.0, FRAC_PI_2], [1.0, 0.0], false),
+                line_use(1, false, [0.0, 0.0], [0.0, 1.0], true),
+            ],
+            outer: true,
+        }],
+    };
+    Model { corners, curves, faces: vec![face] }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::signed_area;
+
+    fn check_model(m: &Model) {
+        m.validate().unwrap();
+        for (fi, f) in m.faces.iter().enumerate() {
+            for (li, l) in f.loops.iter().enumerate() {
+                let poly = m.loop_uv_polyline(FaceId(fi as u32), li, 8);
+                assert!(signed_area(&poly) > 0.0, "face {fi} loop {li} must be counter-clockwise");
+                // consecutive uses meet in uv, and in 3D the pcurve maps onto the curve
+                for (k, u) in l.uses.iter().enumerate() {
+                    let c = &m.curves[u.curve.idx()];
+                    let next = &l.uses[(k + 1) % l.uses.len()];
+                    let cn = &m.curves[next.curve.idx()];
+                    let end = u.pcurve.eval(if u.forward { c.range.1 } else { c.range.0 });
+                    let start = next.pcurve.eval(if next.forward { cn.range.0 } else { cn.range.1 });
+                    assert!((end[0] - start[0]).hypot(end[1] - start[1]) < 1e-12);
+                    for i in 0..=4 {
+                        let t = c.range.0 + (c.range.1 - c.range.0) * i as f64 / 4.0;
+                        let d = vec3::dist(f.surface.eval(u.pcurve.eval(t)), c.eval(m, t));
+                        assert!(d < 1e-12, "pcurve off its curve by {d}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn primitive_models_follow_the_conventions() {
+        check_model(&square(2.0));
+        check_model(&cylinder(1.0, 3.0));
+        check_model(&sphere(1.5));
+    }
+
+    #[test]
+    fn projection_round_trips() {
+        let m = cylinder(1.0, 3.0);
+        for f in &m.faces {
+            let b = f.uv_bounds;
+            for i in 1..5 {
+                let uv = [b.umin + (b.umax - b.umin) * i as f64 / 5.0, b.vmin + (b.vmax - b.vmin) * 0.3];
+                let p = f.surface.eval(uv);
+                let (_, q) = f.surface.project(p, None).unwrap();
+                assert!(vec3::dist(p, q) < 1e-12);
+            }
+        }
+        let s = Sphere { center: [0.0; 3], radius: 2.0 };
+        let (uv, _) = s.project([0.0, 2.0, 0.0], None).unwrap();
+        assert!((uv[0] - FRAC_PI_2).abs() < 1e-12 && uv[1].abs() < 1e-12);
+    }
+
+    #[test]
+    fn outward_normals() {
+        let m = cylinder(1.0, 3.0);
+        let n_side = m.faces[0].normal([0.0, 1.0]).unwrap();
+        assert!((n_side[0] - 1.0).abs() < 1e-12);
+        assert!((m.faces[1].normal([0.0, 0.0]).unwrap()[2] + 1.0).abs() < 1e-12);
+        assert!((m.faces[2].normal([0.0, 0.0]).unwrap()[2] - 1.0).abs() < 1e-12);
+        let _ = PI;
+    }
+}

@@ -1,0 +1,68 @@
+//! The geometry traits every B-rep entity implements: surfaces, 3D curves and
+//! parameter-space curves (pcurves). Implemented by the OpenCASCADE importer,
+//! the discrete (triangle-mesh) model and the analytic primitives.
+
+use crate::vec3::Vec3;
+use crate::model::Bounds2;
+
+/// Position and derivatives of a surface at one (u, v).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceDerivs {
+    /// S(u, v).
+    pub point: Vec3,
+    /// ∂S/∂u.
+    pub du: Vec3,
+    /// ∂S/∂v.
+    pub dv: Vec3,
+    /// ∂²S/∂u².
+    pub duu: Vec3,
+    /// ∂²S/∂u∂v.
+    pub duv: Vec3,
+    /// ∂²S/∂v².
+    pub dvv: Vec3,
+}
+
+/// A parametric surface S(u, v) → R³ (the geometry of a face, without trimming).
+///
+/// The natural normal is `du × dv`; a [`crate::Face`] may reverse it.
+pub trait Surface: Send + Sync + std::fmt::Debug {
+    /// S(u, v).
+    fn eval(&self, uv: [f64; 2]) -> Vec3;
+    /// S and its first and second derivatives at (u, v).
+    fn derivs(&self, uv: [f64; 2]) -> SurfaceDerivs;
+    /// Unit normal `du × dv / |du × dv|` at (u, v), or `None` where the
+    /// parametrization is singular (a pole) and no limit normal is known.
+    fn normal(&self, uv: [f64; 2]) -> Option<Vec3> {
+        let d = self.derivs(uv);
+        crate::vec3::normalize(crate::vec3::cross(d.du, d.dv))
+    }
+    /// Parameter bounds of the (untrimmed) surface; infinite surfaces report
+    /// the bounds of the face that uses them.
+    fn uv_bounds(&self) -> Bounds2;
+    /// Period in u and in v (`None` when not periodic).
+    fn periods(&self) -> [Option<f64>; 2];
+    /// Closest point on the surface to `p`: `(uv, S(uv))`. `hint` is a
+    /// starting guess. Returns `None` when the projection fails.
+    fn project(&self, p: Vec3, hint: Option<[f64; 2]>) -> Option<([f64; 2], Vec3)>;
+}
+
+/// A parametric 3D curve C(t) on the range `[t0, t1]`.
+pub trait Curve: Send + Sync + std::fmt::Debug {
+    /// C(t).
+    fn eval(&self, t: f64) -> Vec3;
+    /// C'(t).
+    fn deriv(&self, t: f64) -> Vec3;
+    /// Parameter range `(t0, t1)` with `t0 < t1`.
+    fn range(&self) -> (f64, f64);
+    /// Closest point on the curve (within its range) to `p`: `(t, C(t))`.
+    fn project(&self, p: Vec3, hint: Option<f64>) -> Option<(f64, Vec3)>;
+}
+
+/// A curve in a surface's parameter plane, c(t) → (u, v). Pcurves share the
+/// parameter t of their 3D curve: `surface.eval(pcurve.eval(t)) ≈ curve.eval(t)`.
+pub trait Curve2d: Send + Sync + std::fmt::Debug {
+    /// c(t).
+    fn eval(&self, t: f64) -> [f64; 2];
+    /// c'(t).
+    fn deriv(&self, t: f64) -> [f64; 2];
+}

@@ -1,0 +1,7 @@
+//! Mesh structures classified on a [`geometry::Model`], their quality metrics
+//! and statistics, file readers and writers, and pictures.
+
+pub mod atomic;
+pub mod quadmesh;
+
+pub use quadmesh::{NodeClass, QuadMesh};
