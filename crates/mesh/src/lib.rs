@@ -3,5 +3,6 @@
 
 pub mod atomic;
 pub mod quadmesh;
+pub mod quality;
 
 pub use quadmesh::{NodeClass, QuadMesh};
