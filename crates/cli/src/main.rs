@@ -1,1 +1,147 @@
-fn main() {}
+//! `quadrille`: the command-line front of Quadrille.
+//!
+//! Subcommands: `info` (what a CAD model holds), `mesh` (mesh a model),
+//! `stats` (judge any mesh, ours or another mesher's), `render` (draw a mesh).
+//! Every error is printed as one clear message naming the file and the
+//! problem, with a non-zero exit code; no partial output file is left behind.
+
+mod cmd_info;
+mod cmd_mesh;
+mod cmd_render;
+mod cmd_stats;
+mod files;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+
+const EXAMPLES: &str = "\
+Examples:
+  quadrille info part.step
+  quadrille mesh part.step -o part.msh --png part.png
+  quadrille mesh part.step -o part.msh --size-factor 0.5 --threads 2
+  quadrille stats part.msh --cad part.step
+  quadrille stats other_mesher.msh --json
+  quadrille render part.msh -o part.png --sicn";
+
+/// Quadrilateral meshes of CAD models.
+#[derive(Parser, Debug)]
+#[command(name = "quadrille", version, about, after_help = EXAMPLES)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Show what a CAD model holds: corners, curves, faces, loops, seams.
+    #[command(after_help = "Example:\n  quadrille info part.step --json")]
+    Info(InfoArgs),
+    /// Mesh a CAD model (STEP, IGES, BREP) with quads and write MSH, VTU or OBJ.
+    #[command(after_help = "Examples:\n  quadrille mesh part.step -o part.msh\n  quadrille mesh part.step -o part.vtu --size 2.5 --png part.png")]
+    Mesh(MeshArgs),
+    /// Quality statistics of a mesh (MSH 4.1 or 2.2): SICN, valences, irregular vertices, open edges.
+    #[command(after_help = "Examples:\n  quadrille stats part.msh\n  quadrille stats part.msh --cad part.step --json")]
+    Stats(StatsArgs),
+    /// Draw a mesh (MSH) to a PNG picture: shaded quads, edges, irregular vertices.
+    #[command(after_help = "Example:\n  quadrille render part.msh -o part.png --sicn")]
+    Render(RenderArgs),
+}
+
+/// Arguments of `quadrille info`.
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    /// CAD model (.step, .stp, .iges, .igs, .brep, .brp).
+    model: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Arguments of `quadrille mesh`.
+#[derive(Args, Debug)]
+pub struct MeshArgs {
+    /// CAD model (.step, .stp, .iges, .igs, .brep, .brp).
+    model: PathBuf,
+    /// Output mesh: .msh (MSH 4.1), .vtu (VTK) or .obj.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Target edge length, in model units.
+    #[arg(long, conflicts_with = "size_factor")]
+    size: Option<f64>,
+    /// Multiplier of the default edge length (1/50 of the bounding-box diagonal).
+    #[arg(long)]
+    size_factor: Option<f64>,
+    /// Worker threads (default: all cores). The output is the same for any count.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Also draw the mesh to this PNG picture.
+    #[arg(long)]
+    png: Option<PathBuf>,
+    /// Write binary MSH instead of ASCII.
+    #[arg(long)]
+    binary: bool,
+    /// No progress bar and no summary.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+/// Arguments of `quadrille stats`.
+#[derive(Args, Debug)]
+pub struct StatsArgs {
+    /// Mesh file (MSH 4.1 or 2.2, ASCII or binary).
+    mesh: PathBuf,
+    /// The CAD model the mesh was made from: quality uses the CAD normals and
+    /// the distance of the nodes to the CAD is reported.
+    #[arg(long)]
+    cad: Option<PathBuf>,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Arguments of `quadrille render`.
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Mesh file (MSH 4.1 or 2.2).
+    mesh: PathBuf,
+    /// Output picture (.png).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Colour quads by SICN (red = poor, green = good).
+    #[arg(long)]
+    sicn: bool,
+    /// CAD model, for SICN with CAD normals.
+    #[arg(long)]
+    cad: Option<PathBuf>,
+    /// Picture width in pixels.
+    #[arg(long, default_value_t = 1600)]
+    width: u32,
+    /// Picture height in pixels.
+    #[arg(long, default_value_t = 1200)]
+    height: u32,
+    /// Viewing direction (from the eye towards the model), as x,y,z.
+    #[arg(long, value_delimiter = ',', num_args = 3, allow_hyphen_values = true)]
+    view: Option<Vec<f64>>,
+    /// Do not mark irregular vertices.
+    #[arg(long)]
+    no_irregular: bool,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Info(a) => cmd_info::run(&a),
+        Command::Mesh(a) => cmd_mesh::run(&a),
+        Command::Stats(a) => cmd_stats::run(&a),
+        Command::Render(a) => cmd_render::run(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

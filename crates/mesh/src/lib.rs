@@ -2,7 +2,13 @@
 //! and statistics, file readers and writers, and pictures.
 
 pub mod atomic;
+pub mod obj;
+pub mod fixtures;
+pub mod msh;
 pub mod quadmesh;
 pub mod quality;
+pub mod render;
+pub mod vtu;
+pub mod stats;
 
 pub use quadmesh::{NodeClass, QuadMesh};

@@ -1,1 +1,289 @@
-//! placeholder
+//! CAD import for Quadrille through the system OpenCASCADE 7.6 (OCCT).
+//!
+//! [`load`] reads a STEP, IGES or BREP file and returns a [`geometry::Model`]
+//! whose corners, curves and faces are exactly OCCT's vertices, edges and
+//! faces of the loaded shape (`TopExp::MapShapes` order, so entity id `i` is
+//! OCCT index `i + 1`, and an MSH tag `id + 1` names the same entity as Gmsh
+//! would). The shape is not healed or modified.
+//!
+//! Geometry stays in OCCT: [`OcctSurface`], [`OcctCurve`] and [`OcctCurve2d`]
+//! call into a small C++ shim (`src/shim.cpp`); they are `Send + Sync` and safe
+//! to evaluate from several threads at once. OCCT exceptions are caught in the
+//! shim and never unwind into Rust; bad input gives an [`ImportError`] that
+//! names the file and the problem.
+//!
+//! Orientation: loops are built from the face taken FORWARD, so that whatever
+//! the face's orientation in its shell, the material lies to the left of each
+//! loop in (u, v) (outer loop counter-clockwise); the face orientation is
+//! carried by [`geometry::Face::reversed`] instead.
+
+#![warn(missing_docs)]
+
+mod ffi;
+mod geom;
+mod import;
+
+use std::ffi::CString;
+use std::io::Read;
+use std::os::unix::ffi::OsStrExt;
+use std::path::{Path, PathBuf};
+
+pub use geom::{OcctCurve, OcctCurve2d, OcctSurface, PcurveOnSurface};
+pub use import::Import;
+
+use geometry::Model;
+
+/// Why a CAD file could not be imported. Every message names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum ImportError {
+    /// The path does not exist.
+    #[error("{}: file not found", .path.display())]
+    NotFound {
+        /// The file asked for.
+        path: PathBuf,
+    },
+    /// The file exists but could not be read (permissions, a directory, …).
+    #[error("{}: cannot read the file: {detail}", .path.display())]
+    Io {
+        /// The file asked for.
+        path: PathBuf,
+        /// What the operating system said.
+        detail: String,
+    },
+    /// The file is empty (or holds only white space).
+    #[error("{}: the file is empty", .path.display())]
+    Empty {
+        /// The file asked for.
+        path: PathBuf,
+    },
+    /// The extension names no format this importer reads.
+    #[error("{}: unknown CAD file extension {ext:?} (expected .step, .stp, .iges, .igs, .brep or .brp)", .path.display())]
+    UnknownExtension {
+        /// The file asked for.
+        path: PathBuf,
+        /// The extension found (empty when there is none).
+        ext: String,
+    },
+    /// The reader rejected the file: garbage, binary data, a truncated file, …
+    #[error("{}: cannot be read as {format}: {detail}", .path.display())]
+    Unreadable {
+        /// The file asked for.
+        path: PathBuf,
+        /// The format the extension announced ("STEP", "IGES", "BREP").
+        format: &'static str,
+        /// What was wrong.
+        detail: String,
+    },
+    /// The file was read but holds no face to mesh.
+    #[error("{}: no face in the file ({detail})", .path.display())]
+    NoFace {
+        /// The file asked for.
+        path: PathBuf,
+        /// What the file held instead.
+        detail: String,
+    },
+    /// The shape was read but its topology or geometry is unusable
+    /// (an edge without vertices, a face edge without a pcurve, …).
+    #[error("{}: invalid shape: {detail}", .path.display())]
+    Invalid {
+        /// The file asked for.
+        path: PathBuf,
+        /// What was wrong.
+        detail: String,
+    },
+}
+
+/// The CAD formats the importer reads, chosen by file extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// ISO 10303-21 (`.step`, `.stp`).
+    Step,
+    /// IGES 5.x (`.iges`, `.igs`).
+    Iges,
+    /// OCCT's native text BREP (`.brep`, `.brp`).
+    Brep,
+}
+
+impl Format {
+    /// The format for a path's extension (case-insensitive), if known.
+    pub fn from_path(path: &Path) -> Option<Format> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "step" | "stp" => Some(Format::Step),
+            "iges" | "igs" => Some(Format::Iges),
+            "brep" | "brp" => Some(Format::Brep),
+            _ => None,
+        }
+    }
+
+    /// Short name used in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Step => "STEP",
+            Format::Iges => "IGES",
+            Format::Brep => "BREP",
+        }
+    }
+
+    fn code(self) -> i32 {
+        match self {
+            Format::Step => 0,
+            Format::Iges => 1,
+            Format::Brep => 2,
+        }
+    }
+}
+
+/// Reads a CAD file (STEP, IGES or BREP, by extension, case-insensitive)
+/// into a [`Model`]: corners, curves and faces in OCCT `MapShapes` order.
+pub fn load(path: &Path) -> Result<Model, ImportError> {
+    import(path).map(|i| i.model)
+}
+
+/// Like [`load`], and also returns OCCT's tolerances of every corner and
+/// curve (useful for merging nodes and for checking pcurves).
+pub fn import(path: &Path) -> Result<Import, ImportError> {
+    let shape = open(path)?;
+    import::build(&shape, path)
+}
+
+/// Numbers of faces, edges and vertices of the file's shape, as counted by
+/// OCCT itself (`TopExp::MapShapes`): the reference [`load`] must match.
+pub fn topology_counts(path: &Path) -> Result<(usize, usize, usize), ImportError> {
+    let shape = open(path)?;
+    Ok(import::counts(&shape))
+}
+
+/// Why [`convert`] could not write its output.
+#[derive(Debug, thiserror::Error)]
+pub enum ConvertError {
+    /// The input could not be imported.
+    #[error(transparent)]
+    Import(#[from] ImportError),
+    /// The output could not be written.
+    #[error("{}: cannot write {format}: {detail}", .path.display())]
+    Write {
+        /// The output file.
+        path: PathBuf,
+        /// The format its extension asked for.
+        format: &'static str,
+        /// What went wrong.
+        detail: String,
+    },
+}
+
+/// Reads a CAD file and writes its shape, unchanged, to `output` in the
+/// format of `output`'s extension (STEP, IGES in B-rep mode, or BREP): a
+/// format converter, and a way to test every reader on the same shape.
+pub fn convert(input: &Path, output: &Path) -> Result<(), ConvertError> {
+    let write_err = |format: &'static str, detail: String| ConvertError::Write { path: output.to_path_buf(), format, detail };
+    let format = Format::from_path(output).ok_or_else(|| write_err("CAD", "unknown extension".into()))?;
+    let shape = open(input)?;
+    let cpath = CString::new(output.as_os_str().as_bytes()).map_err(|_| write_err(format.name(), "the path holds a NUL byte".into()))?;
+    let mut err = vec![0u8; 1024];
+    // SAFETY: live model, NUL-terminated path, err valid for its length.
+    let rc = unsafe { ffi::occt_write(shape.ptr(), cpath.as_ptr(), format.code(), err.as_mut_ptr().cast(), err.len()) };
+    if rc == ffi::OK {
+        Ok(())
+    } else {
+        Err(write_err(format.name(), c_message(&err)))
+    }
+}
+
+/// The NUL-terminated message in an error buffer.
+fn c_message(err: &[u8]) -> String {
+    let n = err.iter().position(|&b| b == 0).unwrap_or(err.len());
+    String::from_utf8_lossy(&err[..n]).into_owned()
+}
+
+/// How many bytes of the head and tail of a file are checked before OCCT sees it.
+const PEEK: u64 = 4096;
+
+/// Checks the file (exists, not empty, known extension, plausibly of its
+/// format) and reads it with OCCT.
+fn open(path: &Path) -> Result<ffi::ModelPtr, ImportError> {
+    let owned = || path.to_path_buf();
+    let meta = match std::fs::metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(ImportError::NotFound { path: owned() }),
+        Err(e) => return Err(ImportError::Io { path: owned(), detail: e.to_string() }),
+    };
+    if meta.is_dir() {
+        return Err(ImportError::Io { path: owned(), detail: "it is a directory".into() });
+    }
+    let format = Format::from_path(path).ok_or_else(|| ImportError::UnknownExtension {
+        path: owned(),
+        ext: path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default(),
+    })?;
+    let (head, tail) = peek(path, meta.len()).map_err(|e| ImportError::Io { path: owned(), detail: e.to_string() })?;
+    if head.iter().all(|b| b.is_ascii_whitespace()) && meta.len() <= PEEK {
+        return Err(ImportError::Empty { path: owned() });
+    }
+    let unreadable = |detail: String| ImportError::Unreadable { path: owned(), format: format.name(), detail };
+    if head.contains(&0) || tail.contains(&0) {
+        return Err(unreadable("it holds binary data, not text".into()));
+    }
+    if format == Format::Step {
+        let start = String::from_utf8_lossy(&head);
+        if !start.trim_start_matches('\u{feff}').trim_start().starts_with("ISO-10303-21") {
+            return Err(unreadable("it does not start with the ISO-10303-21 header".into()));
+        }
+        if !String::from_utf8_lossy(&tail).contains("END-ISO-10303-21") {
+            return Err(unreadable("it is truncated: no END-ISO-10303-21 terminator".into()));
+        }
+    }
+    let cpath = CString::new(path.as_os_str().as_bytes()).map_err(|_| unreadable("the path holds a NUL byte".into()))?;
+    let mut err = vec![0u8; 1024];
+    let mut out: *mut ffi::OcctModel = std::ptr::null_mut();
+    // SAFETY: cpath is NUL-terminated, out and err are valid for the call.
+    let rc = unsafe { ffi::occt_load(cpath.as_ptr(), format.code(), &mut out, err.as_mut_ptr().cast(), err.len()) };
+    let model = ffi::ModelPtr::new(out);
+    let msg = c_message(&err);
+    match (rc, model) {
+        (ffi::OK, Some(m)) => Ok(m),
+        (ffi::ERR_TRANSFER, _) => Err(ImportError::NoFace { path: owned(), detail: msg }),
+        (ffi::ERR_OPEN, _) | (ffi::ERR_EXCEPTION, _) => Err(unreadable(msg)),
+        (rc, _) => Err(unreadable(format!("the OCCT shim failed with code {rc} {msg}"))),
+    }
+}
+
+/// The first and last `PEEK` bytes of a file of `len` bytes.
+fn peek(path: &Path, len: u64) -> std::io::Result<(Vec<u8>, Vec<u8>)> {
+    use std::io::{Seek, SeekFrom};
+    let mut f = std::fs::File::open(path)?;
+    let mut head = Vec::new();
+    (&mut f).take(PEEK).read_to_end(&mut head)?;
+    if len <= PEEK {
+        return Ok((head.clone(), head));
+    }
+    f.seek(SeekFrom::Start(len - PEEK))?;
+    let mut tail = Vec::new();
+    f.take(PEEK).read_to_end(&mut tail)?;
+    Ok((head, tail))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn format_from_extension_is_case_insensitive() {
+        assert_eq!(Format::from_path(Path::new("a/b.STEP")), Some(Format::Step));
+        assert_eq!(Format::from_path(Path::new("b.stp")), Some(Format::Step));
+        assert_eq!(Format::from_path(Path::new("b.IgS")), Some(Format::Iges));
+        assert_eq!(Format::from_path(Path::new("b.iges")), Some(Format::Iges));
+        assert_eq!(Format::from_path(Path::new("b.Brp")), Some(Format::Brep));
+        assert_eq!(Format::from_path(Path::new("b.brep")), Some(Format::Brep));
+        assert_eq!(Format::from_path(Path::new("b.stl")), None);
+        assert_eq!(Format::from_path(Path::new("step")), None);
+    }
+
+    #[test]
+    fn a_directory_is_an_io_error_naming_it() {
+        let dir = std::env::temp_dir().join("occt_test_dir.step");
+        std::fs::create_dir_all(&dir).unwrap();
+        let e = load(&dir).unwrap_err();
+        assert!(matches!(e, ImportError::Io { .. }), "{e:?}");
+        assert!(e.to_string().contains("occt_test_dir.step"));
+    }
+}

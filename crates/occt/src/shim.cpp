@@ -1,0 +1,521 @@
+// Flat C interface over the parts of OpenCASCADE 7.6 that Quadrille uses.
+//
+// Rules of this file:
+// - Only opaque pointers and plain C data cross the boundary.
+// - Every exported function catches every C++ exception (Standard_Failure and
+//   anything else) and turns it into an error code: nothing unwinds into Rust.
+// - Reading a file is serialised by a global mutex (the OCCT data-exchange
+//   readers keep global state); evaluating geometry is not (Geom_* evaluation
+//   is const and cache-free in OCCT >= 7.2, so concurrent calls are safe).
+
+#include <BRepTools.hxx>
+#include <BRepTools_WireExplorer.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <GeomAPI_ProjectPointOnCurve.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <Geom2d_Curve.hxx>
+#include <Geom_Curve.hxx>
+#include <Geom_Surface.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <Interface_Check.hxx>
+#include <Interface_CheckIterator.hxx>
+#include <XSControl_Reader.hxx>
+#include <XSControl_WorkSession.hxx>
+#include <IGESControl_Reader.hxx>
+#include <IGESControl_Writer.hxx>
+#include <STEPControl_Writer.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_PrinterOStream.hxx>
+#include <STEPControl_Reader.hxx>
+#include <Standard_Failure.hxx>
+#include <TopAbs.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <TopoDS_Wire.hxx>
+#include <gp_Pnt.hxx>
+#include <gp_Pnt2d.hxx>
+#include <gp_Vec.hxx>
+#include <gp_Vec2d.hxx>
+
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <mutex>
+#include <string>
+#include <vector>
+
+// Error codes shared with src/ffi.rs.
+enum {
+  OK = 0,
+  ERR_OPEN = 1,       // the reader could not open or parse the file
+  ERR_TRANSFER = 2,   // parsed, but no shape could be built from it
+  ERR_EXCEPTION = 3,  // OCCT threw; the message is in the error buffer
+  ERR_INDEX = 4,      // an index out of range
+  ERR_NULL = 5,       // a null geometry (e.g. an edge without a 3D curve)
+  ERR_FAILED = 6,     // an algorithm ran but found no answer
+  ERR_SMALL = 7,      // a caller buffer is too small
+};
+
+struct OcctModel {
+  TopoDS_Shape shape;
+  TopTools_IndexedMapOfShape faces, edges, vertices;
+};
+struct OcctSurf {
+  Handle(Geom_Surface) s;
+};
+struct OcctCurve {
+  Handle(Geom_Curve) c;
+};
+struct OcctCurve2d {
+  Handle(Geom2d_Curve) c;
+};
+
+/// Information on one edge, filled by occt_edge.
+struct OcctEdgeInfo {
+  double first, last;   // parameter range of the edge
+  double tolerance;     // BRep_Tool::Tolerance
+  long v_start, v_end;  // 0-based vertex indices of the FORWARD edge; -1 if absent
+  int degenerate;       // BRep_Tool::Degenerated
+  int same_parameter;   // BRep_Tool::SameParameter
+};
+
+/// One edge use in a face wire, filled by occt_face_uses.
+struct OcctUse {
+  long wire;            // 0 = outer wire, then holes in explorer order
+  long edge;            // 0-based edge index
+  int orientation;      // TopAbs_Orientation of the edge in the FORWARD face
+  int seam;             // BRep_Tool::IsClosed(edge, face)
+  double first, last;   // parameter range of the pcurve
+  OcctCurve2d* pcurve;  // owned by the caller (free with occt_curve2d_free); may be null
+};
+
+static std::mutex g_read_mutex;
+
+static void set_err(char* buf, size_t len, const std::string& msg) {
+  if (buf == nullptr || len == 0) return;
+  std::snprintf(buf, len, "%s", msg.c_str());
+}
+
+static std::string failure_text(const Standard_Failure& f) {
+  std::string s = f.DynamicType()->Name();
+  const char* m = f.GetMessageString();
+  if (m != nullptr && *m != 0) {
+    s += ": ";
+    s += m;
+  }
+  return s;
+}
+
+// Runs `body`, converting exceptions to ERR_EXCEPTION (with text in err).
+template <class F>
+static int guarded(char* err, size_t errlen, F body) {
+  try {
+    return body();
+  } catch (const Standard_Failure& f) {
+    set_err(err, errlen, "OpenCASCADE exception " + failure_text(f));
+  } catch (const std::exception& e) {
+    set_err(err, errlen, std::string("C++ exception: ") + e.what());
+  } catch (...) {
+    set_err(err, errlen, "unknown C++ exception");
+  }
+  return ERR_EXCEPTION;
+}
+
+static void silence_messages() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    const Handle(Message_Messenger)& m = Message::DefaultMessenger();
+    if (!m.IsNull()) m->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
+  });
+}
+
+// After parsing: finds structural errors (unresolved references, entities of
+// the wrong type, syntax errors) that leave null entities behind, on which
+// OCCT's transfer dereferences null handles and crashes. Benign fails (an odd
+// unit definition, …) are let through. Returns an empty string when fine.
+static std::string structural_errors(XSControl_Reader& r) {
+  Interface_CheckIterator it = r.WS()->ModelCheckList();
+  int n = 0;
+  std::string first;
+  for (it.Start(); it.More(); it.Next()) {
+    const Handle(Interface_Check)& c = it.Value();
+    for (int k = 1; k <= c->NbFails(); ++k) {
+      std::string msg = c->CFail(k);
+      if (msg.find("nresolved") != std::string::npos || msg.find("Undefined") != std::string::npos ||
+          msg.find("illegal type") != std::string::npos || msg.find("Parsing") != std::string::npos) {
+        if (n++ == 0) first = msg;
+      }
+    }
+  }
+  if (n == 0) return std::string();
+  return std::to_string(n) + " structural error(s) (unresolved references, bad syntax); the first: " + first;
+}
+
+extern "C" {
+
+/// Reads a file. kind: 0 STEP, 1 IGES, 2 BREP. On success *out owns the model.
+int occt_load(const char* path, int kind, OcctModel** out, char* err, size_t errlen) {
+  if (out == nullptr) return ERR_INDEX;
+  *out = nullptr;
+  return guarded(err, errlen, [&]() -> int {
+    TopoDS_Shape shape;
+    {
+      std::lock_guard<std::mutex> lock(g_read_mutex);
+      silence_messages();
+      if (kind == 0 || kind == 1) {
+        IFSelect_ReturnStatus st;
+        if (kind == 0) {
+          STEPControl_Reader r;
+          st = r.ReadFile(path);
+          if (st != IFSelect_RetDone) {
+            set_err(err, errlen, "the STEP reader could not parse it (status " + std::to_string((int)st) + ")");
+            return ERR_OPEN;
+          }
+          std::string bad = structural_errors(r);
+          if (!bad.empty()) {
+            set_err(err, errlen, bad);
+            return ERR_OPEN;
+          }
+          r.TransferRoots();
+          if (r.NbShapes() == 0) {
+            set_err(err, errlen, "it holds no shape that OpenCASCADE can transfer");
+            return ERR_TRANSFER;
+          }
+          shape = r.OneShape();
+        } else {
+          IGESControl_Reader r;
+          st = r.ReadFile(path);
+          if (st != IFSelect_RetDone) {
+            set_err(err, errlen, "the IGES reader could not parse it (status " + std::to_string((int)st) + ")");
+            return ERR_OPEN;
+          }
+          std::string bad = structural_errors(r);
+          if (!bad.empty()) {
+            set_err(err, errlen, bad);
+            return ERR_OPEN;
+          }
+          r.TransferRoots();
+          if (r.NbShapes() == 0) {
+            set_err(err, errlen, "it holds no shape that OpenCASCADE can transfer");
+            return ERR_TRANSFER;
+          }
+          shape = r.OneShape();
+        }
+      } else if (kind == 2) {
+        BRep_Builder b;
+        if (!BRepTools::Read(shape, path, b)) {
+          set_err(err, errlen, "the BREP reader could not parse it");
+          return ERR_OPEN;
+        }
+      } else {
+        return ERR_INDEX;
+      }
+    }
+    if (shape.IsNull()) {
+      set_err(err, errlen, "it holds no shape that OpenCASCADE can transfer");
+      return ERR_TRANSFER;
+    }
+    OcctModel* m = new OcctModel();
+    m->shape = shape;
+    TopExp::MapShapes(shape, TopAbs_FACE, m->faces);
+    TopExp::MapShapes(shape, TopAbs_EDGE, m->edges);
+    TopExp::MapShapes(shape, TopAbs_VERTEX, m->vertices);
+    *out = m;
+    return OK;
+  });
+}
+
+void occt_model_free(OcctModel* m) { delete m; }
+
+/// Writes the model's shape to `path`. kind: 0 STEP (AP214, as is), 1 IGES
+/// (B-rep mode, so edges stay shared), 2 BREP.
+int occt_write(const OcctModel* m, const char* path, int kind, char* err, size_t errlen) {
+  return guarded(err, errlen, [&]() -> int {
+    std::lock_guard<std::mutex> lock(g_read_mutex);
+    silence_messages();
+    bool ok = false;
+    if (kind == 0) {
+      STEPControl_Writer w;
+      ok = w.Transfer(m->shape, STEPControl_AsIs) == IFSelect_RetDone && w.Write(path) == IFSelect_RetDone;
+    } else if (kind == 1) {
+      IGESControl_Writer w("MM", 1);
+      ok = w.AddShape(m->shape) && (w.ComputeModel(), w.Write(path));
+    } else if (kind == 2) {
+      ok = BRepTools::Write(m->shape, path);
+    } else {
+      return ERR_INDEX;
+    }
+    if (!ok) {
+      set_err(err, errlen, "the writer failed");
+      return ERR_FAILED;
+    }
+    return OK;
+  });
+}
+
+/// Number of faces, edges and vertices (TopExp::MapShapes counts).
+void occt_model_counts(const OcctModel* m, size_t* nf, size_t* ne, size_t* nv) {
+  *nf = (size_t)m->faces.Extent();
+  *ne = (size_t)m->edges.Extent();
+  *nv = (size_t)m->vertices.Extent();
+}
+
+/// Position and tolerance of vertex i (0-based).
+int occt_vertex(const OcctModel* m, size_t i, double* xyz, double* tol) {
+  if (i >= (size_t)m->vertices.Extent()) return ERR_INDEX;
+  return guarded(nullptr, 0, [&]() -> int {
+    const TopoDS_Vertex& v = TopoDS::Vertex(m->vertices((int)i + 1));
+    gp_Pnt p = BRep_Tool::Pnt(v);
+    xyz[0] = p.X();
+    xyz[1] = p.Y();
+    xyz[2] = p.Z();
+    *tol = BRep_Tool::Tolerance(v);
+    return OK;
+  });
+}
+
+/// Edge i (0-based): info, and its 3D curve (location applied) in *curve
+/// (null for a degenerate edge or an edge without a 3D curve).
+int occt_edge(const OcctModel* m, size_t i, OcctEdgeInfo* info, OcctCurve** curve) {
+  *curve = nullptr;
+  if (i >= (size_t)m->edges.Extent()) return ERR_INDEX;
+  return guarded(nullptr, 0, [&]() -> int {
+    TopoDS_Edge e = TopoDS::Edge(m->edges((int)i + 1));
+    e.Orientation(TopAbs_FORWARD);
+    info->degenerate = BRep_Tool::Degenerated(e) ? 1 : 0;
+    info->same_parameter = BRep_Tool::SameParameter(e) ? 1 : 0;
+    info->tolerance = BRep_Tool::Tolerance(e);
+    TopoDS_Vertex v1, v2;
+    TopExp::Vertices(e, v1, v2);
+    info->v_start = v1.IsNull() ? -1 : (long)m->vertices.FindIndex(v1) - 1;
+    info->v_end = v2.IsNull() ? -1 : (long)m->vertices.FindIndex(v2) - 1;
+    double f = 0.0, l = 0.0;
+    BRep_Tool::Range(e, f, l);
+    info->first = f;
+    info->last = l;
+    if (!info->degenerate) {
+      double cf, cl;
+      Handle(Geom_Curve) c = BRep_Tool::Curve(e, cf, cl);
+      if (!c.IsNull()) *curve = new OcctCurve{c};
+    }
+    return OK;
+  });
+}
+
+/// Face i (0-based): reversed flag, uv bounds (umin, umax, vmin, vmax) and the
+/// surface with the face location applied.
+int occt_face(const OcctModel* m, size_t i, int* reversed, double* bounds, OcctSurf** surf) {
+  *surf = nullptr;
+  if (i >= (size_t)m->faces.Extent()) return ERR_INDEX;
+  return guarded(nullptr, 0, [&]() -> int {
+    const TopoDS_Face& f = TopoDS::Face(m->faces((int)i + 1));
+    *reversed = f.Orientation() == TopAbs_REVERSED ? 1 : 0;
+    BRepTools::UVBounds(f, bounds[0], bounds[1], bounds[2], bounds[3]);
+    Handle(Geom_Surface) s = BRep_Tool::Surface(f);
+    if (s.IsNull()) return ERR_NULL;
+    *surf = new OcctSurf{s};
+    return OK;
+  });
+}
+
+/// The edge uses of face i's wires, in the face taken FORWARD (so that the
+/// material lies to the left of each use in (u, v)): outer wire first, each
+/// wire ordered by BRepTools_WireExplorer (explorer order if that misses
+/// edges). INTERNAL/EXTERNAL edges are skipped. Call with cap = 0 to get the
+/// count in *n; then with a buffer of that size to fill it.
+int occt_face_uses(const OcctModel* m, size_t i, OcctUse* buf, size_t cap, size_t* n) {
+  *n = 0;
+  if (i >= (size_t)m->faces.Extent()) return ERR_INDEX;
+  // Pcurves created before a failure are freed here.
+  std::vector<OcctCurve2d*> made;
+  int rc = guarded(nullptr, 0, [&]() -> int {
+    TopoDS_Face f = TopoDS::Face(m->faces((int)i + 1));
+    f.Orientation(TopAbs_FORWARD);
+    TopoDS_Wire outer = BRepTools::OuterWire(f);
+    std::vector<TopoDS_Wire> wires;
+    for (TopExp_Explorer w(f, TopAbs_WIRE); w.More(); w.Next()) {
+      const TopoDS_Wire& wire = TopoDS::Wire(w.Current());
+      if (!outer.IsNull() && wire.IsSame(outer))
+        wires.insert(wires.begin(), wire);
+      else
+        wires.push_back(wire);
+    }
+    size_t count = 0;
+    for (size_t wi = 0; wi < wires.size(); ++wi) {
+      std::vector<TopoDS_Edge> edges;
+      int n_plain = 0;
+      for (TopExp_Explorer x(wires[wi], TopAbs_EDGE); x.More(); x.Next()) ++n_plain;
+      for (BRepTools_WireExplorer x(wires[wi], f); x.More(); x.Next()) edges.push_back(x.Current());
+      if ((int)edges.size() != n_plain) {
+        edges.clear();
+        for (TopExp_Explorer x(wires[wi], TopAbs_EDGE); x.More(); x.Next()) edges.push_back(TopoDS::Edge(x.Current()));
+      }
+      for (const TopoDS_Edge& e : edges) {
+        TopAbs_Orientation o = e.Orientation();
+        if (o != TopAbs_FORWARD && o != TopAbs_REVERSED) continue;
+        if (cap > 0) {
+          if (count >= cap) return ERR_SMALL;
+          OcctUse& u = buf[count];
+          u.wire = (long)wi;
+          u.edge = (long)m->edges.FindIndex(e) - 1;
+          u.orientation = (int)o;
+          u.seam = BRep_Tool::IsClosed(e, f) ? 1 : 0;
+          double pf = 0.0, pl = 0.0;
+          Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(e, f, pf, pl);
+          u.first = pf;
+          u.last = pl;
+          u.pcurve = nullptr;
+          if (!pc.IsNull()) {
+            u.pcurve = new OcctCurve2d{pc};
+            made.push_back(u.pcurve);
+          }
+        }
+        ++count;
+      }
+    }
+    *n = count;
+    return OK;
+  });
+  if (rc != OK) {
+    for (OcctCurve2d* c : made) delete c;
+    *n = 0;
+  }
+  return rc;
+}
+
+// ---------------------------------------------------------------- surfaces
+
+void occt_surf_free(OcctSurf* s) { delete s; }
+
+/// Periods in u and v (0 when not periodic).
+int occt_surf_periods(const OcctSurf* s, double* pu, double* pv) {
+  return guarded(nullptr, 0, [&]() -> int {
+    *pu = s->s->IsUPeriodic() ? s->s->UPeriod() : 0.0;
+    *pv = s->s->IsVPeriodic() ? s->s->VPeriod() : 0.0;
+    return OK;
+  });
+}
+
+/// Natural parameter bounds of the surface (may be infinite).
+int occt_surf_bounds(const OcctSurf* s, double* b) {
+  return guarded(nullptr, 0, [&]() -> int {
+    s->s->Bounds(b[0], b[1], b[2], b[3]);
+    return OK;
+  });
+}
+
+/// S(u, v) into out[0..3].
+int occt_surf_d0(const OcctSurf* s, double u, double v, double* out) {
+  return guarded(nullptr, 0, [&]() -> int {
+    gp_Pnt p = s->s->Value(u, v);
+    out[0] = p.X(); out[1] = p.Y(); out[2] = p.Z();
+    return OK;
+  });
+}
+
+/// S, Su, Sv into out[0..9].
+int occt_surf_d1(const OcctSurf* s, double u, double v, double* out) {
+  return guarded(nullptr, 0, [&]() -> int {
+    gp_Pnt p;
+    gp_Vec du, dv;
+    s->s->D1(u, v, p, du, dv);
+    const double vals[9] = {p.X(), p.Y(), p.Z(), du.X(), du.Y(), du.Z(), dv.X(), dv.Y(), dv.Z()};
+    std::memcpy(out, vals, sizeof(vals));
+    return OK;
+  });
+}
+
+/// S, Su, Sv, Suu, Suv, Svv into out[0..18].
+int occt_surf_d2(const OcctSurf* s, double u, double v, double* out) {
+  return guarded(nullptr, 0, [&]() -> int {
+    gp_Pnt p;
+    gp_Vec du, dv, duu, dvv, duv;
+    s->s->D2(u, v, p, du, dv, duu, dvv, duv);
+    const double vals[18] = {p.X(),   p.Y(),   p.Z(),   du.X(),  du.Y(),  du.Z(),
+                             dv.X(),  dv.Y(),  dv.Z(),  duu.X(), duu.Y(), duu.Z(),
+                             duv.X(), duv.Y(), duv.Z(), dvv.X(), dvv.Y(), dvv.Z()};
+    std::memcpy(out, vals, sizeof(vals));
+    return OK;
+  });
+}
+
+/// Global closest point to p on the surface restricted to [umin,umax]×[vmin,vmax]
+/// (GeomAPI_ProjectPointOnSurf): uv in uv[0..2], point in q[0..3].
+int occt_surf_project(const OcctSurf* s, const double* p, double umin, double umax, double vmin,
+                      double vmax, double* uv, double* q) {
+  return guarded(nullptr, 0, [&]() -> int {
+    GeomAPI_ProjectPointOnSurf proj(gp_Pnt(p[0], p[1], p[2]), s->s, umin, umax, vmin, vmax);
+    if (!proj.IsDone() || proj.NbPoints() == 0) return ERR_FAILED;
+    proj.LowerDistanceParameters(uv[0], uv[1]);
+    gp_Pnt r = proj.NearestPoint();
+    q[0] = r.X(); q[1] = r.Y(); q[2] = r.Z();
+    return OK;
+  });
+}
+
+// ---------------------------------------------------------------- 3D curves
+
+void occt_curve_free(OcctCurve* c) { delete c; }
+
+/// C(t) into out[0..3] and C'(t) into out[3..6].
+int occt_curve_d1(const OcctCurve* c, double t, double* out) {
+  return guarded(nullptr, 0, [&]() -> int {
+    gp_Pnt p;
+    gp_Vec d;
+    c->c->D1(t, p, d);
+    out[0] = p.X(); out[1] = p.Y(); out[2] = p.Z();
+    out[3] = d.X(); out[4] = d.Y(); out[5] = d.Z();
+    return OK;
+  });
+}
+
+/// C(t), C'(t), C''(t) into out[0..9].
+int occt_curve_d2(const OcctCurve* c, double t, double* out) {
+  return guarded(nullptr, 0, [&]() -> int {
+    gp_Pnt p;
+    gp_Vec d1, d2;
+    c->c->D2(t, p, d1, d2);
+    const double vals[9] = {p.X(), p.Y(), p.Z(), d1.X(), d1.Y(), d1.Z(), d2.X(), d2.Y(), d2.Z()};
+    std::memcpy(out, vals, sizeof(vals));
+    return OK;
+  });
+}
+
+/// Global closest point to p on the curve within [t0, t1]
+/// (GeomAPI_ProjectPointOnCurve): parameter in *t, point in q[0..3].
+int occt_curve_project(const OcctCurve* c, const double* p, double t0, double t1, double* t, double* q) {
+  return guarded(nullptr, 0, [&]() -> int {
+    GeomAPI_ProjectPointOnCurve proj(gp_Pnt(p[0], p[1], p[2]), c->c, t0, t1);
+    if (proj.NbPoints() == 0) return ERR_FAILED;
+    *t = proj.LowerDistanceParameter();
+    gp_Pnt r = proj.NearestPoint();
+    q[0] = r.X(); q[1] = r.Y(); q[2] = r.Z();
+    return OK;
+  });
+}
+
+// ---------------------------------------------------------------- pcurves
+
+void occt_curve2d_free(OcctCurve2d* c) { delete c; }
+
+/// c(t) into out[0..2] and c'(t) into out[2..4].
+int occt_curve2d_d1(const OcctCurve2d* c, double t, double* out) {
+  return guarded(nullptr, 0, [&]() -> int {
+    gp_Pnt2d p;
+    gp_Vec2d d;
+    c->c->D1(t, p, d);
+    out[0] = p.X(); out[1] = p.Y();
+    out[2] = d.X(); out[3] = d.Y();
+    return OK;
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,168 @@
+//! Benchmark of the cross-field stage (issue 4): the cross field of a disk
+//! face triangulated with ~100k triangles (and smaller sizes), against one
+//! Cholesky factorization + solve of the same operator (`M + α K`, the
+//! Crouzeix–Raviart connection Laplacian the field is diffused with) and of the
+//! real scalar CR Laplacian on the same edges. Single-threaded.
+//!
+//! Run: `cargo run --release -p quadrille --example bench_crossfield [rings...]`
+//! (a disk of `r` rings has `6 r²` triangles; default 40 80 130).
+
+use std::time::Instant;
+
+use faer::c64;
+use quadrille::crossfield::assembly::{assemble, cr_stiffness};
+use quadrille::crossfield::linsolve::{LowerPattern, SparseSpd};
+use quadrille::crossfield::topology::NONE;
+use quadrille::crossfield::{compute_cross_field, fixtures, CrossFieldOptions, FaceTopology};
+use quadrille::scaling::conformal_scaling;
+use quadrille::singularities::extract_singularities;
+
+fn best_of<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    let mut best = f64::INFINITY;
+    let mut out = None;
+    for _ in 0..runs {
+        let t = Instant::now();
+        let r = f();
+        best = best.min(t.elapsed().as_secs_f64());
+        out = Some(r);
+    }
+    (best, out.unwrap())
+}
+
+fn free_coords(topo: &FaceTopology, free: &[u32]) -> Vec<[f64; 3]> {
+    free.iter()
+        .map(|&e| {
+            let [a, b] = topo.edges[e as usize];
+            let (p, q) = (topo.positions[a as usize], topo.positions[b as usize]);
+            [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0, (p[2] + q[2]) / 2.0]
+        })
+        .collect()
+}
+
+/// One-shot factorization + solve of the cross-field operator `M + α K`
+/// (complex, free edges only) at the finest α: (symbolic, numeric, solve) seconds.
+fn reference_complex(topo: &FaceTopology, fixed: &[bool]) -> (f64, f64, f64) {
+    let u = vec![[1.0, 0.0]; topo.edges.len()];
+    let active = vec![true; topo.triangles.len()];
+    let sys = assemble(topo, &active, fixed, &u).unwrap();
+    let alpha = (3.0 * topo.h_min).powi(2);
+    let mut vals: Vec<c64> = sys.stiffness.iter().map(|k| k * alpha).collect();
+    for j in 0..sys.free.len() {
+        vals[sys.spd.pattern.diag(j)] += c64::new(sys.mass[j], 0.0);
+    }
+    let pattern = sys.spd.pattern.clone();
+    let coords = free_coords(topo, &sys.free);
+    let t = Instant::now();
+    let spd = SparseSpd::analyze(pattern, Some(&coords)).unwrap();
+    let t_sym = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let f = spd.factor(&vals).unwrap();
+    let t_num = t.elapsed().as_secs_f64();
+    let mut rhs: Vec<c64> = sys.mass.iter().map(|&m| c64::new(m, 0.0)).collect();
+    let t = Instant::now();
+    f.solve_in_place(&mut rhs);
+    let t_solve = t.elapsed().as_secs_f64();
+    (t_sym, t_num, t_solve)
+}
+
+/// One-shot factorization + solve of the real scalar CR Laplacian `M + α K`
+/// on the same free edges: total seconds.
+fn reference_scalar(topo: &FaceTopology, fixed: &[bool]) -> f64 {
+    let ne = topo.edges.len();
+    let mut index = vec![NONE; ne];
+    let mut n = 0usize;
+    for e in 0..ne {
+        if !fixed[e] {
+            index[e] = n as u32;
+            n += 1;
+        }
+    }
+    let mut below = vec![Vec::new(); n];
+    for t in 0..topo.triangles.len() {
+        for &a in &topo.tri_edges[t] {
+            for &b in &topo.tri_edges[t] {
+                let (i, j) = (index[a as usize], index[b as usize]);
+                if i != NONE && j != NONE && i > j {
+                    below[j as usize].push(i as usize);
+                }
+            }
+        }
+    }
+    let pattern = LowerPattern::from_columns(n, below);
+    let alpha = (3.0 * topo.h_min).powi(2);
+    let mut vals = vec![0.0f64; pattern.nnz()];
+    for t in 0..topo.triangles.len() {
+        let k = cr_stiffness(topo, t);
+        let te = topo.tri_edges[t];
+        for a in 0..3 {
+            for b in 0..3 {
+                let (i, j) = (index[te[a] as usize], index[te[b] as usize]);
+                if i != NONE && j != NONE && i >= j {
+                    vals[pattern.position(i as usize, j as usize).unwrap()] += alpha * k[a][b];
+                }
+            }
+            let i = index[te[a] as usize];
+            if i != NONE {
+                vals[pattern.diag(i as usize)] += topo.areas[t] / 3.0;
+            }
+        }
+    }
+    let free: Vec<u32> = (0..ne as u32).filter(|&e| index[e as usize] != NONE).collect();
+    let coords = free_coords(topo, &free);
+    let t = Instant::now();
+    let spd = SparseSpd::analyze(pattern, Some(&coords)).unwrap();
+    let f = spd.factor(&vals).unwrap();
+    let mut rhs = vec![1.0f64; n];
+    f.solve_in_place(&mut rhs);
+    t.elapsed().as_secs_f64()
+}
+
+fn main() {
+    faer::set_global_parallelism(faer::Par::Seq);
+    let args: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
+    let rings = if args.is_empty() { vec![40, 80, 130] } else { args };
+    let opts = CrossFieldOptions::default();
+    println!("| face | triangles | edges solved | levels (iterations) | cross field (s) [setup / levels] | factor+solve of M+αK (s) [sym / num / solve] | ratio | scalar CR factor+solve (s) | singularities | scaling (s) |");
+    println!("|---|---:|---:|---|---:|---:|---:|---:|---:|---:|");
+    let pentagon = [[0.0, 0.0], [3.0, 0.0], [3.5, 2.0], [1.0, 3.0], [-0.5, 1.5]];
+    let mut faces = Vec::new();
+    for &r in &rings {
+        faces.push((format!("disk {r} rings"), fixtures::disk(r)));
+    }
+    if let Some(&r) = rings.last() {
+        // irregular pentagon with about as many triangles as the largest disk
+        let n = ((6 * r * r) as f64 / 5.0).sqrt().round() as usize;
+        faces.push(("irregular pentagon".to_string(), fixtures::convex_polygon(&pentagon, n)));
+    }
+    for (name, mesh) in faces {
+        let (t_field, field) = best_of(3, || compute_cross_field(&mesh, &opts).unwrap());
+        let topo = &field.topology;
+        let (t_sym, t_num, t_solve) = (0..3).map(|_| reference_complex(topo, &field.fixed)).fold((f64::INFINITY, f64::INFINITY, f64::INFINITY), |a, b| (a.0.min(b.0), a.1.min(b.1), a.2.min(b.2)));
+        let t_ref = t_sym + t_num + t_solve;
+        let (t_scalar, _) = best_of(3, || reference_scalar(topo, &field.fixed));
+        let sing = extract_singularities(&field);
+        let (t_scale, _) = best_of(3, || conformal_scaling(&field).unwrap());
+        let t_levels: f64 = field.levels.iter().map(|l| l.seconds).sum();
+        let its: Vec<String> = field.levels.iter().map(|l| l.iterations.to_string()).collect();
+        println!(
+            "| {} | {} | {} | {} ({}) | {:.3} [{:.3} / {:.3}] | {:.3} [{:.3} / {:.3} / {:.4}] | {:.2} | {:.3} | {} (sum {}) | {:.3} |",
+            name,
+            topo.triangles.len(),
+            field.free_edges(),
+            field.levels.len(),
+            its.join("+"),
+            t_field,
+            t_field - t_levels,
+            t_levels,
+            t_ref,
+            t_sym,
+            t_num,
+            t_solve,
+            t_field / t_ref,
+            t_scalar,
+            sing.list.len(),
+            sing.index_sum(),
+            t_scale
+        );
+    }
+}

@@ -1,0 +1,413 @@
+//! The baseline all-quad pipeline: curve meshes → per-face triangulation in
+//! (u, v) → triangle split into quads on the CAD → smoothing → one global
+//! [`QuadMesh`].
+//!
+//! Faces are meshed in parallel (rayon) and assembled in face order, so the
+//! output is bit-identical for any thread count. When a face's boundary
+//! polygon is too coarse for its surface (self-intersecting in (u, v), or
+//! quads at the boundary that cannot be made valid), the curves involved get
+//! twice as many segments and the faces around them are meshed again.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+
+use geometry::{CornerId, CurveId, FaceId, Model, ModelError};
+use mesh::{NodeClass, QuadMesh};
+use rayon::prelude::*;
+
+use crate::curve_mesh::{discretize_all, initial_counts, CurveMesh};
+use crate::face_triangulation::{FaceFailure, FaceTriangulation, NodeRef};
+use crate::smoothing::{smooth, untangle};
+use crate::split::{quad_quality, split_triangles, QuadPatch};
+
+/// The default final edge length is the bounding-box diagonal divided by this.
+pub const DEFAULT_DIVISIONS: f64 = 18.0;
+/// Rounds of "refine the curves around failed faces and mesh them again".
+const CURVE_ROUNDS: usize = 6;
+/// Quads with a SICN below this get their interior nodes optimized.
+const UNTANGLE_BELOW: f64 = 0.1;
+/// Passes of that optimization.
+const UNTANGLE_PASSES: usize = 4;
+/// A face with more nodes to untangle than this is beyond local repair.
+const UNTANGLE_MAX_NODES: usize = 5000;
+/// Smoothing sweeps per face.
+const SMOOTHING_SWEEPS: usize = 4;
+
+/// Target mesh size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Size {
+    /// Final quad edge length, in model units.
+    Absolute(f64),
+    /// A multiple of the default size ([`default_size`]); `Factor(1.0)` is the default.
+    Factor(f64),
+}
+
+impl Default for Size {
+    fn default() -> Self {
+        Size::Factor(1.0)
+    }
+}
+
+/// Progress callback: called with `(faces done, total faces)` after each face
+/// (from worker threads, in no particular order).
+pub type ProgressFn = Arc<dyn Fn(usize, usize) + Send + Sync>;
+
+/// Options of [`mesh_model`].
+#[derive(Clone, Default)]
+pub struct MeshOptions {
+    /// Target size (final quad edge length).
+    pub size: Size,
+    /// Worker threads; `None` uses rayon's global pool. The output does not depend on it.
+    pub threads: Option<usize>,
+    /// Called as faces are finished.
+    pub progress: Option<ProgressFn>,
+}
+
+impl std::fmt::Debug for MeshOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MeshOptions")
+            .field("size", &self.size)
+            .field("threads", &self.threads)
+            .field("progress", &self.progress.as_ref().map(|_| "callback"))
+            .finish()
+    }
+}
+
+/// Why meshing failed.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// The requested size is not a positive finite number.
+    #[error("invalid mesh size {0}: it must be a positive finite number")]
+    InvalidSize(f64),
+    /// The model has no face to mesh.
+    #[error("the model has no faces to mesh")]
+    NoFaces,
+    /// The model refers to missing entities.
+    #[error("invalid model: {0}")]
+    Model(#[from] ModelError),
+    /// One face could not be meshed (face numbers are 1-based, as in files).
+    #[error("face {} could not be meshed: {reason}", face.0 + 1)]
+    Face {
+        /// The face.
+        face: FaceId,
+        /// What went wrong.
+        reason: String,
+    },
+    /// The thread pool could not be created.
+    #[error("could not start a pool of {threads} threads: {reason}")]
+    Threads {
+        /// Requested thread count.
+        threads: usize,
+        /// The pool builder's message.
+        reason: String,
+    },
+}
+
+/// True when the environment variable `QUADRILLE_DEBUG` is set: the stages
+/// then print their rounds and the quads they could not fix to stderr (a
+/// developer's aid; the library prints nothing otherwise).
+pub fn debug_enabled() -> bool {
+    static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *ON.get_or_init(|| std::env::var_os("QUADRILLE_DEBUG").is_some())
+}
+
+/// The default final quad edge length: the model's bounding-box diagonal / [`DEFAULT_DIVISIONS`].
+pub fn default_size(model: &Model) -> f64 {
+    model.diagonal() / DEFAULT_DIVISIONS
+}
+
+/// Resolves a [`Size`] to a final edge length for `model`.
+pub fn resolve_size(model: &Model, size: Size) -> Result<f64, MeshError> {
+    let h = match size {
+        Size::Absolute(h) => {
+            if !(h.is_finite() && h > 0.0) {
+                return Err(MeshError::InvalidSize(h));
+            }
+            h
+        }
+        Size::Factor(f) => {
+            if !(f.is_finite() && f > 0.0) {
+                return Err(MeshError::InvalidSize(f));
+            }
+            f * default_size(model)
+        }
+    };
+    if !(h.is_finite() && h > 0.0) {
+        return Err(MeshError::InvalidSize(h));
+    }
+    Ok(h)
+}
+
+/// Meshes every face of `model` with the baseline method: an all-quad mesh,
+/// conforming across shared curves and seams, every node on the CAD and
+/// classified on its entity, every quad counter-clockwise seen from its face's
+/// oriented normal. Output is identical for any `threads`.
+pub fn mesh_model(model: &Model, opts: &MeshOptions) -> Result<QuadMesh, MeshError> {
+    model.validate()?;
+    if model.faces.is_empty() {
+        return Err(MeshError::NoFaces);
+    }
+    let h = resolve_size(model, opts.size)?;
+    match opts.threads {
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n.max(1))
+                .build()
+                .map_err(|e| MeshError::Threads { threads: n, reason: e.to_string() })?;
+            pool.install(|| run(model, h, opts.progress.as_ref()))
+        }
+        None => run(model, h, opts.progress.as_ref()),
+    }
+}
+
+fn run(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Result<QuadMesh, MeshError> {
+    let nf = model.faces.len();
+    let mut counts = initial_counts(model, h);
+    let curve_faces = model.curve_faces();
+    let mut results: Vec<Option<QuadPatch>> = vec![None; nf];
+    let mut pending: Vec<usize> = (0..nf).collect();
+    let done = AtomicUsize::new(0);
+    let mut cms: Vec<CurveMesh>;
+    let mut round = 0;
+    loop {
+        cms = discretize_all(model, &counts);
+        let out: Vec<(usize, Result<QuadPatch, FaceFailure>)> = pending
+            .par_iter()
+            .map(|&f| {
+                let r = mesh_face(model, FaceId(f as u32), &cms, 2.0 * h);
+                if r.is_ok() {
+                    let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+                    if let Some(p) = progress {
+                        p(d.min(nf), nf);
+                    }
+                }
+                (f, r)
+            })
+            .collect();
+        let mut refine: BTreeSet<CurveId> = BTreeSet::new();
+        let mut failed: BTreeMap<usize, String> = BTreeMap::new();
+        for (f, r) in out {
+            match r {
+                Ok(p) => results[f] = Some(p),
+                Err(FaceFailure::Fatal(reason)) => return Err(MeshError::Face { face: FaceId(f as u32), reason }),
+                Err(FaceFailure::RefineCurves(cs, reason)) => {
+                    refine.extend(cs);
+                    failed.insert(f, reason);
+                }
+            }
+        }
+        if debug_enabled() {
+            eprintln!("round {round}: {} faces meshed, failed {:?}, refine {:?}", pending.len(), failed, refine);
+        }
+        if failed.is_empty() {
+            break;
+        }
+        round += 1;
+        if round >= CURVE_ROUNDS || refine.is_empty() {
+            let (&f, reason) = failed.iter().next().ok_or(MeshError::NoFaces)?;
+            return Err(MeshError::Face { face: FaceId(f as u32), reason: reason.clone() });
+        }
+        let mut again: BTreeSet<usize> = failed.keys().copied().collect();
+        for c in &refine {
+            counts[c.idx()] = (counts[c.idx()] * 2).min(1 << 20);
+            again.extend(curve_faces[c.idx()].iter().map(|f| f.idx()));
+        }
+        for &f in &again {
+            if results[f].take().is_some() {
+                done.fetch_sub(1, Ordering::Relaxed);
+            }
+        }
+        pending = again.into_iter().collect();
+    }
+    assemble(model, &cms, &results)
+}
+
+/// Meshes one face against the given curve meshes; `target` is the triangle
+/// size. When quads stay invalid, it tries once more with normal layers
+/// ([`FaceTriangulation::insert_normal_layers`]) before asking for finer curves.
+pub fn mesh_face(model: &Model, fid: FaceId, cms: &[CurveMesh], target: f64) -> Result<QuadPatch, FaceFailure> {
+    let face = &model.faces[fid.idx()];
+    let mut attempt = mesh_face_once(model, fid, cms, target, false)?;
+    if attempt.2.is_empty() {
+        return Ok(attempt.0);
+    }
+    if let Ok(second) = mesh_face_once(model, fid, cms, target, true) {
+        if second.2.len() < attempt.2.len() {
+            attempt = second;
+        }
+    }
+    let (patch, ft_tris, bad, ft_mid) = (attempt.0, attempt.1, attempt.2, attempt.3);
+    if bad.is_empty() {
+        return Ok(patch);
+    }
+    let tris = ft_tris;
+    // quads that stay invalid: refine the curves around them
+    let mut curves = BTreeSet::new();
+    for &t in &bad {
+        let tri = tris[t as usize];
+        for (&(a, b), bm) in &ft_mid {
+            if tri.contains(&a) || tri.contains(&b) {
+                curves.insert(bm.curve);
+            }
+        }
+    }
+    if debug_enabled() {
+        for (qi, q) in patch.quads.iter().enumerate() {
+            if bad.contains(&patch.quad_tri[qi]) {
+                eprintln!("face {} quad {qi} sicn {:.3}", fid.0, quad_quality(face, &patch.nodes, &patch.pos, q));
+                for &i in q {
+                    let n = &patch.nodes[i as usize];
+                    eprintln!("   {i}: uv {:?} {:?} pole {} pos {:?} n {:?}", n.uv, n.node, n.pole.is_some(), patch.pos[i as usize], face.normal(n.uv));
+                }
+            }
+        }
+    }
+    let reason = format!("{} quads stay inverted", bad.len());
+    if curves.is_empty() {
+        return Err(FaceFailure::Fatal(format!("{reason} inside the face")));
+    }
+    Err(FaceFailure::RefineCurves(curves.into_iter().collect(), reason))
+}
+
+type Attempt = (QuadPatch, Vec<[u32; 3]>, Vec<u32>, std::collections::HashMap<(u32, u32), crate::face_triangulation::BoundaryMid>);
+
+/// One meshing attempt: the patch, its triangles, the triangles with invalid
+/// quads, and the boundary midpoints.
+fn mesh_face_once(model: &Model, fid: FaceId, cms: &[CurveMesh], target: f64, layers: bool) -> Result<Attempt, FaceFailure> {
+    let face = &model.faces[fid.idx()];
+    let mut ft = FaceTriangulation::new(model, fid, cms, target)?;
+    if layers {
+        ft.insert_normal_layers();
+    }
+    ft.refine()?;
+    let tris = ft.triangles();
+    if tris.is_empty() {
+        return Err(FaceFailure::RefineCurves(ft.curves.clone(), "the triangulation is empty".into()));
+    }
+    let missing = ft.missing_boundary_edges(&tris);
+    if !missing.is_empty() {
+        return Err(FaceFailure::RefineCurves(missing, "boundary edges left out of the triangulation".into()));
+    }
+    let mut patch = split_triangles(face, &ft.nodes, &ft.pos, &tris, &ft.boundary_mid);
+    smooth(face, &mut patch, SMOOTHING_SWEEPS);
+    untangle(face, &mut patch, UNTANGLE_BELOW, UNTANGLE_PASSES, UNTANGLE_MAX_NODES);
+    let bad = bad_triangles(face, &patch);
+    Ok((patch, tris, bad, ft.boundary_mid))
+}
+
+/// Source triangles of the quads that are invalid (SICN ≤ 0, or two corners on one node).
+fn bad_triangles(face: &geometry::Face, p: &QuadPatch) -> Vec<u32> {
+    let mut bad = BTreeSet::new();
+    for (qi, q) in p.quads.iter().enumerate() {
+        let mut dup = false;
+        for i in 0..4 {
+            for j in i + 1..4 {
+                let (a, b) = (&p.nodes[q[i] as usize], &p.nodes[q[j] as usize]);
+                if q[i] == q[j] || (a.node != NodeRef::Interior && a.node == b.node) {
+                    dup = true;
+                }
+            }
+        }
+        if dup || !(quad_quality(face, &p.nodes, &p.pos, q) > 0.0) {
+            bad.insert(p.quad_tri[qi]);
+        }
+    }
+    bad.into_iter().collect()
+}
+
+/// Builds the global mesh: corners, then curve nodes by curve, then each
+/// face's interior nodes in face order; quads in face order.
+fn assemble(model: &Model, cms: &[CurveMesh], results: &[Option<QuadPatch>]) -> Result<QuadMesh, MeshError> {
+    let mut m = QuadMesh::default();
+    for (i, c) in model.corners.iter().enumerate() {
+        m.nodes.push(c.point);
+        m.node_class.push(NodeClass::Corner(CornerId(i as u32)));
+        m.corner_nodes.push((i as u32, CornerId(i as u32)));
+    }
+    let mut offset = vec![0u32; model.curves.len()];
+    for (ci, ce) in model.curves.iter().enumerate() {
+        if ce.degenerate {
+            continue;
+        }
+        let cm = &cms[ci];
+        let n = cm.params.len();
+        offset[ci] = m.nodes.len() as u32;
+        for i in 1..n - 1 {
+            m.nodes.push(cm.points[i]);
+            m.node_class.push(NodeClass::Curve(CurveId(ci as u32), Some(cm.params[i])));
+        }
+        let id = |i: usize| if i == 0 { ce.start.0 } else if i == n - 1 { ce.end.0 } else { offset[ci] + i as u32 - 1 };
+        for i in 0..n - 1 {
+            m.curve_edges.push(([id(i), id(i + 1)], CurveId(ci as u32)));
+        }
+    }
+    for (fi, r) in results.iter().enumerate() {
+        let fid = FaceId(fi as u32);
+        let p = r.as_ref().ok_or(MeshError::Face { face: fid, reason: "no mesh was produced".into() })?;
+        let mut map = vec![u32::MAX; p.nodes.len()];
+        for q in &p.quads {
+            let mut g = [0u32; 4];
+            for k in 0..4 {
+                let l = q[k] as usize;
+                if map[l] == u32::MAX {
+                    map[l] = match p.nodes[l].node {
+                        NodeRef::Corner(c) => c.0,
+                        NodeRef::Curve(c, i) => offset[c.idx()] + i - 1,
+                        NodeRef::Interior => {
+                            m.nodes.push(p.pos[l]);
+                            m.node_class.push(NodeClass::Face(fid, Some(p.nodes[l].uv)));
+                            (m.nodes.len() - 1) as u32
+                        }
+                    };
+                }
+                g[k] = map[l];
+            }
+            m.quads.push(g);
+            m.quad_face.push(fid);
+        }
+    }
+    Ok(m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geometry::primitives;
+
+    #[test]
+    fn sizes_resolve_against_the_default() {
+        let m = primitives::square(1.0);
+        let d = default_size(&m);
+        assert!((d - 2f64.sqrt() / DEFAULT_DIVISIONS).abs() < 1e-12);
+        assert_eq!(resolve_size(&m, Size::Factor(2.0)).unwrap(), 2.0 * d);
+        assert_eq!(resolve_size(&m, Size::Absolute(0.3)).unwrap(), 0.3);
+        assert!(resolve_size(&m, Size::Absolute(-1.0)).is_err());
+        assert!(resolve_size(&m, Size::Factor(f64::INFINITY)).is_err());
+    }
+
+    #[test]
+    fn nodes_are_numbered_corners_then_curves_then_faces() {
+        let m = primitives::cylinder(1.0, 1.0);
+        let mesh = mesh_model(&m, &MeshOptions::default()).unwrap();
+        let rank = |c: &NodeClass| match c {
+            NodeClass::Corner(_) => 0,
+            NodeClass::Curve(..) => 1,
+            NodeClass::Face(..) => 2,
+            NodeClass::Unclassified => 3,
+        };
+        let ranks: Vec<u8> = mesh.node_class.iter().map(rank).collect();
+        assert!(ranks.windows(2).all(|w| w[0] <= w[1]));
+        assert!(!ranks.contains(&3));
+        // face-interior nodes grouped by face, in face order
+        let faces: Vec<u32> = mesh.node_class.iter().filter_map(|c| if let NodeClass::Face(f, _) = c { Some(f.0) } else { None }).collect();
+        assert!(faces.windows(2).all(|w| w[0] <= w[1]));
+        assert_eq!(mesh.corner_nodes, vec![(0, CornerId(0)), (1, CornerId(1))]);
+    }
+
+    #[test]
+    fn error_names_the_face() {
+        let e = MeshError::Face { face: FaceId(4), reason: "x".into() };
+        assert_eq!(e.to_string(), "face 5 could not be meshed: x");
+    }
+}

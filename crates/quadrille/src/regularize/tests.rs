@@ -1,0 +1,315 @@
+//! Tests of the regular method on hand-built planar stars: exact valence
+//! bookkeeping of every operation (Eq. 1, Eq. 2, the split formula), V − Q
+//! invariance, bit-identical boundary vertices, validity and rollback; then the
+//! whole method on a triangle-split patch and on a meshed model.
+
+use geometry::{primitives, FaceId};
+
+use super::driver::Regularizer;
+use super::ops::{apply, effect, score_delta, Effect, Op};
+use super::validity::{quad_angles, quad_valid, AngleWindow};
+use super::*;
+use crate::face_quads::tests::{grid, plane, planar};
+use crate::face_quads::FaceQuads;
+
+/// Asserts that `after` differs from `before` exactly as `eff` predicted, that
+/// V − Q is unchanged and that every fixed vertex is bit-identical.
+fn assert_bookkeeping(before: &FaceQuads, after: &FaceQuads, eff: &Effect) {
+    after.check().unwrap();
+    for &(v, b, a) in &eff.changes {
+        assert_eq!(before.valence(v), b, "valence before of {v}");
+        assert_eq!(after.valence(v), a, "valence after of {v}");
+    }
+    for v in 0..before.verts.len() as u32 {
+        let listed = eff.changes.iter().any(|c| c.0 == v) || eff.removed.is_some_and(|r| r.0 == v);
+        if before.verts[v as usize].alive && !listed {
+            assert_eq!(before.valence(v), after.valence(v), "vertex {v} changed valence unexpectedly");
+        }
+        if before.verts[v as usize].fixed {
+            let (x, y) = (&before.verts[v as usize], &after.verts[v as usize]);
+            assert_eq!(x.uv.map(f64::to_bits), y.uv.map(f64::to_bits));
+            assert_eq!(x.xyz.map(f64::to_bits), y.xyz.map(f64::to_bits));
+            assert!(y.alive);
+        }
+    }
+    if let Some((r, _)) = eff.removed {
+        assert!(!after.verts[r as usize].alive);
+    }
+    if let Some(c) = eff.created {
+        assert_eq!(after.verts.len(), before.verts.len() + 1);
+        assert_eq!(after.valence(after.verts.len() as u32 - 1), c);
+    }
+    let vq = |f: &FaceQuads| f.num_verts() as i64 - f.num_quads() as i64;
+    assert_eq!(vq(before), vq(after), "V − Q must be invariant");
+}
+
+/// Applies `op` and checks it against its predicted effect; returns the effect.
+fn apply_checked(fq: &mut FaceQuads, op: Op) -> Effect {
+    let m = plane(8.0);
+    let before = fq.clone();
+    let eff = effect(fq, op).expect("operation allowed");
+    apply(fq, &m.faces[0], op).expect("operation applied");
+    assert_bookkeeping(&before, fq, &eff);
+    eff
+}
+
+#[test]
+fn swap_follows_eq1_and_the_perfect_swap_restores_regularity() {
+    let mut fq = grid(4);
+    // quad 5 = (6, 7, 12, 11); its edge 7 → 12 is shared with quad 6 = (7, 8, 13, 12)
+    assert_eq!(fq.quads[5], [6, 7, 12, 11]);
+    let eff = apply_checked(&mut fq, Op::Swap { q: 5, e: 1, k: 1 });
+    // Eq. 1: the old edge (7, 12) loses one, the new one (11, 8) gains one
+    let mut ch: Vec<(u32, u32, u32)> = eff.changes.clone();
+    ch.sort();
+    assert_eq!(ch, vec![(7, 4, 3), (8, 4, 5), (11, 4, 5), (12, 4, 3)]);
+    assert_eq!(fq.irregular_count(), 4);
+    assert!(fq.linked(8, 11) && !fq.linked(7, 12));
+    // now (11, 8) is a (5, 5) edge and (7, 12) a (3, 3) pair: the perfect swap
+    let mut perfect = None;
+    for q in fq.quads_around(&[8, 11]) {
+        for e in 0..4 {
+            for k in 1..=2 {
+                let op = Op::Swap { q, e, k };
+                if let Some(ef) = effect(&fq, op) {
+                    if score_delta(&fq, &ef) == (-4, -4) {
+                        perfect = Some(op);
+                    }
+                }
+            }
+        }
+    }
+    apply_checked(&mut fq, perfect.expect("a (5,5) → (3,3) swap exists"));
+    assert_eq!(fq.irregular_count(), 0);
+}
+
+#[test]
+fn split_follows_its_formula_and_collapse_follows_eq2() {
+    // split a regular vertex (k = 4, d = 2): c and c' get 3, the two links 5
+    let mut fq = grid(4);
+    assert_eq!(fq.links(12), vec![7, 11, 13, 17]);
+    let eff = apply_checked(&mut fq, Op::Split { c: 12, a: 7, b: 17 });
+    let c2 = fq.verts.len() as u32 - 1;
+    assert_eq!(eff.created, Some(3));
+    assert_eq!((fq.valence(12), fq.valence(c2), fq.valence(7), fq.valence(17)), (3, 3, 5, 5));
+    // the new quad (c, a, c', b) has valences (3, 5, 3, 5): the ideal collapse
+    let newq = fq.quads.len() as u32 - 1;
+    assert_eq!(fq.quads[newq as usize], [12, 7, c2, 17]);
+    let eff = apply_checked(&mut fq, Op::Collapse { q: newq, d: 0 });
+    // Eq. 2: val(v13) = 3 + 3 − 2 = 4, val(v2) = val(v4) = 5 − 1 = 4
+    assert!(eff.changes.contains(&(7, 5, 4)) && eff.changes.contains(&(17, 5, 4)));
+    assert!(eff.changes.iter().any(|c| c.1 == 3 && c.2 == 4));
+    assert_eq!(fq.irregular_count(), 0);
+}
+
+#[test]
+fn collapse_to_valence_six_then_perfect_split_at_distance_three() {
+    let mut fq = grid(4);
+    // collapse the regular quad (6, 7, 12, 11): 4 + 4 − 2 = 6, and 7, 11 drop to 3
+    let eff = apply_checked(&mut fq, Op::Collapse { q: 5, d: 0 });
+    let mut ch = eff.changes.clone();
+    ch.sort();
+    assert_eq!(ch, vec![(7, 4, 3), (11, 4, 3), (12, 4, 6)]);
+    assert_eq!(eff.removed, Some((6, 4)));
+    assert_eq!(fq.irregular_count(), 3);
+    // k = 6 split through the two 3-links, three sectors apart: all regular
+    let star = fq.ordered_star(12).unwrap();
+    let i7 = star.iter().position(|s| s.1[1] == 7).unwrap();
+    let i11 = star.iter().position(|s| s.1[1] == 11).unwrap();
+    assert_eq!((i11 + 6 - i7) % 6, 3);
+    let eff = apply_checked(&mut fq, Op::Split { c: 12, a: 7, b: 11 });
+    assert_eq!(eff.created, Some(4));
+    assert_eq!(fq.irregular_count(), 0);
+    // split rejected at distance 1 (it would make a doublet)
+    let l = fq.ordered_star(12).unwrap();
+    assert!(effect(&fq, Op::Split { c: 12, a: l[0].1[1], b: l[1].1[1] }).is_none());
+}
+
+#[test]
+fn boundary_vertices_are_fixed_and_boundary_edges_never_swap() {
+    let mut fq = grid(4);
+    // quad 0 = (0, 1, 6, 5): merging the interior 6 into the fixed corner 0
+    let eff = apply_checked(&mut fq, Op::Collapse { q: 0, d: 0 });
+    assert_eq!(eff.removed, Some((6, 4)));
+    assert!(eff.changes.contains(&(0, 2, 4)), "{:?}", eff.changes);
+    assert_eq!(fq.verts[0].uv, [0.0, 0.0]);
+    // a boundary edge has a single quad: no swap
+    let fq = grid(4);
+    assert!(effect(&fq, Op::Swap { q: 0, e: 0, k: 1 }).is_none());
+    // two fixed vertices are never merged: quad 0's other diagonal is (1, 5), both on the boundary
+    assert!(effect(&fq, Op::Collapse { q: 0, d: 1 }).is_none());
+    // the split of a fixed vertex is refused
+    assert!(effect(&fq, Op::Split { c: 2, a: 1, b: 3 }).is_none());
+}
+
+#[test]
+fn validity_uses_projected_angles_and_triangle_signs() {
+    let m = plane(4.0);
+    let face = &m.faces[0];
+    let sq = planar(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], vec![[0, 1, 2, 3]]);
+    let (ang, signs) = quad_angles(&sq, face, 0).unwrap();
+    assert!(signs && ang.iter().all(|a| (a - 90.0).abs() < 1e-9));
+    // a dart (reflex vertex at (0.3, 0.3) seen from the opposite corner) is invalid
+    let mut dart = planar(&[[0.0, 0.0], [1.0, 0.0], [0.3, 0.3], [0.0, 1.0]], vec![[0, 1, 2, 3]]);
+    dart.verts[2].fixed = false;
+    assert!(!quad_valid(&dart, face, 0, AngleWindow::BASE));
+    // a bow-tie is invalid
+    let bow = planar(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]], vec![[0, 1, 2, 3]]);
+    assert!(!quad_valid(&bow, face, 0, AngleWindow::BASE));
+    // a thin rhombus fails a tight window but passes the base one at movable vertices
+    let mut thin = planar(&[[0.0, 0.0], [1.0, 0.0], [1.5, 0.2], [0.5, 0.2]], vec![[0, 1, 2, 3]]);
+    for v in &mut thin.verts {
+        v.fixed = false;
+    }
+    assert!(quad_valid(&thin, face, 0, AngleWindow::BASE));
+    assert!(!quad_valid(&thin, face, 0, AngleWindow { min_deg: 45.0, max_deg: 135.0 }));
+}
+
+#[test]
+fn an_operation_is_kept_valid_or_rolled_back_exactly() {
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    // this swap leaves a 180° angle at vertex 7; repositioning repairs it
+    let mut fq = grid(4);
+    let mut r = Regularizer::new(face, &mut fq);
+    assert!(r.try_sequence(&[Op::Swap { q: 5, e: 1, k: 1 }]));
+    drop(r);
+    assert!(fq.live_quads().all(|q| quad_valid(&fq, face, q, AngleWindow::BASE)));
+    assert_eq!((fq.valence(8), fq.valence(11), fq.valence(7), fq.valence(12)), (5, 5, 3, 3));
+    assert_ne!(fq.verts[7].uv, [2.0, 1.0], "vertex 7 was moved to repair the flat angle");
+    // merging the only interior vertex into a corner flattens the boundary at
+    // 1 and 3 (180°); nothing can move, so the collapse is undone bit-for-bit
+    let mut fq = grid(2);
+    let orig = fq.clone();
+    let mut r = Regularizer::new(face, &mut fq);
+    assert!(!r.try_sequence(&[Op::Collapse { q: 0, d: 0 }]));
+    assert_eq!(r.counts.rejected, 1);
+    drop(r);
+    assert_eq!(fq.verts, orig.verts);
+    assert_eq!(fq.quads, orig.quads);
+    assert_eq!(fq.quad_alive, orig.quad_alive);
+}
+
+/// A planar patch made like the method's input: an n × n grid of squares, each
+/// cut into two triangles, each triangle split into three quads.
+fn split_patch(n: u32) -> FaceQuads {
+    let mut pts: Vec<[f64; 2]> = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            pts.push([i as f64, j as f64]);
+        }
+    }
+    let id = |i: u32, j: u32| j * (n + 1) + i;
+    let mut tris = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            // alternate the diagonals for variety
+            if (i + j) % 2 == 0 {
+                tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            } else {
+                tris.push([id(i, j), id(i + 1, j), id(i, j + 1)]);
+                tris.push([id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+    }
+    let mut mids = std::collections::BTreeMap::new();
+    let mut quads = Vec::new();
+    for t in &tris {
+        let mut m = [0u32; 3];
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            m[k] = *mids.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let (p, q) = (pts[a as usize], pts[b as usize]);
+                pts.push([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])]);
+                pts.len() as u32 - 1
+            });
+        }
+        let (a, b, c) = (pts[t[0] as usize], pts[t[1] as usize], pts[t[2] as usize]);
+        pts.push([(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0]);
+        let g = pts.len() as u32 - 1;
+        quads.push([t[0], m[0], g, m[2]]);
+        quads.push([t[1], m[1], g, m[0]]);
+        quads.push([t[2], m[2], g, m[1]]);
+    }
+    planar(&pts, quads)
+}
+
+#[test]
+fn regularizing_a_triangle_split_patch_removes_most_irregular_vertices() {
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    let mut fq = split_patch(6);
+    let orig = fq.clone();
+    let irr0 = fq.irregular_count();
+    let frac0 = irr0 as f64 / fq.num_verts() as f64;
+    assert!(frac0 > 0.3, "the split leaves many irregular vertices: {frac0}");
+    let vq = fq.num_verts() as i64 - fq.num_quads() as i64;
+    let rep = regularize_face(face, FaceId(0), &mut fq, &RegularizeOptions::default());
+    fq.check().unwrap();
+    let frac1 = fq.irregular_count() as f64 / fq.num_verts() as f64;
+    assert_eq!(rep.irregular, (irr0, fq.irregular_count()));
+    assert!(frac1 < 0.10, "irregular fraction {frac0:.3} → {frac1:.3}; {rep:?}");
+    assert_eq!(fq.num_verts() as i64 - fq.num_quads() as i64, vq, "V − Q per face");
+    assert!(fq.live_quads().all(|q| quad_valid(&fq, face, q, AngleWindow::BASE)), "{rep:?}");
+    assert_eq!(rep.invalid.1, 0);
+    for (v, x) in orig.verts.iter().enumerate() {
+        if x.fixed {
+            assert_eq!(x.xyz.map(f64::to_bits), fq.verts[v].xyz.map(f64::to_bits));
+        }
+    }
+    // Algorithm 2 tightened the window beyond the base one
+    assert!(rep.window.min_deg > 5.0 && rep.window.max_deg < 175.0, "{rep:?}");
+}
+
+#[test]
+fn regularize_mesh_keeps_the_boundary_and_validity_of_a_meshed_model() {
+    let model = primitives::square(2.0);
+    let mut mesh = crate::mesh_model(&model, &crate::MeshOptions { size: crate::Size::Absolute(0.2), threads: Some(1), progress: None }).unwrap();
+    let before = mesh.clone();
+    let s0 = mesh::stats::MeshStats::compute(&mesh, Some(&model));
+    let rep = regularize_mesh(&model, &mut mesh, &RegularizeOptions { threads: Some(2), ..Default::default() }).unwrap();
+    assert!(rep.skipped.is_empty(), "{:?}", rep.skipped);
+    let s1 = mesh::stats::MeshStats::compute(&mesh, Some(&model));
+    assert_eq!(s1.open_edges, s0.open_edges);
+    assert_eq!(s1.euler_characteristic, s0.euler_characteristic);
+    assert_eq!(s1.inverted_quads, 0);
+    assert!(s1.irregular_nodes * 4 < s0.irregular_nodes, "{} → {}", s0.irregular_nodes, s1.irregular_nodes);
+    // boundary nodes: same index, same bits, same classification
+    for (n, c) in before.node_class.iter().enumerate() {
+        if !matches!(c, mesh::NodeClass::Face(..)) {
+            assert_eq!(before.nodes[n].map(f64::to_bits), mesh.nodes[n].map(f64::to_bits));
+            assert_eq!(mesh.node_class[n], *c);
+        }
+    }
+    assert_eq!(before.curve_edges, mesh.curve_edges);
+    // deterministic: another thread count gives the same mesh
+    let mut again = before.clone();
+    regularize_mesh(&model, &mut again, &RegularizeOptions { threads: Some(1), ..Default::default() }).unwrap();
+    assert_eq!(again.quads, mesh.quads);
+    assert_eq!(again.nodes, mesh.nodes);
+}
+
+
+#[test]
+fn compositions_and_translations_remove_what_single_operations_cannot() {
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    let opts = RegularizeOptions { redistribute: false, ..Default::default() };
+    let mut single = split_patch(6);
+    let r1 = regularize_face(face, FaceId(0), &mut single, &RegularizeOptions { compositions: false, ..opts.clone() });
+    let mut full = split_patch(6);
+    let r2 = regularize_face(face, FaceId(0), &mut full, &opts);
+    assert_eq!(r1.ops.compositions, 0);
+    assert!(r2.ops.compositions > 0, "{r2:?}");
+    assert!(r2.irregular.1 < r1.irregular.1, "singles only: {r1:?}; with compositions: {r2:?}");
+    // once single operations are exhausted, none of them improves the score any more
+    assert!(!single.live_quads().any(|q| super::ops::candidates_at(&single, q).into_iter().any(|op| effect(&single, op).is_some_and(|e| {
+        let d = score_delta(&single, &e);
+        // an improving single op left over must be one whose geometry was rejected
+        (d.0 < 0 || (d.0 == 0 && d.1 < 0)) && {
+            let mut g = single.clone();
+            Regularizer::new(face, &mut g).try_sequence(&[op])
+        }
+    }))));
+}

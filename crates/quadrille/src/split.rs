@@ -1,0 +1,186 @@
+//! Triangle → 3 quads, with the new nodes placed on the CAD.
+//!
+//! A triangle `(a, b, c)` with edge midpoints `m_ab, m_bc, m_ca` and centroid
+//! `g` becomes the quads `(a, m_ab, g, m_ca)`, `(b, m_bc, g, m_ab)`,
+//! `(c, m_ca, g, m_bc)`. Boundary edge midpoints are the odd points of the
+//! shared curve meshes (so they lie on the CAD curve and are identical for the
+//! neighbouring face); interior midpoints and centroids are evaluated on the
+//! surface at their (u, v). Quads are oriented counter-clockwise seen from the
+//! oriented face normal.
+
+use std::collections::HashMap;
+
+use geometry::vec3::{self, Vec3};
+use geometry::Face;
+use mesh::quality::corner_sicn;
+
+use crate::face_triangulation::{centroid_uv, edge_mid_uv, BoundaryMid, LocalNode, NodeRef};
+
+/// The quads of one face, on local nodes.
+#[derive(Clone, Debug, Default)]
+pub struct QuadPatch {
+    /// Local nodes: the triangulation's, then the new midpoints and centroids.
+    pub nodes: Vec<LocalNode>,
+    /// 3D position of each local node.
+    pub pos: Vec<Vec3>,
+    /// Quads on local node ids, counter-clockwise seen from the face normal.
+    pub quads: Vec<[u32; 4]>,
+    /// Index of the triangle each quad came from.
+    pub quad_tri: Vec<u32>,
+}
+
+/// Splits `tris` (counter-clockwise in (u, v), on `nodes` with 3D positions
+/// `pos`) into quads. `boundary_mid` gives the midpoint of boundary edges,
+/// keyed by the sorted local pair.
+pub fn split_triangles(
+    face: &Face,
+    nodes: &[LocalNode],
+    pos: &[Vec3],
+    tris: &[[u32; 3]],
+    boundary_mid: &HashMap<(u32, u32), BoundaryMid>,
+) -> QuadPatch {
+    let mut out = QuadPatch { nodes: nodes.to_vec(), pos: pos.to_vec(), quads: Vec::with_capacity(3 * tris.len()), quad_tri: Vec::new() };
+    // a pole is keyed by its first local instance so edges to "the same" pole share a midpoint
+    let mut pole_canon: HashMap<NodeRef, u32> = HashMap::new();
+    for (i, n) in nodes.iter().enumerate() {
+        if n.pole.is_some() {
+            pole_canon.entry(n.node).or_insert(i as u32);
+        }
+    }
+    let canon = |i: u32| -> u32 {
+        let n = &nodes[i as usize];
+        if n.pole.is_some() {
+            pole_canon.get(&n.node).copied().unwrap_or(i)
+        } else {
+            i
+        }
+    };
+    let mut mids: HashMap<(u32, u32), u32> = HashMap::new();
+    for (ti, t) in tris.iter().enumerate() {
+        let mut m = [0u32; 3];
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let key = (a.min(b), a.max(b));
+            if let Some(bm) = boundary_mid.get(&key) {
+                let id = *mids.entry(key).or_insert_with(|| {
+                    out.nodes.push(bm.node);
+                    out.pos.push(bm.pos);
+                    (out.nodes.len() - 1) as u32
+                });
+                m[k] = id;
+                continue;
+            }
+            let (ca, cb) = (canon(a), canon(b));
+            let ikey = (ca.min(cb), ca.max(cb));
+            m[k] = *mids.entry(ikey).or_insert_with(|| {
+                let uv = edge_mid_uv(&nodes[a as usize], &nodes[b as usize]);
+                out.nodes.push(LocalNode { uv, node: NodeRef::Interior, pole: None });
+                out.pos.push(face.surface.eval(uv));
+                (out.nodes.len() - 1) as u32
+            });
+        }
+        // the centre of the quadratic triangle through the vertices and the
+        // edge midpoints: follows curved boundary edges (equals the centroid
+        // when every edge is straight)
+        let c0 = centroid_uv(nodes, *t);
+        let mut guv = [0.0, 0.0];
+        for k in 0..3 {
+            let v = nodes[t[k] as usize].uv_toward(c0);
+            let mu = out.nodes[m[k] as usize].uv_toward(c0);
+            guv[0] += (4.0 * mu[0] - v[0]) / 9.0;
+            guv[1] += (4.0 * mu[1] - v[1]) / 9.0;
+        }
+        if !(guv[0].is_finite() && guv[1].is_finite()) {
+            guv = c0;
+        }
+        out.nodes.push(LocalNode { uv: guv, node: NodeRef::Interior, pole: None });
+        out.pos.push(face.surface.eval(guv));
+        let g = (out.nodes.len() - 1) as u32;
+        let [a, b, c] = *t;
+        let qs = [[a, m[0], g, m[2]], [b, m[1], g, m[0]], [c, m[2], g, m[1]]];
+        for q in qs {
+            out.quads.push(if face.reversed { [q[0], q[3], q[2], q[1]] } else { q });
+            out.quad_tri.push(ti as u32);
+        }
+    }
+    out
+}
+
+/// Oriented unit normal of the face at node `k` of quad `q`: the CAD normal at
+/// the node's (u, v). At a pole (a singular point of the parametrization, where
+/// the CAD normal is undefined or meaningless) it is the limit normal taken
+/// slightly inside the quad, toward its (u, v) centre.
+pub fn node_normal(face: &Face, nodes: &[LocalNode], q: &[u32; 4], k: usize) -> Option<Vec3> {
+    let n = &nodes[q[k] as usize];
+    let centre = quad_uv_centre(nodes, q);
+    if n.pole.is_some() {
+        let p = n.uv_toward(centre);
+        let uv = [p[0] + POLE_OFFSET * (centre[0] - p[0]), p[1] + POLE_OFFSET * (centre[1] - p[1])];
+        return face.normal(uv).or_else(|| face.normal(centre));
+    }
+    face.normal(n.uv).or_else(|| face.normal(centre))
+}
+
+/// Relative step from a pole toward the quad centre where its normal is taken.
+const POLE_OFFSET: f64 = 1e-3;
+
+/// (u, v) centre of a quad (poles ignored unless all nodes are poles).
+pub fn quad_uv_centre(nodes: &[LocalNode], q: &[u32; 4]) -> [f64; 2] {
+    let mut s = [0.0, 0.0];
+    let mut k = 0.0;
+    for &i in q {
+        let n = &nodes[i as usize];
+        if n.pole.is_none() {
+            s[0] += n.uv[0];
+            s[1] += n.uv[1];
+            k += 1.0;
+        }
+    }
+    if k == 0.0 {
+        return nodes[q[0] as usize].uv;
+    }
+    [s[0] / k, s[1] / k]
+}
+
+/// Minimum corner SICN of quad `q` measured with the CAD normals (−1 when a
+/// normal is undefined).
+pub fn quad_quality(face: &Face, nodes: &[LocalNode], pos: &[Vec3], q: &[u32; 4]) -> f64 {
+    let p = [pos[q[0] as usize], pos[q[1] as usize], pos[q[2] as usize], pos[q[3] as usize]];
+    let mut n = [[0.0; 3]; 4];
+    for (k, nk) in n.iter_mut().enumerate() {
+        match node_normal(face, nodes, q, k) {
+            Some(v) => *nk = v,
+            None => {
+                // no CAD normal at all: fall back to the quad's own normal
+                match vec3::normalize(vec3::cross(vec3::sub(p[2], p[0]), vec3::sub(p[3], p[1]))) {
+                    Some(v) => *nk = v,
+                    None => return -1.0,
+                }
+            }
+        }
+    }
+    corner_sicn(&p, &n).into_iter().fold(f64::INFINITY, f64::min)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::curve_mesh::{discretize_all, initial_counts};
+    use crate::face_triangulation::FaceTriangulation;
+    use geometry::{primitives, FaceId};
+
+    #[test]
+    fn square_split_gives_valid_ccw_quads() {
+        let m = primitives::square(1.0);
+        let counts = initial_counts(&m, 0.1);
+        let cms = discretize_all(&m, &counts);
+        let mut ft = FaceTriangulation::new(&m, FaceId(0), &cms, 0.2).unwrap();
+        ft.refine().unwrap();
+        let tris = ft.triangles();
+        let p = split_triangles(&m.faces[0], &ft.nodes, &ft.pos, &tris, &ft.boundary_mid);
+        assert_eq!(p.quads.len(), 3 * tris.len());
+        for q in &p.quads {
+            assert!(quad_quality(&m.faces[0], &p.nodes, &p.pos, q) > 0.0);
+        }
+    }
+}

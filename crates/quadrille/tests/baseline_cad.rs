@@ -1,0 +1,132 @@
+//! The baseline mesher on every CAD model of `data/cad`: all quads, no
+//! inverted quad (SICN with the CAD normals), watertight (open edges only on
+//! the model's own boundary), nodes on the CAD, curve chains. Prints a table.
+//!
+//! `QUADRILLE_MODELS=name1,name2` restricts the run to models whose file name
+//! contains one of the given strings; `QUADRILLE_SIZE_FACTOR=f` meshes at
+//! `Size::Factor(f)` instead of the default size.
+
+mod common;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use quadrille::{mesh_model, MeshOptions, Size};
+
+/// Models the baseline method cannot mesh yet, with the reason. They must fail
+/// with a clear error (never a panic or an invalid mesh); if they mesh, the
+/// mesh is checked like any other.
+///
+/// wing_surface: its blunt NACA trailing edge (0.0025 thick) is a hairpin of
+/// the B-spline inside Δu ≈ 0.003 next to the seam, where the normal turns by
+/// 180°; isotropic triangles at the default size cannot follow it (it needs an
+/// anisotropic layer along the seam). Gmsh leaves 5 inverted quads there.
+const KNOWN_FAILURES: &[&str] = &["wing_surface"];
+
+fn models() -> Vec<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad");
+    let filter: Vec<String> = std::env::var("QUADRILLE_MODELS").map(|s| s.split(',').map(str::to_string).collect()).unwrap_or_default();
+    let mut out: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    out.retain(|p| {
+        let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        (ext == "step" || ext == "stp") && (filter.is_empty() || filter.iter().any(|f| name.contains(f.as_str())))
+    });
+    out.sort();
+    out
+}
+
+#[test]
+fn every_cad_model_meshes_validly() {
+    let paths = models();
+    if std::env::var("QUADRILLE_MODELS").is_err() {
+        assert!(paths.len() >= 26, "expected the 26 CAD models in data/cad, found {}", paths.len());
+    }
+    let factor: f64 = std::env::var("QUADRILLE_SIZE_FACTOR").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0);
+    let mut failures = Vec::new();
+    println!(
+        "{:<28} {:>6} {:>7} {:>7} {:>8} {:>8} {:>6} {:>6} {:>9}",
+        "model", "faces", "quads", "time s", "min SICN", "avg SICN", "inv", "open", "dist/diag"
+    );
+    for path in &paths {
+        let name = path.file_stem().and_then(|n| n.to_str()).unwrap_or("?").to_string();
+        let model = match occt::load(path) {
+            Ok(m) => m,
+            Err(e) => {
+                failures.push(format!("{name}: import failed: {e}"));
+                continue;
+            }
+        };
+        let t = Instant::now();
+        let mesh = match mesh_model(&model, &MeshOptions { size: Size::Factor(factor), threads: None, progress: None }) {
+            Ok(m) => m,
+            Err(e) => {
+                if KNOWN_FAILURES.contains(&name.as_str()) {
+                    println!("{name:<28} known failure: {e}");
+                    assert!(matches!(e, quadrille::MeshError::Face { .. }), "{name}: {e}");
+                } else {
+                    println!("{name:<28} FAILED: {e}");
+                    failures.push(format!("{name}: {e}"));
+                }
+                continue;
+            }
+        };
+        let secs = t.elapsed().as_secs_f64();
+        let r = common::check(&model, &mesh);
+        let boundary = common::boundary_mesh_edges(&model, &mesh);
+        println!(
+            "{:<28} {:>6} {:>7} {:>7.2} {:>8.3} {:>8.3} {:>6} {:>6} {:>9.1e}",
+            name,
+            model.faces.len(),
+            r.quads,
+            secs,
+            r.min_sicn,
+            r.avg_sicn,
+            r.inverted,
+            r.open_edges,
+            r.max_dist / r.diagonal
+        );
+        let mut bad = Vec::new();
+        if !mesh.triangles.is_empty() {
+            bad.push("triangles in output".to_string());
+        }
+        if r.inverted > 0 {
+            bad.push(format!("{} inverted quads", r.inverted));
+        }
+        if r.open_edges != boundary {
+            bad.push(format!("{} open edges, model boundary has {boundary}", r.open_edges));
+        }
+        if r.nonmanifold_edges > 0 {
+            bad.push(format!("{} non-manifold edges", r.nonmanifold_edges));
+        }
+        if r.max_dist > 1e-6 * r.diagonal {
+            bad.push(format!("node {:.2e} off the CAD", r.max_dist));
+        }
+        if !r.chain_errors.is_empty() {
+            bad.push(format!("curve chains: {:?}", &r.chain_errors[..r.chain_errors.len().min(3)]));
+        }
+        if !r.class_errors.is_empty() {
+            bad.push(format!("classification: {:?}", &r.class_errors[..r.class_errors.len().min(3)]));
+        }
+        if !bad.is_empty() {
+            failures.push(format!("{name}: {}", bad.join("; ")));
+        }
+    }
+    assert!(failures.is_empty(), "failures:\n{}", failures.join("\n"));
+}
+
+#[test]
+fn cad_output_is_identical_for_any_thread_count() {
+    // i04o_m4 goes through curve refinement rounds, the hardest path for determinism
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/i04o_m4.step");
+    let model = occt::load(&path).expect("i04o_m4 loads");
+    let run = |threads| mesh_model(&model, &MeshOptions { size: Size::Factor(1.0), threads: Some(threads), progress: None }).expect("meshes");
+    let (a, b) = (run(1), run(2));
+    let bits = |m: &mesh::QuadMesh| m.nodes.iter().flat_map(|p| p.map(f64::to_bits)).collect::<Vec<u64>>();
+    assert_eq!(bits(&a), bits(&b));
+    assert_eq!(a.quads, b.quads);
+    assert_eq!(a.node_class, b.node_class);
+    assert_eq!(a.curve_edges, b.curve_edges);
+}
