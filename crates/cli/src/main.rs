@@ -70,7 +70,7 @@ pub struct MeshArgs {
     /// Target edge length, in model units.
     #[arg(long, conflicts_with = "size_factor")]
     size: Option<f64>,
-    /// Multiplier of the default edge length (1/50 of the bounding-box diagonal).
+    /// Multiplier of the default edge length (1/18 of the bounding-box diagonal).
     #[arg(long)]
     size_factor: Option<f64>,
     /// Worker threads (default: all cores). The output is the same for any count.
@@ -85,6 +85,22 @@ pub struct MeshArgs {
     /// No progress bar and no summary.
     #[arg(short, long)]
     quiet: bool,
+    /// Meshing method: `baseline` (triangulate and split) or `regular`
+    /// (baseline, then topological regularization).
+    #[arg(long, value_enum, default_value_t = Method::Baseline)]
+    method: Method,
+    /// Print the time of each stage (load, mesh, improve, write) as JSON on stderr.
+    #[arg(long)]
+    timings: bool,
+}
+
+/// The meshing methods of `quadrille mesh`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum Method {
+    /// Triangulate each face in uv and split every triangle into three quads.
+    Baseline,
+    /// The baseline, then swaps, collapses and splits towards regular vertices.
+    Regular,
 }
 
 /// Arguments of `quadrille stats`.

@@ -2,7 +2,7 @@
 //! small ready-made models built from them. They let every crate test its
 //! stage on exactly known geometry without reading a CAD file.
 
-use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::f64::consts::{FRAC_PI_2, TAU};
 use std::sync::Arc;
 
 use crate::model::*;
@@ -423,6 +423,5 @@ mod tests {
         assert!((n_side[0] - 1.0).abs() < 1e-12);
         assert!((m.faces[1].normal([0.0, 0.0]).unwrap()[2] + 1.0).abs() < 1e-12);
         assert!((m.faces[2].normal([0.0, 0.0]).unwrap()[2] - 1.0).abs() < 1e-12);
-        let _ = PI;
     }
 }
