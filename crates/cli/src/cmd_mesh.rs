@@ -1,12 +1,12 @@
 //! `quadrille mesh`: mesh a CAD model and write the result.
 
-use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{bail, Result};
-use quadrille::{MeshOptions, Size};
+use quadrille::MeshOptions;
 
 use crate::files;
+use crate::progress::FaceProgress;
 use crate::{MeshArgs, Method};
 
 pub fn run(args: &MeshArgs) -> Result<()> {
@@ -15,32 +15,17 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     if let Some(png) = &args.png {
         files::check_output(png, &["png"])?;
     }
-    let size = match (args.size, args.size_factor) {
-        (Some(h), _) => Size::Absolute(h),
-        (None, Some(f)) => Size::Factor(f),
-        (None, None) => Size::Factor(1.0),
-    };
+    let size = crate::size_arg(args.size, args.size_factor);
     let t0 = Instant::now();
     let model = files::load_model(&args.model)?;
     let t_load = t0.elapsed().as_secs_f64();
 
-    let bar = if args.quiet {
-        None
-    } else {
-        let b = indicatif::ProgressBar::new(model.faces.len() as u64);
-        b.set_style(
-            indicatif::ProgressStyle::with_template("meshing {bar:30} {pos}/{len} faces {elapsed}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        Some(b)
-    };
-    let progress = bar.clone().map(|b| -> quadrille::ProgressFn { Arc::new(move |done, _| b.set_position(done as u64)) });
+    let bar = FaceProgress::new(args.quiet, model.faces.len(), "meshing");
+    let progress = bar.callback();
     let opts = MeshOptions { size, threads: args.threads, progress };
     let t1 = Instant::now();
     let mut m = quadrille::mesh_model(&model, &opts).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
-    if let Some(b) = &bar {
-        b.finish_and_clear();
-    }
+    bar.finish();
     let t_mesh = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
     if let Method::Regular = args.method {

@@ -1,15 +1,18 @@
 //! `quadrille`: the command-line front of Quadrille.
 //!
 //! Subcommands: `info` (what a CAD model holds), `mesh` (mesh a model),
-//! `stats` (judge any mesh, ours or another mesher's), `render` (draw a mesh).
+//! `stats` (judge any mesh, ours or another mesher's), `render` (draw a mesh),
+//! `field` (the cross field, singularities and relation (2) of every face).
 //! Every error is printed as one clear message naming the file and the
 //! problem, with a non-zero exit code; no partial output file is left behind.
 
+mod cmd_field;
 mod cmd_info;
 mod cmd_mesh;
 mod cmd_render;
 mod cmd_stats;
 mod files;
+mod progress;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -23,7 +26,8 @@ Examples:
   quadrille mesh part.step -o part.msh --size-factor 0.5 --threads 2
   quadrille stats part.msh --cad part.step
   quadrille stats other_mesher.msh --json
-  quadrille render part.msh -o part.png --sicn";
+  quadrille render part.msh -o part.png --sicn
+  quadrille field part.step -o field.vtu --png field.png --json";
 
 /// Quadrilateral meshes of CAD models.
 #[derive(Parser, Debug)]
@@ -47,6 +51,19 @@ enum Command {
     /// Draw a mesh (MSH) to a PNG picture: shaded quads, edges, irregular vertices.
     #[command(after_help = "Example:\n  quadrille render part.msh -o part.png --sicn")]
     Render(RenderArgs),
+    /// Cross field of every face on its background triangulation: VTU file,
+    /// optional picture, singularities and the check of Eq. (2) of the paper.
+    #[command(
+        long_about = "Computes the boundary-aligned cross field of every face of a CAD model on the \
+background triangulation the mesher uses (4 times finer than the quad size), its singularities \
+and the check of relation (2) of the quasi-structured paper: the singularity indices plus the \
+corner indices (2 - ideal valence) of a face add up to 4 times its Euler characteristic.\n\n\
+The VTU file holds the background triangles, then one vertex cell per singularity, with \
+cell data cad_face, cross (one unit branch of the cross, for glyphs), size (the conformal \
+size map) and singularity_index (0 on triangles, +1 or -1 on singularities).",
+        after_help = "Examples:\n  quadrille field part.step -o field.vtu --png field.png\n  quadrille field part.step -o field.vtu --json --size-factor 0.5 --quiet"
+    )]
+    Field(FieldArgs),
 }
 
 /// Arguments of `quadrille info`.
@@ -145,13 +162,60 @@ pub struct RenderArgs {
     no_irregular: bool,
 }
 
+/// Arguments of `quadrille field`.
+#[derive(Args, Debug)]
+pub struct FieldArgs {
+    /// CAD model (.step, .stp, .iges, .igs, .brep, .brp).
+    model: PathBuf,
+    /// Output field file (.vtu).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Also draw the field to this PNG picture: shaded triangulation, cross
+    /// glyphs, singularities coloured by index.
+    #[arg(long)]
+    png: Option<PathBuf>,
+    /// Print per-face singularities, corner indices and the Eq. (2) check as JSON on stdout.
+    #[arg(long)]
+    json: bool,
+    /// Target quad edge length, in model units (the background triangles are finer).
+    #[arg(long, conflicts_with = "size_factor")]
+    size: Option<f64>,
+    /// Multiplier of the default quad edge length (1/18 of the bounding-box diagonal).
+    #[arg(long)]
+    size_factor: Option<f64>,
+    /// No progress bar and no summary.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+/// The mesh size of `--size H` / `--size-factor F` (H wins; the default size when neither is given).
+fn size_arg(size: Option<f64>, factor: Option<f64>) -> quadrille::Size {
+    match (size, factor) {
+        (Some(h), _) => quadrille::Size::Absolute(h),
+        (None, Some(f)) => quadrille::Size::Factor(f),
+        (None, None) => quadrille::Size::Factor(1.0),
+    }
+}
+
+/// Restores the default SIGPIPE action, so `quadrille info model.step | head`
+/// ends quietly when the reader closes the pipe instead of panicking in `println!`.
+fn quiet_on_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: setting a signal disposition to SIG_DFL at start-up, before any thread exists.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> ExitCode {
+    quiet_on_closed_pipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Info(a) => cmd_info::run(&a),
         Command::Mesh(a) => cmd_mesh::run(&a),
         Command::Stats(a) => cmd_stats::run(&a),
         Command::Render(a) => cmd_render::run(&a),
+        Command::Field(a) => cmd_field::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

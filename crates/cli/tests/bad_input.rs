@@ -1,28 +1,19 @@
 //! Bad input gives one clear error naming the file and the problem, a non-zero
 //! exit code, no panic, and no output file.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn cad(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/cad").join(name)
-}
+use std::path::{Path, PathBuf};
+
+use common::{assert_clean_failure, cad, quadrille};
 
 /// Runs `quadrille mesh INPUT -o DIR/out.msh` and checks the failure contract;
 /// returns stderr.
 fn mesh_fails(input: &Path, dir: &Path) -> String {
     let out = dir.join("out.msh");
-    let r = Command::new(env!("CARGO_BIN_EXE_quadrille"))
-        .args(["mesh", input.to_str().unwrap(), "-o", out.to_str().unwrap(), "--quiet"])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&r.stderr).into_owned();
+    let r = quadrille(&["mesh", input.to_str().unwrap(), "-o", out.to_str().unwrap(), "--quiet"]);
     assert!(!r.status.success(), "must fail on {}", input.display());
-    assert_eq!(r.status.code(), Some(1), "clean error exit, not a crash: {stderr}");
-    assert!(!stderr.contains("panicked"), "panic: {stderr}");
-    assert!(stderr.starts_with("error: "), "one clear error line: {stderr}");
-    let name = input.file_name().unwrap().to_string_lossy();
-    assert!(stderr.contains(&*name), "error must name the file {name}: {stderr}");
+    let stderr = assert_clean_failure(&r, &input.file_name().unwrap().to_string_lossy());
     assert!(!out.exists(), "no output file may be left behind");
     let leftovers: Vec<_> = std::fs::read_dir(dir).unwrap().flatten().map(|e| e.file_name()).collect();
     assert!(leftovers.iter().all(|n| !n.to_string_lossy().contains("out.msh")), "partial files left: {leftovers:?}");
@@ -96,15 +87,8 @@ fn unknown_extension() {
 /// Meshes a good model into `out`, which must be refused: checks the failure
 /// contract and that the error names the output file.
 fn output_refused(out: &Path) {
-    let r = Command::new(env!("CARGO_BIN_EXE_quadrille"))
-        .args(["mesh", cad("s17o_sphere.stp").to_str().unwrap(), "-o", out.to_str().unwrap(), "--quiet"])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&r.stderr);
-    assert_eq!(r.status.code(), Some(1), "{stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    let name = out.file_name().unwrap().to_string_lossy();
-    assert!(stderr.contains(&*name), "error must name the output {name}: {stderr}");
+    let r = quadrille(&["mesh", cad("s17o_sphere.stp").to_str().unwrap(), "-o", out.to_str().unwrap(), "--quiet"]);
+    assert_clean_failure(&r, &out.file_name().unwrap().to_string_lossy());
     assert!(!out.exists());
 }
 
@@ -125,9 +109,24 @@ fn unknown_output_extension() {
 fn stats_on_garbage_mesh() {
     let dir = tempfile::tempdir().unwrap();
     let p = write(dir.path(), "broken.msh", b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 5 1 5\n2 1 0 5\n1\n");
-    let r = Command::new(env!("CARGO_BIN_EXE_quadrille")).args(["stats", p.to_str().unwrap()]).output().unwrap();
-    let stderr = String::from_utf8_lossy(&r.stderr);
-    assert_eq!(r.status.code(), Some(1), "{stderr}");
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    assert!(stderr.contains("broken.msh"), "{stderr}");
+    let r = quadrille(&["stats", p.to_str().unwrap()]);
+    assert_clean_failure(&r, "broken.msh");
+}
+
+/// A reader that closes the pipe early (`quadrille info m.step | head -1`)
+/// must not make the command panic while it prints.
+#[test]
+fn closed_output_pipe_is_not_a_panic() {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_quadrille"))
+        .args(["info", common::cad("i01o_m1.step").to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader goes away before anything is written
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "panic on a closed pipe: {stderr}");
+    assert_ne!(out.status.code(), Some(101), "exit code 101 is a Rust panic: {stderr}");
 }

@@ -15,10 +15,16 @@
 //! - The face's oriented normal is `du × dv`, negated when `reversed`: it is the
 //!   normal consistent with the face's orientation in its shell (outward for a
 //!   solid as written by the CAD system).
+//! - At a singular point of a face (a node on a degenerate curve: a sphere pole,
+//!   a cone apex; or any (u, v) where `du × dv` vanishes) the normal of an
+//!   element corner is the limit normal approached from inside the element
+//!   ([`Face::corner_normal`]): at a cone apex it depends on the direction, and
+//!   a (u, v) a rounding error past the apex lies on the other nappe, where
+//!   `du × dv` is reversed.
 
 use std::sync::Arc;
 
-use crate::traits::{Curve, Curve2d, Surface};
+use crate::traits::{Curve, Curve2d, Surface, SurfaceDerivs};
 use crate::vec3::{self, Vec3};
 
 macro_rules! id_type {
@@ -139,6 +145,92 @@ impl Face {
     pub fn curve_uses(&self) -> impl Iterator<Item = &CurveUse> {
         self.loops.iter().flat_map(|l| l.uses.iter())
     }
+
+    /// True when (u, v) is a singular point of the parametrization: `|du × dv|`
+    /// below [`SINGULAR_RATIO`] `· (|du|² + |dv|²)` (scale-free), or the
+    /// derivatives are not finite there.
+    pub fn is_singular(&self, uv: [f64; 2]) -> bool {
+        let ratio = singular_ratio(&self.surface.derivs(uv));
+        ratio.is_nan() || ratio < SINGULAR_RATIO
+    }
+
+    /// Oriented unit normal at an element corner: the reference normal `N_i`
+    /// of the corner's SICN (Eq. 12 of the quasi-structured paper), shared by
+    /// the mesher's quality checks and the mesh statistics.
+    ///
+    /// `centre` is a (u, v) point inside the element (its (u, v) centre), on
+    /// the same side of any seam as the corner. At an ordinary point this is
+    /// [`Face::normal`]. At a singular point, a [`CornerUv::Pole`] or a point
+    /// where [`Face::is_singular`], the normal there is undefined or depends on
+    /// the direction of approach (at a cone apex it does; and a (u, v) a
+    /// rounding error past the apex, as the pcurves of OpenCASCADE's degenerate
+    /// edges can be, lies on the other nappe where `du × dv` is reversed): it
+    /// is the limit normal approached from the element, taken [`POLE_OFFSET`]
+    /// of the way from the corner toward `centre`. A pole is first slid along
+    /// its segment to the point nearest `centre`; so is a singular `Point`
+    /// along the parameter whose derivative vanishes there (its pole segment
+    /// is not known). Falls back to the normal at `centre`; `None` when that
+    /// is undefined too.
+    pub fn corner_normal(&self, at: CornerUv, centre: [f64; 2]) -> Option<Vec3> {
+        let mut p = at.toward(centre);
+        if let CornerUv::Point(_) = at {
+            let d = self.surface.derivs(p);
+            let (uu, vv) = (vec3::dot(d.du, d.du), vec3::dot(d.dv, d.dv));
+            if singular_ratio(&d) >= SINGULAR_RATIO {
+                // [`Face::normal`] there, from the derivatives already at hand
+                if let Some(n) = vec3::normalize(vec3::cross(d.du, d.dv)) {
+                    return Some(if self.reversed { vec3::scale(n, -1.0) } else { n });
+                }
+            } else if uu < 1e-6 * vv {
+                p[0] = centre[0];
+            } else if vv < 1e-6 * uu {
+                p[1] = centre[1];
+            }
+        }
+        let w = [p[0] + POLE_OFFSET * (centre[0] - p[0]), p[1] + POLE_OFFSET * (centre[1] - p[1])];
+        self.normal(w).or_else(|| self.normal(centre))
+    }
+}
+
+/// `|du × dv| / (|du|² + |dv|²)` below which a (u, v) is a singular point of
+/// the parametrization ([`Face::is_singular`]).
+pub const SINGULAR_RATIO: f64 = 1e-9;
+
+/// `|du × dv| / (|du|² + |dv|²)`: 0 at a singular point, at most ½ (NaN when
+/// the derivatives are not finite).
+fn singular_ratio(d: &SurfaceDerivs) -> f64 {
+    vec3::norm(vec3::cross(d.du, d.dv)) / (vec3::dot(d.du, d.du) + vec3::dot(d.dv, d.dv))
+}
+
+/// Fraction of the way from a singular element corner toward the element's
+/// (u, v) centre at which [`Face::corner_normal`] takes its limit normal.
+pub const POLE_OFFSET: f64 = 1e-3;
+
+/// Where an element corner lies in its face's (u, v) plane, for
+/// [`Face::corner_normal`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CornerUv {
+    /// A point of the parameter plane.
+    Point([f64; 2]),
+    /// A pole: the corner lies on a degenerate curve of the face (a sphere
+    /// pole, a cone apex), whose whole (u, v) segment maps to that 3D point.
+    Pole([[f64; 2]; 2]),
+}
+
+impl CornerUv {
+    /// The corner's (u, v) seen from `other`: the point itself, or the point of
+    /// the pole's segment nearest to `other`.
+    pub fn toward(self, other: [f64; 2]) -> [f64; 2] {
+        match self {
+            CornerUv::Point(p) => p,
+            CornerUv::Pole([p, q]) => {
+                let d = [q[0] - p[0], q[1] - p[1]];
+                let dd = d[0] * d[0] + d[1] * d[1];
+                let s = if dd > 0.0 { (((other[0] - p[0]) * d[0] + (other[1] - p[1]) * d[1]) / dd).clamp(0.0, 1.0) } else { 0.0 };
+                [p[0] + s * d[0], p[1] + s * d[1]]
+            }
+        }
+    }
 }
 
 /// Error found while building or checking a [`Model`].
@@ -249,6 +341,20 @@ impl Model {
         pts
     }
 
+    /// The (u, v) segments of the degenerate curves of `face` at `corner`, each
+    /// mapping entirely to the corner (empty when the corner is no pole of
+    /// the face). Each segment runs from the pcurve at `range.0` to `range.1`.
+    pub fn pole_segments(&self, face: FaceId, corner: CornerId) -> Vec<[[f64; 2]; 2]> {
+        let Some(f) = self.faces.get(face.idx()) else { return Vec::new() };
+        f.curve_uses()
+            .filter_map(|u| {
+                let c = self.curves.get(u.curve.idx())?;
+                (c.degenerate && (c.start == corner || c.end == corner))
+                    .then(|| [u.pcurve.eval(c.range.0), u.pcurve.eval(c.range.1)])
+            })
+            .collect()
+    }
+
     /// Checks that every id refers to an existing entity.
     pub fn validate(&self) -> Result<(), ModelError> {
         for (i, c) in self.curves.iter().enumerate() {
@@ -277,4 +383,58 @@ pub fn signed_area(poly: &[[f64; 2]]) -> f64 {
         a += p[0] * q[1] - q[0] * p[1];
     }
     0.5 * a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::primitives::cone;
+
+    /// The generatrix normal of `primitives::cone(1, 1)` at angle u.
+    fn cone_normal(u: f64) -> Vec3 {
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        [s * u.cos(), s * u.sin(), -s]
+    }
+
+    #[test]
+    fn corner_normal_at_a_cone_apex_is_the_limit_from_the_element() {
+        let m = cone(1.0, 1.0);
+        let f = &m.faces[0];
+        let seg = m.pole_segments(FaceId(0), CornerId(0));
+        assert_eq!(seg.len(), 1);
+        assert!(m.pole_segments(FaceId(0), CornerId(1)).is_empty());
+        let va = f.uv_bounds.vmin;
+        for u in [0.3, 2.0, 4.5] {
+            let n = f.corner_normal(CornerUv::Pole(seg[0]), [u, 0.5 * va]).unwrap();
+            assert!(vec3::dist(n, cone_normal(u)) < 1e-9, "u {u}: {n:?}");
+        }
+    }
+
+    #[test]
+    fn corner_normal_just_past_a_cone_apex_is_not_flipped() {
+        let m = cone(1.0, 1.0);
+        let f = &m.faces[0];
+        let va = f.uv_bounds.vmin;
+        // a pcurve end a rounding error beyond the apex, as OpenCASCADE's are:
+        // du × dv there belongs to the other nappe
+        let past = [1.0, va - 1e-12];
+        assert!(f.is_singular(past));
+        let wrong = f.normal(past).unwrap();
+        assert!(vec3::dot(wrong, cone_normal(1.0)) < -0.99);
+        let n = f.corner_normal(CornerUv::Point(past), [2.0, 0.5 * va]).unwrap();
+        assert!(vec3::dot(n, cone_normal(2.0)) > 1.0 - 1e-6, "{n:?}");
+        // an ordinary point: the face normal
+        let uv = [1.0, 0.5 * va];
+        assert!(!f.is_singular(uv));
+        assert_eq!(f.corner_normal(CornerUv::Point(uv), [2.0, 0.4 * va]), f.normal(uv));
+    }
+
+    #[test]
+    fn pole_toward_slides_along_the_segment() {
+        let p = CornerUv::Pole([[0.0, 1.0], [6.0, 1.0]]);
+        assert_eq!(p.toward([2.5, 0.0]), [2.5, 1.0]);
+        assert_eq!(p.toward([-1.0, 0.0]), [0.0, 1.0]);
+        assert_eq!(p.toward([9.0, 0.0]), [6.0, 1.0]);
+        assert_eq!(CornerUv::Point([3.0, 4.0]).toward([0.0, 0.0]), [3.0, 4.0]);
+    }
 }

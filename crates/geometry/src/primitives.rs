@@ -1,4 +1,4 @@
-//! Analytic surfaces and curves (plane, cylinder, sphere, line, circle) and
+//! Analytic surfaces and curves (plane, cylinder, sphere, cone, line, circle) and
 //! small ready-made models built from them. They let every crate test its
 //! stage on exactly known geometry without reading a CAD file.
 
@@ -153,6 +153,69 @@ impl Surface for Sphere {
             None => u.rem_euclid(TAU),
         };
         let uv = [u, d[2].atan2(rxy)];
+        Some((uv, self.eval(uv)))
+    }
+}
+
+/// The cone `(r + v sin a)(cos u·x + sin u·y) + (h + v cos a)·z` about the z
+/// axis, parametrized like OpenCASCADE's: radius `r` at v = 0 (height `h`),
+/// half-angle `a` (0 < a < π/2), u periodic (2π). The apex is at
+/// `v = −r / sin a`; beyond it (v smaller) lies the other nappe, where the
+/// radius is negative and `du × dv` points the other way.
+#[derive(Clone, Debug)]
+pub struct Cone {
+    /// Radius at v = 0.
+    pub radius: f64,
+    /// Height (z) of the circle v = 0.
+    pub height: f64,
+    /// Half-angle at the apex, radians.
+    pub half_angle: f64,
+}
+
+impl Cone {
+    /// v of the apex.
+    pub fn apex_v(&self) -> f64 {
+        -self.radius / self.half_angle.sin()
+    }
+}
+
+impl Surface for Cone {
+    fn eval(&self, uv: [f64; 2]) -> Vec3 {
+        let (su, cu) = uv[0].sin_cos();
+        let (sa, ca) = self.half_angle.sin_cos();
+        let rho = self.radius + uv[1] * sa;
+        [rho * cu, rho * su, self.height + uv[1] * ca]
+    }
+    fn derivs(&self, uv: [f64; 2]) -> SurfaceDerivs {
+        let (su, cu) = uv[0].sin_cos();
+        let (sa, ca) = self.half_angle.sin_cos();
+        let rho = self.radius + uv[1] * sa;
+        SurfaceDerivs {
+            point: self.eval(uv),
+            du: [-rho * su, rho * cu, 0.0],
+            dv: [sa * cu, sa * su, ca],
+            duu: [-rho * cu, -rho * su, 0.0],
+            duv: [-sa * su, sa * cu, 0.0],
+            dvv: [0.0; 3],
+        }
+    }
+    fn uv_bounds(&self) -> Bounds2 {
+        Bounds2 { umin: 0.0, umax: TAU, vmin: self.apex_v(), vmax: 0.0 }
+    }
+    fn periods(&self) -> [Option<f64>; 2] {
+        [Some(TAU), None]
+    }
+    /// Exact on the nappe the point faces: u from its angle about the axis,
+    /// v from the closest point of that generatrix line.
+    fn project(&self, p: Vec3, hint: Option<[f64; 2]>) -> Option<([f64; 2], Vec3)> {
+        let rxy = p[0].hypot(p[1]);
+        let mut u = if rxy > 1e-14 * self.radius { p[1].atan2(p[0]) } else { hint.map_or(0.0, |h| h[0]) };
+        u = match hint {
+            Some(h) => nearest_period(u, TAU, h[0]),
+            None => u.rem_euclid(TAU),
+        };
+        let (sa, ca) = self.half_angle.sin_cos();
+        let uv = [u, (rxy - self.radius) * sa + (p[2] - self.height) * ca];
         Some((uv, self.eval(uv)))
     }
 }
@@ -334,6 +397,39 @@ pub fn cylinder(r: f64, h: f64) -> Model {
     Model { corners, curves, faces: vec![side, disc(0.0, 0, true), disc(h, 1, false)] }
 }
 
+/// The lateral face of a cone with its apex at the origin and its base circle
+/// of radius `r` at height `h` (a [`Cone`] surface, normal pointing away from
+/// the axis): one face bounded by a degenerate curve at the apex (curve 0,
+/// v = apex), a seam line (curve 1) and the base circle (curve 2); 2 corners
+/// (0 the apex, 1 on the base circle).
+pub fn cone(r: f64, h: f64) -> Model {
+    let s = Cone { radius: r, height: h, half_angle: r.atan2(h) };
+    let va = s.apex_v();
+    let corners = vec![Corner { point: [0.0; 3] }, Corner { point: [r, 0.0, h] }];
+    let seam = Line { origin: [r, 0.0, h], dir: s.derivs([0.0, 0.0]).dv, range: (va, 0.0) };
+    let base = Circle { center: [0.0, 0.0, h], xdir: [1.0, 0.0, 0.0], ydir: [0.0, 1.0, 0.0], radius: r, range: (0.0, TAU) };
+    let curves = vec![
+        CurveEntity { geom: None, range: (0.0, TAU), start: CornerId(0), end: CornerId(0), degenerate: true },
+        CurveEntity { geom: Some(Arc::new(seam)), range: (va, 0.0), start: CornerId(0), end: CornerId(1), degenerate: false },
+        CurveEntity { geom: Some(Arc::new(base)), range: (0.0, TAU), start: CornerId(1), end: CornerId(1), degenerate: false },
+    ];
+    let face = Face {
+        uv_bounds: s.uv_bounds(),
+        surface: Arc::new(s),
+        reversed: false,
+        loops: vec![Loop {
+            uses: vec![
+                line_use(0, true, [0.0, va], [1.0, 0.0], false),
+                line_use(1, true, [TAU, 0.0], [0.0, 1.0], true),
+                line_use(2, false, [0.0, 0.0], [1.0, 0.0], false),
+                line_use(1, false, [0.0, 0.0], [0.0, 1.0], true),
+            ],
+            outer: true,
+        }],
+    };
+    Model { corners, curves, faces: vec![face] }
+}
+
 /// A sphere of radius `r` at the origin: one face with a seam (a meridian) and
 /// two degenerate curves at the poles; 2 corners (the poles).
 pub fn sphere(r: f64) -> Model {
@@ -365,6 +461,7 @@ pub fn sphere(r: f64) -> Model {
 
 #[cfg(test)]
 mod tests {
+
     use super::*;
     use crate::model::signed_area;
 
@@ -397,6 +494,7 @@ mod tests {
         check_model(&square(2.0));
         check_model(&cylinder(1.0, 3.0));
         check_model(&sphere(1.5));
+        check_model(&cone(1.0, 2.0));
     }
 
     #[test]
@@ -423,5 +521,21 @@ mod tests {
         assert!((n_side[0] - 1.0).abs() < 1e-12);
         assert!((m.faces[1].normal([0.0, 0.0]).unwrap()[2] + 1.0).abs() < 1e-12);
         assert!((m.faces[2].normal([0.0, 0.0]).unwrap()[2] - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn cone_normal_points_away_from_the_axis_and_flips_past_the_apex() {
+        let m = cone(1.0, 1.0);
+        let f = &m.faces[0];
+        let va = f.uv_bounds.vmin;
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let n = f.normal([0.0, 0.5 * va]).unwrap();
+        assert!(vec3::dist(n, [s, 0.0, -s]) < 1e-12, "{n:?}");
+        // on the other nappe, just past the apex
+        let n = f.normal([0.0, va - 1e-9]).unwrap();
+        assert!(vec3::dist(n, [-s, 0.0, s]) < 1e-6, "{n:?}");
+        let p = f.surface.eval([1.0, 0.5 * va]);
+        let (uv, q) = f.surface.project(p, None).unwrap();
+        assert!(vec3::dist(p, q) < 1e-12 && (uv[0] - 1.0).abs() < 1e-12 && (uv[1] - 0.5 * va).abs() < 1e-12);
     }
 }

@@ -2,6 +2,7 @@
 //! and statistics, file readers and writers, and pictures.
 
 pub mod atomic;
+pub mod field;
 pub mod obj;
 pub mod fixtures;
 pub mod msh;

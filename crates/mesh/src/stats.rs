@@ -5,7 +5,9 @@
 //!
 //! Definitions (DESIGN.md §5, quasi-structured spec §8.1):
 //! - quality is sampled at the four corners of each quad with a reference
-//!   normal: the oriented CAD normal with a Model, else the mean normal of
+//!   normal: the oriented CAD normal with a Model (by
+//!   [`geometry::Face::corner_normal`], the mesher's rule: at a pole or cone
+//!   apex the limit normal from inside the quad), else the mean normal of
 //!   the same-face quads sharing a node with the quad;
 //! - "irregular" = a face-interior node (classified on a face) whose quad
 //!   valence is not 4; "inverted" = a quad with some corner SICN < 0.
@@ -14,7 +16,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::fmt;
 
 use geometry::vec3::{self, add, cross, dot, scale, sub, Vec3};
-use geometry::{CornerId, FaceId, Model};
+use geometry::{CornerId, CornerUv, FaceId, Model};
 use serde::Serialize;
 
 use crate::quadmesh::{NodeClass, QuadMesh};
@@ -138,8 +140,10 @@ pub struct MeshStats {
 
 /// Unit normal of each corner of each quad, used as the reference normal of
 /// SICN and SJ: the oriented CAD normal of the quad's face at the node when
-/// `model` is given (with a mesh-based fallback where the CAD normal is
-/// undefined), else one normal per quad: the mean unit normal of the
+/// `model` is given ([`geometry::Face::corner_normal`]: at a node on a
+/// degenerate curve of the face or another singular point, the limit normal
+/// approached from inside the quad; with a mesh-based fallback where the CAD
+/// normal is undefined), else one normal per quad: the mean unit normal of the
 /// same-face quads sharing a node with it (see `mesh_corner_normals`).
 pub fn quad_corner_normals(mesh: &QuadMesh, model: Option<&Model>) -> Vec<[Vec3; 4]> {
     let mesh_normals = mesh_corner_normals(mesh);
@@ -233,58 +237,93 @@ fn mesh_corner_normals(mesh: &QuadMesh) -> Vec<[Vec3; 4]> {
         .collect()
 }
 
-/// Oriented CAD normals at quad corners, with a cache of node uv per face.
+/// Oriented CAD normals at quad corners, by [`geometry::Face::corner_normal`]
+/// (the rule the mesher's own quality checks use), with a cache of node
+/// projections per face.
+///
+/// Each corner needs its (u, v) on the quad's face and the quad's (u, v)
+/// centre: a node on a degenerate curve of the face (a pole: sphere pole,
+/// cone apex) has no single (u, v) and takes the limit normal from inside the
+/// quad; a node on a seam takes the side of the quad's other nodes.
 struct CadNormals<'a> {
     mesh: &'a QuadMesh,
     model: &'a Model,
-    uv: HashMap<(u32, FaceId), Option<[f64; 2]>>,
+    /// The model's bounding-box diagonal (scale of the projection tolerance).
+    diagonal: f64,
+    projected: HashMap<(u32, FaceId), Option<[f64; 2]>>,
 }
 
 impl<'a> CadNormals<'a> {
     fn new(mesh: &'a QuadMesh, model: &'a Model) -> Self {
-        Self { mesh, model, uv: HashMap::new() }
+        Self { mesh, model, diagonal: model.diagonal(), projected: HashMap::new() }
     }
 
-    /// uv of node `v` on face `f` when it follows from the classification
-    /// (face uv, curve parameter through the pcurve, corner through a pcurve end).
-    fn classified_uv(&self, v: u32, f: FaceId, hint: Option<[f64; 2]>) -> Option<[f64; 2]> {
-        let face = self.model.faces.get(f.idx())?;
-        let closest = |cands: Vec<[f64; 2]>| -> Option<[f64; 2]> {
-            let h = hint.unwrap_or(*cands.first()?);
-            cands.into_iter().min_by(|a, b| uv_dist2(*a, h).total_cmp(&uv_dist2(*b, h)))
-        };
-        match self.mesh.node_class.get(v as usize)? {
-            NodeClass::Face(g, Some(uv)) if *g == f => Some(*uv),
-            NodeClass::Curve(c, Some(t)) => {
-                closest(face.curve_uses().filter(|u| u.curve == *c).map(|u| u.pcurve.eval(*t)).collect())
-            }
-            NodeClass::Corner(k) => {
-                let mut cands = Vec::new();
+    /// The (u, v) segments of the degenerate curves of face `f` at node `v`
+    /// (empty unless the node is a pole of the face).
+    fn pole_segments(&self, v: u32, f: FaceId) -> Vec<[[f64; 2]; 2]> {
+        match self.mesh.node_class.get(v as usize) {
+            Some(NodeClass::Corner(k)) => self.model.pole_segments(f, *k),
+            Some(NodeClass::Curve(c, _)) => match self.model.curves.get(c.idx()) {
+                Some(ce) if ce.degenerate => self.model.pole_segments(f, ce.start),
+                _ => Vec::new(),
+            },
+            _ => Vec::new(),
+        }
+    }
+
+    /// Candidate (u, v) of node `v` on face `f` from its classification: the
+    /// face (u, v), the pcurves at a curve parameter or at a corner (two on a seam).
+    fn classified_uvs(&self, v: u32, f: FaceId) -> Vec<[f64; 2]> {
+        let Some(face) = self.model.faces.get(f.idx()) else { return Vec::new() };
+        match self.mesh.node_class.get(v as usize) {
+            Some(NodeClass::Face(g, Some(uv))) if *g == f => vec![*uv],
+            Some(NodeClass::Curve(c, Some(t))) => face.curve_uses().filter(|u| u.curve == *c).map(|u| u.pcurve.eval(*t)).collect(),
+            Some(NodeClass::Corner(k)) => {
+                let mut out = Vec::new();
                 for u in face.curve_uses() {
                     let Some(c) = self.model.curves.get(u.curve.idx()) else { continue };
                     if c.start == *k {
-                        cands.push(u.pcurve.eval(c.range.0));
+                        out.push(u.pcurve.eval(c.range.0));
                     }
                     if c.end == *k {
-                        cands.push(u.pcurve.eval(c.range.1));
+                        out.push(u.pcurve.eval(c.range.1));
                     }
                 }
-                closest(cands)
+                out
             }
-            _ => None,
+            _ => Vec::new(),
         }
+        .into_iter()
+        .filter(|uv| uv[0].is_finite() && uv[1].is_finite())
+        .collect()
     }
 
-    /// uv of node `v` on face `f`: from the classification or by projection.
-    fn node_uv(&mut self, v: u32, f: FaceId, hint: Option<[f64; 2]>) -> Option<[f64; 2]> {
-        if let Some(&uv) = self.uv.get(&(v, f)) {
+    /// (u, v) of node `v` projected on face `f` (cached). The projection from
+    /// `hint` (the side of a seam of the quad's other nodes) is kept when it
+    /// lands on the node inside the face's (u, v) range; otherwise (the other
+    /// nappe of a cone reached from a hint near its apex, the other side of a
+    /// thin wing reached by a local search) the global projection decides.
+    fn projected_uv(&mut self, v: u32, f: FaceId, hint: Option<[f64; 2]>) -> Option<[f64; 2]> {
+        if let Some(&uv) = self.projected.get(&(v, f)) {
             return uv;
         }
-        let uv = self.classified_uv(v, f, hint).or_else(|| {
-            let face = self.model.faces.get(f.idx())?;
-            face.surface.project(self.mesh.nodes[v as usize], hint).map(|(uv, _)| uv)
-        });
-        self.uv.insert((v, f), uv);
+        let face = self.model.faces.get(f.idx())?;
+        let p = self.mesh.nodes[v as usize];
+        let on_surface = 1e-7 * self.diagonal;
+        let candidate = |hint: Option<[f64; 2]>| {
+            face.surface.project(p, hint).filter(|(uv, _)| in_face_range(face, *uv)).map(|(uv, q)| (uv, vec3::dist(p, q)))
+        };
+        let mut best = candidate(hint);
+        if hint.is_some() && !best.is_some_and(|(_, d)| d <= on_surface) {
+            if let Some(g) = candidate(None) {
+                if !best.is_some_and(|(_, d)| d <= g.1) {
+                    best = Some(g);
+                }
+            }
+        }
+        // nothing inside the face range: the plain projection
+        let uv = best.map(|(uv, _)| uv).or_else(|| face.surface.project(p, hint).map(|(uv, _)| uv));
+        self.projected.insert((v, f), uv);
         uv
     }
 
@@ -292,43 +331,74 @@ impl<'a> CadNormals<'a> {
     fn quad_normals(&mut self, qi: usize, q: &[u32; 4]) -> [Option<Vec3>; 4] {
         let Some(&f) = self.mesh.quad_face.get(qi) else { return [None; 4] };
         let Some(face) = self.model.faces.get(f.idx()) else { return [None; 4] };
-        // First the nodes whose uv follows from the classification: they give
-        // the hint (the right side of a seam) for projecting the others.
-        let mut uvs = [None; 4];
-        let mut hint = None;
+        let poles = q.map(|v| self.pole_segments(v, f));
+        let cands: [Vec<[f64; 2]>; 4] =
+            [0, 1, 2, 3].map(|k| if poles[k].is_empty() { self.classified_uvs(q[k], f) } else { Vec::new() });
+        // (u, v) of the other corners: unambiguous ones first, then seam nodes
+        // on the side of those, then projections near them. The hint never
+        // comes from a singular point (an apex not classified as a pole): its
+        // u is arbitrary and it is a poor start for projecting the others.
+        let regular = |uv: &[f64; 2]| !face.is_singular(*uv);
+        let mut uvs: [Option<[f64; 2]>; 4] = [0, 1, 2, 3].map(|k| (cands[k].len() == 1).then(|| cands[k][0]));
+        let mut hint = uvs.iter().flatten().copied().find(regular);
         for k in 0..4 {
-            if self.uv.contains_key(&(q[k], f)) || self.classified_uv(q[k], f, None).is_some() {
-                uvs[k] = self.node_uv(q[k], f, hint);
-                hint = hint.or(uvs[k]);
+            if uvs[k].is_none() && !cands[k].is_empty() {
+                let h = hint.unwrap_or(cands[k][0]);
+                uvs[k] = cands[k].iter().copied().min_by(|a, b| uv_dist2(*a, h).total_cmp(&uv_dist2(*b, h)));
+                hint = hint.or(uvs[k].filter(regular));
             }
         }
         for k in 0..4 {
-            if uvs[k].is_none() {
-                uvs[k] = self.node_uv(q[k], f, hint);
-                hint = hint.or(uvs[k]);
+            if uvs[k].is_none() && poles[k].is_empty() {
+                uvs[k] = self.projected_uv(q[k], f, hint);
+                hint = hint.or(uvs[k].filter(regular));
             }
         }
-        let mut out = [None; 4];
-        for k in 0..4 {
-            let Some(uv) = uvs[k] else { continue };
-            out[k] = face.normal(uv).filter(|n| n.iter().all(|x| x.is_finite()));
-            if out[k].is_none() {
-                // A pole: evaluate slightly inside the quad, towards its centroid.
-                let p = quad_points(self.mesh, q);
-                let c = scale(add(add(p[0], p[1]), add(p[2], p[3])), 0.25);
-                if let Some((uvc, _)) = face.surface.project(c, Some(uv)) {
-                    for s in [1e-4, 1e-3, 1e-2, 0.1, 0.5] {
-                        let w = [uv[0] + s * (uvc[0] - uv[0]), uv[1] + s * (uvc[1] - uv[1])];
-                        if let Some(n) = face.normal(w) {
-                            out[k] = Some(n);
-                            break;
-                        }
-                    }
+        let Some(hint) = hint.or(uvs.iter().flatten().next().copied()) else { return [None; 4] };
+        let periods = face.surface.periods();
+        let unwrap = |uv: [f64; 2], target: [f64; 2]| {
+            let mut out = uv;
+            for d in 0..2 {
+                if let Some(p) = periods[d].filter(|p| *p > 0.0) {
+                    out[d] += ((target[d] - uv[d]) / p).round() * p;
                 }
             }
+            out
+        };
+        let known: Vec<[f64; 2]> = uvs.iter().flatten().map(|&uv| unwrap(uv, hint)).collect();
+        let centre = known.iter().fold([0.0, 0.0], |c, uv| [c[0] + uv[0], c[1] + uv[1]]);
+        let centre = [centre[0] / known.len() as f64, centre[1] / known.len() as f64];
+        let mut out = [None; 4];
+        for k in 0..4 {
+            let n = if poles[k].is_empty() {
+                uvs[k].and_then(|uv| face.corner_normal(CornerUv::Point(uv), unwrap(centre, uv)))
+            } else {
+                // the segment nearest the centre, the centre in its period
+                poles[k]
+                    .iter()
+                    .map(|&seg| {
+                        let c = unwrap(centre, CornerUv::Pole(seg).toward(centre));
+                        (uv_dist2(CornerUv::Pole(seg).toward(c), c), seg, c)
+                    })
+                    .min_by(|a, b| a.0.total_cmp(&b.0))
+                    .and_then(|(_, seg, c)| face.corner_normal(CornerUv::Pole(seg), c))
+            };
+            out[k] = n.filter(|n| n.iter().all(|x| x.is_finite()));
         }
         out
     }
+}
+
+/// True when `uv` lies in the face's (u, v) bounds, up to 1e-6 of their
+/// extent, in every non-periodic direction.
+fn in_face_range(face: &geometry::Face, uv: [f64; 2]) -> bool {
+    let b = face.uv_bounds;
+    let periods = face.surface.periods();
+    let ok = |x: f64, lo: f64, hi: f64, periodic: bool| {
+        let tol = 1e-6 * (hi - lo).abs().max(1e-300);
+        periodic || !(lo.is_finite() && hi.is_finite()) || (x >= lo - tol && x <= hi + tol)
+    };
+    ok(uv[0], b.umin, b.umax, periods[0].is_some()) && ok(uv[1], b.vmin, b.vmax, periods[1].is_some())
 }
 
 fn uv_dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
@@ -714,6 +784,75 @@ mod tests {
         assert_eq!(s.inverted_quads, 0);
         assert!(s.sicn.min > 0.3, "{s}");
         assert!(s.cad_distance.unwrap().max < 1e-9);
+    }
+
+    /// `primitives::cone(1, 1)` with its apex pcurve moved `past` beyond the
+    /// apex in v (where `du × dv` belongs to the other nappe), as
+    /// OpenCASCADE's are on data/cad/i04o_m4.step (1.8e-12), and a fan of 4
+    /// quads around the apex: (apex, ring u_{2i+2}, ring u_{2i+1}, ring u_{2i})
+    /// with the ring at half height, every 45°; the ring node at u = 0 lies on
+    /// the seam.
+    fn cone_apex_fan(past: f64) -> (Model, QuadMesh) {
+        use geometry::primitives::{cone, Line2d};
+        use std::sync::Arc;
+        let mut model = cone(1.0, 1.0);
+        let va = model.faces[0].uv_bounds.vmin;
+        model.faces[0].loops[0].uses[0].pcurve = Arc::new(Line2d { origin: [0.0, va - past], dir: [1.0, 0.0] });
+        let v = 0.5 * va;
+        let mut mesh = QuadMesh::default();
+        mesh.nodes.push([0.0; 3]);
+        mesh.node_class.push(NodeClass::Corner(CornerId(0)));
+        for k in 0..8 {
+            let u = std::f64::consts::FRAC_PI_4 * k as f64;
+            mesh.nodes.push(model.faces[0].surface.eval([u, v]));
+            // the seam curve's parameter is v
+            mesh.node_class.push(if k == 0 { NodeClass::Curve(CurveId(1), Some(v)) } else { NodeClass::Face(FaceId(0), Some([u, v])) });
+        }
+        for i in 0..4u32 {
+            mesh.quads.push([0, 1 + (2 * i + 2) % 8, 2 + 2 * i, 1 + 2 * i]);
+            mesh.quad_face.push(FaceId(0));
+        }
+        (model, mesh)
+    }
+
+    /// Eq. 12 on the fan of [`cone_apex_fan`] computed by hand: the cone's
+    /// normal at a ring node is `(cos a cos u, cos a sin u, −sin a)` (a = 45°),
+    /// at the apex the limit along the quad's middle generatrix.
+    fn cone_fan_expected(mesh: &QuadMesh) -> Vec<f64> {
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let n = |u: f64| [s * u.cos(), s * u.sin(), -s];
+        (0..4)
+            .map(|i| {
+                let u = |k: usize| std::f64::consts::FRAC_PI_4 * k as f64;
+                let ns = [n(u(2 * i + 1)), n(u(2 * i + 2)), n(u(2 * i + 1)), n(u(2 * i))];
+                min4(corner_sicn(&quad_points(mesh, &mesh.quads[i]), &ns))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn quads_at_a_cone_apex_take_the_limit_normal_from_inside() {
+        let (model, mesh) = cone_apex_fan(1e-12);
+        let expected = cone_fan_expected(&mesh);
+        assert!(expected.iter().all(|&x| x > 0.3), "{expected:?}");
+        // the apex pcurve's own normal points into the cone: the old evaluation
+        let apex_uv = [0.0, model.faces[0].uv_bounds.vmin - 1e-12];
+        assert!(model.faces[0].normal(apex_uv).unwrap()[2] > 0.7);
+        let sicn = quad_sicn_values(&mesh, Some(&model));
+        for (got, want) in sicn.iter().zip(&expected) {
+            assert!((got - want).abs() < 1e-9, "{sicn:?} vs {expected:?}");
+        }
+        let s = MeshStats::compute(&mesh, Some(&model));
+        assert_eq!(s.inverted_quads, 0, "{s}");
+        // as Gmsh writes them: the apex and the ring as face nodes without (u, v)
+        let mut g = mesh.clone();
+        for c in g.node_class.iter_mut() {
+            *c = NodeClass::Face(FaceId(0), None);
+        }
+        let sicn = quad_sicn_values(&g, Some(&model));
+        for (got, want) in sicn.iter().zip(&expected) {
+            assert!((got - want).abs() < 1e-6, "{sicn:?} vs {expected:?}");
+        }
     }
 
     /// A planar triangle face with a 5° angle at corner 0, split into 3 quads.

@@ -11,17 +11,37 @@
 //! - cell data `cad_face` (Int32): the CAD face id + 1;
 //! - cell data `SICN` (Float64), when given: the quad's value; triangles and
 //!   non-finite values get [`NO_VALUE`] (VTK's ASCII reader cannot read NaN).
+//!
+//! [`write_field_vtu`] writes a cross field on its background triangulation
+//! ([`CrossFieldMesh`]) with the same XML helpers, in one piece: the
+//! triangles (`VTK_TRIANGLE`), then one `VTK_VERTEX` cell per singularity
+//! (its point appended after the triangles' nodes). Cell data:
+//! - `cad_face` (Int32): the CAD face id + 1;
+//! - `cross` (Float64, 3 components): one unit branch of the cross of each
+//!   triangle (for glyphs; the other branch is its rotation by 90° about the
+//!   normal), zero where the field vanishes and on singularity cells;
+//! - `size` (Float64), when the field has one: the size map, [`NO_VALUE`] on
+//!   singularity cells and where unknown;
+//! - `singularity_index` (Int32): 0 on triangles, the index (±1) on
+//!   singularity cells (a Threshold on it isolates the singularities).
+//!
+//! One piece, not two, because meshio 5.3 keeps only the cells of the last piece.
 
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
+use geometry::vec3::Vec3;
+
 use crate::atomic::write_atomically;
+use crate::field::CrossFieldMesh;
 use crate::quadmesh::{NodeClass, QuadMesh};
 
 /// The VTK cell type of a linear quad.
 pub const VTK_QUAD: u8 = 9;
 /// The VTK cell type of a linear triangle.
 pub const VTK_TRIANGLE: u8 = 5;
+/// The VTK cell type of a single point.
+pub const VTK_VERTEX: u8 = 1;
 /// The `SICN` value written for cells without one (triangles, non-finite input).
 pub const NO_VALUE: f64 = -2.0;
 
@@ -128,14 +148,61 @@ fn close_array<W: Write>(w: &mut W) -> io::Result<()> {
     writeln!(w, "        </DataArray>")
 }
 
-/// The XML document.
-fn write_body<W: Write>(mesh: &QuadMesh, sicn: Option<&[f64]>, w: &mut W) -> io::Result<()> {
-    let ncells = mesh.quads.len() + mesh.triangles.len();
+/// The XML prologue up to the opening `UnstructuredGrid` tag.
+fn write_header<W: Write>(w: &mut W) -> io::Result<()> {
     writeln!(w, "<?xml version=\"1.0\"?>")?;
     writeln!(w, "<!-- written by Quadrille -->")?;
     writeln!(w, "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">")?;
-    writeln!(w, "  <UnstructuredGrid>")?;
-    writeln!(w, "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">", mesh.nodes.len(), ncells)?;
+    writeln!(w, "  <UnstructuredGrid>")
+}
+
+/// Closes what [`write_header`] opened.
+fn write_footer<W: Write>(w: &mut W) -> io::Result<()> {
+    writeln!(w, "  </UnstructuredGrid>")?;
+    writeln!(w, "</VTKFile>")
+}
+
+/// Opens a `Piece` element.
+fn open_piece<W: Write>(w: &mut W, points: usize, cells: usize) -> io::Result<()> {
+    writeln!(w, "    <Piece NumberOfPoints=\"{points}\" NumberOfCells=\"{cells}\">")
+}
+
+/// The `Points` element.
+fn write_points<'a, W: Write>(w: &mut W, points: impl Iterator<Item = &'a Vec3>) -> io::Result<()> {
+    writeln!(w, "      <Points>")?;
+    open_array(w, "Float64", "Points", 3)?;
+    write_values(w, points.flat_map(|p| p.iter().copied()), 6)?;
+    close_array(w)?;
+    writeln!(w, "      </Points>")
+}
+
+/// The `Cells` element and the end of the piece: connectivity, end offsets
+/// and VTK cell types.
+fn write_cells_and_close_piece<W: Write>(
+    w: &mut W,
+    connectivity: impl Iterator<Item = u32>,
+    offsets: impl Iterator<Item = usize>,
+    types: impl Iterator<Item = u8>,
+) -> io::Result<()> {
+    writeln!(w, "      <Cells>")?;
+    open_array(w, "Int64", "connectivity", 1)?;
+    write_values(w, connectivity, 12)?;
+    close_array(w)?;
+    open_array(w, "Int64", "offsets", 1)?;
+    write_values(w, offsets, 12)?;
+    close_array(w)?;
+    open_array(w, "UInt8", "types", 1)?;
+    write_values(w, types, 30)?;
+    close_array(w)?;
+    writeln!(w, "      </Cells>")?;
+    writeln!(w, "    </Piece>")
+}
+
+/// The XML document.
+fn write_body<W: Write>(mesh: &QuadMesh, sicn: Option<&[f64]>, w: &mut W) -> io::Result<()> {
+    let ncells = mesh.quads.len() + mesh.triangles.len();
+    write_header(w)?;
+    open_piece(w, mesh.nodes.len(), ncells)?;
 
     writeln!(w, "      <PointData Scalars=\"valence\">")?;
     open_array(w, "Int32", "class_dim", 1)?;
@@ -161,31 +228,55 @@ fn write_body<W: Write>(mesh: &QuadMesh, sicn: Option<&[f64]>, w: &mut W) -> io:
     }
     writeln!(w, "      </CellData>")?;
 
-    writeln!(w, "      <Points>")?;
-    open_array(w, "Float64", "Points", 3)?;
-    write_values(w, mesh.nodes.iter().flat_map(|p| p.iter().copied()), 6)?;
-    close_array(w)?;
-    writeln!(w, "      </Points>")?;
-
-    writeln!(w, "      <Cells>")?;
-    open_array(w, "Int64", "connectivity", 1)?;
+    write_points(w, mesh.nodes.iter())?;
     let conn = mesh.quads.iter().flat_map(|q| q.iter().copied()).chain(mesh.triangles.iter().flat_map(|t| t.iter().copied()));
-    write_values(w, conn, 12)?;
-    close_array(w)?;
-    open_array(w, "Int64", "offsets", 1)?;
     let offsets = (1..=mesh.quads.len()).map(|i| 4 * i).chain((1..=mesh.triangles.len()).map(|i| 4 * mesh.quads.len() + 3 * i));
-    write_values(w, offsets, 12)?;
-    close_array(w)?;
-    open_array(w, "UInt8", "types", 1)?;
     let types = mesh.quads.iter().map(|_| VTK_QUAD).chain(mesh.triangles.iter().map(|_| VTK_TRIANGLE));
-    write_values(w, types, 30)?;
-    close_array(w)?;
-    writeln!(w, "      </Cells>")?;
+    write_cells_and_close_piece(w, conn, offsets, types)?;
+    write_footer(w)
+}
 
-    writeln!(w, "    </Piece>")?;
-    writeln!(w, "  </UnstructuredGrid>")?;
-    writeln!(w, "</VTKFile>")?;
-    Ok(())
+/// Writes a cross field on its background triangulation to `path` (see the
+/// module documentation for the pieces and arrays). The file is written
+/// atomically; an inconsistent `field` is refused before anything is written.
+pub fn write_field_vtu(field: &CrossFieldMesh, path: &Path) -> Result<(), VtuError> {
+    field.check().map_err(|reason| VtuError::Invalid { path: path.to_path_buf(), reason })?;
+    write_atomically(path, |w| write_field_body(field, w)).map_err(|source| VtuError::Io { path: path.to_path_buf(), source })
+}
+
+/// The XML document of [`write_field_vtu`]: one piece, triangles then one
+/// vertex cell per singularity (whose points follow the triangles' nodes).
+fn write_field_body<W: Write>(field: &CrossFieldMesh, w: &mut W) -> io::Result<()> {
+    let (nn, nt, ns) = (field.nodes.len(), field.triangles.len(), field.singularities.len());
+    write_header(w)?;
+    open_piece(w, nn + ns, nt + ns)?;
+
+    writeln!(w, "      <CellData Scalars=\"singularity_index\" Vectors=\"cross\">")?;
+    open_array(w, "Int32", "cad_face", 1)?;
+    let faces = field.triangle_face.iter().chain(field.singularities.iter().map(|s| &s.face));
+    write_values(w, faces.map(|f| f.0 as i64 + 1), 20)?;
+    close_array(w)?;
+    open_array(w, "Float64", "cross", 3)?;
+    let cross = field.cross.iter().map(|c| c.unwrap_or([0.0; 3])).chain((0..ns).map(|_| [0.0; 3]));
+    write_values(w, cross.flat_map(|d| d.into_iter()), 6)?;
+    close_array(w)?;
+    if let Some(size) = &field.size {
+        open_array(w, "Float64", "size", 1)?;
+        let size = size.iter().map(|&x| if x.is_finite() { x } else { NO_VALUE }).chain((0..ns).map(|_| NO_VALUE));
+        write_values(w, size, 6)?;
+        close_array(w)?;
+    }
+    open_array(w, "Int32", "singularity_index", 1)?;
+    write_values(w, (0..nt).map(|_| 0).chain(field.singularities.iter().map(|s| s.index)), 20)?;
+    close_array(w)?;
+    writeln!(w, "      </CellData>")?;
+
+    write_points(w, field.nodes.iter().chain(field.singularities.iter().map(|s| &s.position)))?;
+    let conn = field.triangles.iter().flatten().copied().chain(nn as u32..(nn + ns) as u32);
+    let offsets = (1..=nt).map(|i| 3 * i).chain((1..=ns).map(|i| 3 * nt + i));
+    let types = (0..nt).map(|_| VTK_TRIANGLE).chain((0..ns).map(|_| VTK_VERTEX));
+    write_cells_and_close_piece(w, conn, offsets, types)?;
+    write_footer(w)
 }
 
 #[cfg(test)]
@@ -253,6 +344,48 @@ pub(crate) mod tests {
         // without SICN there is no SICN array
         write_vtu(&mesh, None, &path).unwrap();
         assert!(!std::fs::read_to_string(&path).unwrap().contains("SICN"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn field_file_has_triangles_then_singularity_vertices() {
+        let dir = tmp("field");
+        let path = dir.join("f.vtu");
+        let field = crate::field::tests::square_field(2);
+        write_field_vtu(&field, &path).unwrap();
+        let xml = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(xml.matches("<Piece").count(), 1);
+        assert!(xml.contains("<Piece NumberOfPoints=\"11\" NumberOfCells=\"10\">"), "{xml}");
+        assert_eq!(xml.matches("<DataArray").count(), xml.matches("</DataArray>").count());
+        let types = array_values(&xml, "types");
+        assert_eq!(types[..8], ["5"; 8]);
+        assert_eq!(types[8..], ["1", "1"]);
+        assert_eq!(array_values(&xml, "offsets")[6..], ["21", "24", "25", "26"]);
+        assert_eq!(array_values(&xml, "connectivity")[..3], ["0", "1", "4"]);
+        assert_eq!(array_values(&xml, "connectivity")[24..], ["9", "10"]);
+        let cross = array_values(&xml, "cross");
+        assert_eq!(cross.len(), 3 * 10);
+        assert_eq!(cross[..3], ["1", "0", "0"]);
+        assert_eq!(cross[24..], ["0"; 6]);
+        let index = array_values(&xml, "singularity_index");
+        assert_eq!(index[..8], ["0"; 8]);
+        assert_eq!(index[8..], ["1", "-1"]);
+        assert_eq!(array_values(&xml, "Points")[27..], ["0.5", "0.5", "0", "0.25", "0.25", "0"]);
+        let size = array_values(&xml, "size");
+        assert_eq!(size.len(), 10);
+        assert_eq!(size[8..], ["-2", "-2"]);
+        assert_eq!(array_values(&xml, "cad_face"), ["1"; 10]);
+        // without sizes and singularities: triangles only, no size array
+        let plain = CrossFieldMesh { size: None, singularities: Vec::new(), ..field.clone() };
+        write_field_vtu(&plain, &path).unwrap();
+        let xml = std::fs::read_to_string(&path).unwrap();
+        assert!(xml.contains("NumberOfPoints=\"9\" NumberOfCells=\"8\""));
+        assert!(!xml.contains("\"size\""));
+        // inconsistent input is refused and leaves the old file alone
+        let broken = CrossFieldMesh { cross: Vec::new(), ..field };
+        let e = write_field_vtu(&broken, &path).unwrap_err();
+        assert!(e.to_string().contains("f.vtu") && e.to_string().contains("cross"), "{e}");
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), xml);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

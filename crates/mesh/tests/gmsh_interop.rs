@@ -40,8 +40,13 @@ gmsh.finalize()
 print("JSON" + json.dumps(out))
 "#;
 
+/// The Python that has gmsh: `QUADRILLE_PYTHON` (set by `run-tests`), else `python3`.
+fn python() -> String {
+    std::env::var("QUADRILLE_PYTHON").ok().filter(|s| !s.is_empty()).unwrap_or_else(|| "python3".to_string())
+}
+
 fn gmsh_available() -> bool {
-    let ok = Command::new("python3").args(["-c", "import gmsh"]).output().map(|o| o.status.success()).unwrap_or(false);
+    let ok = Command::new(python()).args(["-c", "import gmsh"]).output().map(|o| o.status.success()).unwrap_or(false);
     if !ok {
         if std::env::var("QUADRILLE_REQUIRE_GMSH").as_deref() == Ok("1") {
             panic!("QUADRILLE_REQUIRE_GMSH=1 but the gmsh Python module is not importable (pip install gmsh)");
@@ -64,7 +69,7 @@ fn gmsh_reads_our_msh_with_the_same_counts_entities_and_classification() {
         write_msh(&path, &mesh, Some(&model), enc).unwrap();
         let back = dir.join(format!("cube-{enc:?}-by-gmsh.msh"));
         let binary = if enc == MshEncoding::Binary { "1" } else { "0" };
-        let out = Command::new("python3").arg("-c").arg(SCRIPT).arg(&path).arg(&back).arg(binary).output().expect("python3 runs");
+        let out = Command::new(python()).arg("-c").arg(SCRIPT).arg(&path).arg(&back).arg(binary).output().expect("python runs");
         let stdout = String::from_utf8_lossy(&out.stdout);
         assert!(out.status.success(), "gmsh failed on {path:?}: {}\n{stdout}", String::from_utf8_lossy(&out.stderr));
         let json = stdout.lines().find_map(|l| l.strip_prefix("JSON")).expect("the script prints its JSON");

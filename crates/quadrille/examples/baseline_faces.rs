@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use geometry::FaceId;
-use quadrille::curve_mesh::{discretize_all, initial_counts};
+use quadrille::curve_mesh::{discretize_all, plan_curves};
 use quadrille::pipeline::mesh_face;
 
 fn main() {
@@ -32,8 +32,8 @@ fn main() {
         return;
     }
     let h = quadrille::default_size(&model) * factor;
-    let counts = initial_counts(&model, h);
-    let cms = discretize_all(&model, &counts);
+    let plan = plan_curves(&model, h);
+    let cms = discretize_all(&model, &plan);
     if args.get(3).map(String::as_str) == Some("face") {
         let f: usize = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(0);
         dump(&model, f, &cms, h);

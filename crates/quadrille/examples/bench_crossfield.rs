@@ -1,11 +1,18 @@
 //! Benchmark of the cross-field stage (issue 4): the cross field of a disk
-//! face triangulated with ~100k triangles (and smaller sizes), against one
-//! Cholesky factorization + solve of the same operator (`M + α K`, the
-//! Crouzeix–Raviart connection Laplacian the field is diffused with) and of the
-//! real scalar CR Laplacian on the same edges. Single-threaded.
+//! face triangulated with ~100k triangles (and smaller sizes) and of an
+//! irregular pentagon of about as many triangles, against one Cholesky
+//! factorization + solve of the same operator (`M + α K`, the
+//! Crouzeix–Raviart connection Laplacian the field is diffused with, with the
+//! solver's ordering and triangular solves) and of the real scalar CR
+//! Laplacian on the same edges. Single-threaded. Times are the best of
+//! `--runs` runs (default 3).
 //!
-//! Run: `cargo run --release -p quadrille --example bench_crossfield [rings...]`
-//! (a disk of `r` rings has `6 r²` triangles; default 40 80 130).
+//! Run: `cargo run --release -p quadrille --example bench_crossfield -- [rings...]
+//! [--levels N] [--max-iterations N] [--tolerance C] [--runs N] [--verbose]`
+//! (a disk of `r` rings has `6 r²` triangles; default 40 80 130). `--verbose`
+//! prints every singularity. `--solvers` instead compares faer's orderings
+//! (AMD, the geometric nested dissection of `linsolve`) and factorization
+//! kinds (supernodal, simplicial) on the two 100k faces.
 
 use std::time::Instant;
 
@@ -17,16 +24,18 @@ use quadrille::crossfield::{compute_cross_field, fixtures, CrossFieldOptions, Fa
 use quadrille::scaling::conformal_scaling;
 use quadrille::singularities::extract_singularities;
 
+/// Best time of `runs` runs of `f`, with the output of that run.
 fn best_of<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut best = f64::INFINITY;
-    let mut out = None;
-    for _ in 0..runs {
+    let mut best: Option<(f64, T)> = None;
+    for _ in 0..runs.max(1) {
         let t = Instant::now();
         let r = f();
-        best = best.min(t.elapsed().as_secs_f64());
-        out = Some(r);
+        let el = t.elapsed().as_secs_f64();
+        if best.as_ref().is_none_or(|(b, _)| el < *b) {
+            best = Some((el, r));
+        }
     }
-    (best, out.unwrap())
+    best.unwrap()
 }
 
 fn free_coords(topo: &FaceTopology, free: &[u32]) -> Vec<[f64; 3]> {
@@ -51,9 +60,9 @@ fn reference_complex(topo: &FaceTopology, fixed: &[bool]) -> (f64, f64, f64) {
         vals[sys.spd.pattern.diag(j)] += c64::new(sys.mass[j], 0.0);
     }
     let pattern = sys.spd.pattern.clone();
-    let coords = free_coords(topo, &sys.free);
     let t = Instant::now();
-    let spd = SparseSpd::analyze(pattern, Some(&coords)).unwrap();
+    // the ordering of the cross-field solver (faer's AMD)
+    let spd = SparseSpd::analyze(pattern, None).unwrap();
     let t_sym = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let f = spd.factor(&vals).unwrap();
@@ -107,24 +116,69 @@ fn reference_scalar(topo: &FaceTopology, fixed: &[bool]) -> f64 {
             }
         }
     }
-    let free: Vec<u32> = (0..ne as u32).filter(|&e| index[e as usize] != NONE).collect();
-    let coords = free_coords(topo, &free);
     let t = Instant::now();
-    let spd = SparseSpd::analyze(pattern, Some(&coords)).unwrap();
+    let spd = SparseSpd::analyze(pattern, None).unwrap();
     let f = spd.factor(&vals).unwrap();
     let mut rhs = vec![1.0f64; n];
     f.solve_in_place(&mut rhs);
     t.elapsed().as_secs_f64()
 }
 
+/// Linear-algebra micro benchmark on `mesh` (operator `M + αK` at the final
+/// α): fill, symbolic, numeric and solve times (best of 3 / 3 / 30 runs) for
+/// each ordering (geometric nested dissection, AMD) and factorization kind.
+fn solve_bench(mesh: &quadrille::crossfield::FaceMesh) {
+    use faer::sparse::linalg::SupernodalThreshold;
+    let field = compute_cross_field(mesh, &CrossFieldOptions { max_iterations: 1, levels: 1, ..Default::default() }).unwrap();
+    let topo = &field.topology;
+    let u = vec![[1.0, 0.0]; topo.edges.len()];
+    let sys = assemble(topo, &vec![true; topo.triangles.len()], &field.fixed, &u).unwrap();
+    let alpha = (3.0 * topo.h_min).powi(2);
+    let mut vals: Vec<c64> = sys.stiffness.iter().map(|k| k * alpha).collect();
+    for j in 0..sys.free.len() {
+        vals[sys.spd.pattern.diag(j)] += c64::new(sys.mass[j], 0.0);
+    }
+    let coords = free_coords(topo, &sys.free);
+    for (oname, ord) in [("ND", Some(&coords[..])), ("AMD", None)] {
+        for (kname, th) in [("supernodal", SupernodalThreshold::FORCE_SUPERNODAL), ("simplicial", SupernodalThreshold::FORCE_SIMPLICIAL)] {
+            let (t_sym, spd) = best_of(3, || SparseSpd::analyze_with(sys.spd.pattern.clone(), ord, th).unwrap());
+            let (t_num, f) = best_of(3, || spd.factor(&vals).unwrap());
+            let mut rhs: Vec<c64> = sys.mass.iter().map(|&m| c64::new(m, 0.0)).collect();
+            let (t_solve, _) = best_of(30, || f.solve_in_place(&mut rhs));
+            println!("{oname} {kname}: nnz(L) {} sym {t_sym:.4} num {t_num:.4} solve {t_solve:.4}", spd.factor_entries());
+        }
+    }
+}
+
 fn main() {
     faer::set_global_parallelism(faer::Par::Seq);
-    let args: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
-    let rings = if args.is_empty() { vec![40, 80, 130] } else { args };
-    let opts = CrossFieldOptions::default();
-    println!("| face | triangles | edges solved | levels (iterations) | cross field (s) [setup / levels] | factor+solve of M+αK (s) [sym / num / solve] | ratio | scalar CR factor+solve (s) | singularities | scaling (s) |");
-    println!("|---|---:|---:|---|---:|---:|---:|---:|---:|---:|");
     let pentagon = [[0.0, 0.0], [3.0, 0.0], [3.5, 2.0], [1.0, 3.0], [-0.5, 1.5]];
+    let mut opts = CrossFieldOptions::default();
+    let (mut rings, mut runs, mut verbose) = (Vec::new(), 3usize, false);
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        let mut value = || args.next().and_then(|v| v.parse::<f64>().ok()).unwrap_or_else(|| panic!("{a} needs a number"));
+        match a.as_str() {
+            "--levels" => opts.levels = value() as usize,
+            "--max-iterations" => opts.max_iterations = value() as usize,
+            "--tolerance" => opts.tolerance = value(),
+            "--runs" => runs = value() as usize,
+            "--verbose" => verbose = true,
+            "--solvers" => {
+                println!("disk 130 rings");
+                solve_bench(&fixtures::disk(130));
+                println!("irregular pentagon");
+                solve_bench(&fixtures::convex_polygon(&pentagon, 142));
+                return;
+            }
+            _ => rings.push(a.parse::<usize>().unwrap_or_else(|_| panic!("unknown argument {a}"))),
+        }
+    }
+    if rings.is_empty() {
+        rings = vec![40, 80, 130];
+    }
+    println!("| face | triangles | edges solved | levels (iterations) | cross field (s) [setup / levels] | factor+solve of M+αK (s) [sym / num / solve] | ratio | scalar CR factor+solve (s) | singularities | singularity radius / position | scaling (s) |");
+    println!("|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|");
     let mut faces = Vec::new();
     for &r in &rings {
         faces.push((format!("disk {r} rings"), fixtures::disk(r)));
@@ -135,17 +189,33 @@ fn main() {
         faces.push(("irregular pentagon".to_string(), fixtures::convex_polygon(&pentagon, n)));
     }
     for (name, mesh) in faces {
-        let (t_field, field) = best_of(3, || compute_cross_field(&mesh, &opts).unwrap());
+        let (t_field, field) = best_of(runs, || compute_cross_field(&mesh, &opts).unwrap());
         let topo = &field.topology;
-        let (t_sym, t_num, t_solve) = (0..3).map(|_| reference_complex(topo, &field.fixed)).fold((f64::INFINITY, f64::INFINITY, f64::INFINITY), |a, b| (a.0.min(b.0), a.1.min(b.1), a.2.min(b.2)));
+        let (t_sym, t_num, t_solve) = (0..runs.max(1))
+            .map(|_| reference_complex(topo, &field.fixed))
+            .fold((f64::INFINITY, f64::INFINITY, f64::INFINITY), |a, b| (a.0.min(b.0), a.1.min(b.1), a.2.min(b.2)));
         let t_ref = t_sym + t_num + t_solve;
-        let (t_scalar, _) = best_of(3, || reference_scalar(topo, &field.fixed));
+        let (t_scalar, _) = best_of(runs, || reference_scalar(topo, &field.fixed));
         let sing = extract_singularities(&field);
-        let (t_scale, _) = best_of(3, || conformal_scaling(&field).unwrap());
+        let (t_scale, _) = best_of(runs, || conformal_scaling(&field).unwrap());
+        // disks are centred on the origin: mean distance of the singularities to it
+        let place = if name.starts_with("disk") && !sing.list.is_empty() {
+            let r: f64 = sing.list.iter().map(|s| s.position[0].hypot(s.position[1])).sum::<f64>() / sing.list.len() as f64;
+            format!("r = {r:.3}")
+        } else if let [s] = &sing.list[..] {
+            format!("({:.3}, {:.3})", s.position[0], s.position[1])
+        } else {
+            "—".to_string()
+        };
+        if verbose {
+            for s in &sing.list {
+                eprintln!("{name}: index {} at ({:.4}, {:.4}, {:.4})", s.index, s.position[0], s.position[1], s.position[2]);
+            }
+        }
         let t_levels: f64 = field.levels.iter().map(|l| l.seconds).sum();
         let its: Vec<String> = field.levels.iter().map(|l| l.iterations.to_string()).collect();
         println!(
-            "| {} | {} | {} | {} ({}) | {:.3} [{:.3} / {:.3}] | {:.3} [{:.3} / {:.3} / {:.4}] | {:.2} | {:.3} | {} (sum {}) | {:.3} |",
+            "| {} | {} | {} | {} ({}) | {:.3} [{:.3} / {:.3}] | {:.3} [{:.3} / {:.3} / {:.4}] | {:.2} | {:.3} | {} (sum {}) | {} | {:.3} |",
             name,
             topo.triangles.len(),
             field.free_edges(),
@@ -162,6 +232,7 @@ fn main() {
             t_scalar,
             sing.list.len(),
             sing.index_sum(),
+            place,
             t_scale
         );
     }

@@ -1,29 +1,26 @@
 //! Relation (2) of the paper on every face of every CAD model in a folder:
-//! imports each model (OpenCASCADE), triangulates each face with the baseline
-//! background triangulation, computes the cross field and its singularities,
-//! and checks `Σ singularity indices = 4χ − Σ_corners (2 − n̄)`.
+//! imports each model (OpenCASCADE), and for each face computes the cross
+//! field on the baseline background triangulation and its singularities
+//! ([`quadrille::field_report::model_fields`], the routine behind
+//! `quadrille field`), and checks `Σ singularity indices = 4χ − Σ_corners (2 − n̄)`.
 //!
-//! Run: `cargo run --release -p quadrille --example crossfield_models [dir]`
-//! [refine]` (default `data/cad`, refine 8: background triangles of a quarter of the
+//! Run: `cargo run --release -p quadrille --example crossfield_models [dir] [refine]`
+//! (default `data/cad`, refine 8: background triangles of a quarter of the
 //! default quad size). Prints one line per failing face and the share of
 //! faces that satisfy the relation.
 
 use std::path::PathBuf;
 
-use quadrille::crossfield::{compute_cross_field, CrossFieldOptions, FaceMesh};
-use quadrille::curve_mesh::{discretize_all, initial_counts};
-use quadrille::face_triangulation::FaceTriangulation;
-use quadrille::pipeline::default_size;
-use quadrille::singularities::extract_singularities;
+use quadrille::field_report::{model_fields, FieldOptions, BACKGROUND_REFINE};
 
 fn main() {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "data/cad".into()));
-    // background size = default quad size / `refine` (second argument, default 4)
-    let refine: f64 = std::env::args().nth(2).and_then(|a| a.parse().ok()).unwrap_or(8.0);
+    // background size = default quad size / `refine` (second argument)
+    let refine: f64 = std::env::args().nth(2).and_then(|a| a.parse().ok()).unwrap_or(BACKGROUND_REFINE);
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir).expect("model folder").filter_map(|e| e.ok().map(|e| e.path())).collect();
     files.sort();
     let (mut ok, mut bad, mut skipped) = (0usize, 0usize, 0usize);
-    let opts = CrossFieldOptions::default();
+    let opts = FieldOptions { refine, size_map: false, ..Default::default() };
     for path in files {
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
         if !["step", "stp", "iges", "igs", "brep"].contains(&ext.as_str()) {
@@ -36,40 +33,34 @@ fn main() {
                 continue;
             }
         };
-        let h = default_size(&model) / refine;
-        let cms = discretize_all(&model, &initial_counts(&model, h));
+        let fields = match model_fields(&model, &opts) {
+            Ok(f) => f,
+            Err(e) => {
+                println!("{}: {e}", path.display());
+                continue;
+            }
+        };
         let (mut m_ok, mut m_bad, mut m_skip) = (0, 0, 0);
-        for f in 0..model.faces.len() {
-            let fid = geometry::FaceId(f as u32);
-            let mesh = match FaceTriangulation::new(&model, fid, &cms, 2.0 * h).and_then(|mut ft| ft.refine().map(|_| ft)) {
-                Ok(ft) => FaceMesh::from_face_triangulation(&ft),
-                Err(e) => {
-                    println!("  {} face {f}: no triangulation ({e:?})", path.display());
-                    m_skip += 1;
-                    continue;
-                }
-            };
-            match compute_cross_field(&mesh, &opts) {
-                Ok(field) => {
-                    let s = extract_singularities(&field);
-                    if s.satisfies_eq2() {
-                        m_ok += 1;
-                    } else {
-                        m_bad += 1;
-                        let corners: Vec<String> = s.corners.iter().map(|c| format!("{:.0}°", c.angle.to_degrees())).collect();
-                        println!(
-                            "  {} face {f}: Σk = {} but 4χ − Σ(2 − n̄) = {} (χ = {}, corners [{}], {} triangles)",
-                            path.display(),
-                            s.index_sum(),
-                            s.expected_index_sum(),
-                            s.euler_characteristic,
-                            corners.join(" "),
-                            field.topology.triangles.len()
-                        );
-                    }
+        for report in &fields.faces {
+            let f = report.face.idx();
+            match &report.outcome {
+                Ok(ff) if ff.singularities.satisfies_eq2() => m_ok += 1,
+                Ok(ff) => {
+                    m_bad += 1;
+                    let s = &ff.singularities;
+                    let corners: Vec<String> = s.corners.iter().map(|c| format!("{:.0}°", c.angle.to_degrees())).collect();
+                    println!(
+                        "  {} face {f}: Σk = {} but 4χ − Σ(2 − n̄) = {} (χ = {}, corners [{}], {} triangles)",
+                        path.display(),
+                        s.index_sum(),
+                        s.expected_index_sum(),
+                        s.euler_characteristic,
+                        corners.join(" "),
+                        ff.triangles()
+                    );
                 }
                 Err(e) => {
-                    println!("  {} face {f}: cross field failed: {e}", path.display());
+                    println!("  {} face {f}: {e}", path.display());
                     m_skip += 1;
                 }
             }

@@ -3,20 +3,41 @@
 //!
 //! Resolution convention (quasi-structured spec §1.2): a curve gets `n ≥ 1`
 //! *coarse* segments at spacing about `2h` (the triangulation works at that
-//! spacing) and is stored with `2n + 1` points uniform in arc length; the
-//! odd-indexed points are the coarse segments' midpoints, which the
-//! triangle → quad split uses, so every node lands exactly on the CAD curve and
-//! each curve ends up with `2n` mesh edges of length about `h`.
+//! spacing) and is stored with `2n + 1` points; the odd-indexed points are the
+//! coarse segments' midpoints, which the triangle → quad split uses, so every
+//! node lands exactly on the CAD curve and each curve ends up with `2n` mesh
+//! edges of length about `h`.
+//!
+//! Where a curve bends tightly (a rounded trailing edge, a small fillet) the
+//! spacing shrinks so that one coarse segment turns by at most
+//! [`MAX_TURN_PER_SEGMENT`], and it grows back to `2h` at rate [`GRADING`]: the
+//! points are uniform in ∫ ds / size(s), not in arc length. Refining a curve
+//! (doubling its count) halves every spacing and keeps the grading.
 
 use geometry::vec3::{self, Vec3};
 use geometry::{CurveId, Model};
+
+use crate::curve_chords::{chord_classes, chord_counts};
 
 /// Largest turning angle of the tangent along one coarse segment (radians).
 /// Keeps small circles from being a 1- or 2-segment polygon in (u, v).
 pub const MAX_TURN_PER_SEGMENT: f64 = std::f64::consts::FRAC_PI_2;
 
-/// Samples used to measure arc length and turning of a curve.
+/// Growth of the coarse spacing per unit of arc length away from a tight bend
+/// (0.3: neighbouring segments differ by about 30 %).
+pub const GRADING: f64 = 0.3;
+
+/// The smallest coarse spacing curvature may ask for, as a fraction of `2h`.
+const MIN_SPACING_FRACTION: f64 = 1e-3;
+
+/// Uniform samples a curve's profile starts from.
 const SAMPLES: usize = 160;
+/// A sample interval whose two halves turn by more than this (radians) is split.
+const SAMPLE_TURN: f64 = 0.05;
+/// A turn at one sample larger than this after sampling is a kink (C0 point).
+const KINK_TURN: f64 = 4.0 * SAMPLE_TURN;
+/// Bisection passes over the samples, at most.
+const SAMPLE_DEPTH: u32 = 30;
 
 /// The discretization of one curve.
 #[derive(Clone, Debug)]
@@ -36,65 +57,209 @@ impl CurveMesh {
     }
 }
 
-/// Arc length and total turning angle of a curve, with the cumulative length table.
+/// A fine polyline of a curve with its cumulative arc length and cumulative
+/// "segment budget" ∫ ds / spacing(s).
+#[derive(Clone, Debug)]
 struct Profile {
     ts: Vec<f64>,
     cum: Vec<f64>,
-    turn: f64,
+    budget: Vec<f64>,
 }
 
-fn profile(model: &Model, c: CurveId) -> Profile {
+/// How every curve of a model is to be discretized: its coarse segment count
+/// and, for graded curves, where the points go. Built by [`plan_curves`];
+/// [`CurvePlan::refine`] doubles a curve's count (with its chord).
+#[derive(Clone, Debug)]
+pub struct CurvePlan {
+    /// Coarse segment count of each curve.
+    pub counts: Vec<usize>,
+    profiles: Vec<Option<Profile>>,
+    /// Chord class of each curve (see [`crate::curve_chords`]).
+    chords: Vec<usize>,
+    /// Ideal (real) coarse count of each curve: ∫ ds / spacing.
+    ideal: Vec<f64>,
+}
+
+impl CurvePlan {
+    /// Ideal coarse count of curve `c` before rounding and chord averaging.
+    pub fn ideal(&self, c: CurveId) -> f64 {
+        self.ideal[c.idx()]
+    }
+
+    /// Chord class of curve `c`: curves with the same class have the same count.
+    pub fn chord(&self, c: CurveId) -> usize {
+        self.chords[c.idx()]
+    }
+
+    /// Doubles the count of curve `c` and of every curve of its chord (so
+    /// opposite sides stay equal); returns the curves changed.
+    pub fn refine(&mut self, c: CurveId) -> Vec<CurveId> {
+        let root = self.chords[c.idx()];
+        let mut changed = Vec::new();
+        for (i, &r) in self.chords.iter().enumerate() {
+            if r == root {
+                self.counts[i] = (self.counts[i] * 2).min(1 << 20);
+                changed.push(CurveId(i as u32));
+            }
+        }
+        changed
+    }
+}
+
+/// Samples the curve: uniform in its parameter, then bisected where the
+/// polyline turns by more than [`SAMPLE_TURN`] at a sample or inside an
+/// interval, so that features far smaller than the sample spacing (a rounded
+/// trailing edge) are seen.
+fn sample(model: &Model, c: CurveId) -> (Vec<f64>, Vec<Vec3>) {
     let ce = &model.curves[c.idx()];
     let (t0, t1) = ce.range;
-    let ts: Vec<f64> = (0..=SAMPLES).map(|i| t0 + (t1 - t0) * i as f64 / SAMPLES as f64).collect();
-    let pts: Vec<Vec3> = ts.iter().map(|&t| ce.eval(model, t)).collect();
-    let mut cum = vec![0.0; ts.len()];
-    let mut turn = 0.0;
-    let mut prev_dir: Option<Vec3> = None;
-    for i in 1..pts.len() {
-        let d = vec3::sub(pts[i], pts[i - 1]);
-        let l = vec3::norm(d);
-        cum[i] = cum[i - 1] + if l.is_finite() { l } else { 0.0 };
-        if let Some(dir) = vec3::normalize(d) {
-            if let Some(p) = prev_dir {
-                turn += vec3::dot(p, dir).clamp(-1.0, 1.0).acos();
+    let min_len = 1e-9 * model.diagonal().max(1e-300);
+    let mut ts: Vec<f64> = (0..=SAMPLES).map(|i| t0 + (t1 - t0) * i as f64 / SAMPLES as f64).collect();
+    let mut pts: Vec<Vec3> = ts.iter().map(|&t| ce.eval(model, t)).collect();
+    let turn = |a: Vec3, b: Vec3, c: Vec3| match (vec3::normalize(vec3::sub(b, a)), vec3::normalize(vec3::sub(c, b))) {
+        (Some(d), Some(e)) => vec3::dot(d, e).clamp(-1.0, 1.0).acos(),
+        _ => 0.0,
+    };
+    for _ in 0..SAMPLE_DEPTH {
+        let n = pts.len();
+        let turn_at = |i: usize| if i == 0 || i + 1 >= n { 0.0 } else { turn(pts[i - 1], pts[i], pts[i + 1]) };
+        let mut nts = Vec::with_capacity(n);
+        let mut npts = Vec::with_capacity(n);
+        let mut changed = false;
+        for j in 0..n - 1 {
+            nts.push(ts[j]);
+            npts.push(pts[j]);
+            if vec3::dist(pts[j], pts[j + 1]) <= min_len {
+                continue;
             }
-            prev_dir = Some(dir);
+            let tm = 0.5 * (ts[j] + ts[j + 1]);
+            let pm = ce.eval(model, tm);
+            if turn_at(j).max(turn_at(j + 1)) > SAMPLE_TURN || turn(pts[j], pm, pts[j + 1]) > SAMPLE_TURN {
+                nts.push(tm);
+                npts.push(pm);
+                changed = true;
+            }
+        }
+        nts.push(ts[n - 1]);
+        npts.push(pts[n - 1]);
+        ts = nts;
+        pts = npts;
+        if !changed {
+            break;
         }
     }
-    Profile { ts, cum, turn }
+    (ts, pts)
+}
+
+/// Profile of curve `c` for final size `h`: spacing `min(2h, radius × MAX_TURN)`
+/// (not below `MIN_SPACING_FRACTION × 2h`), graded at rate [`GRADING`]
+/// (around the closure point too for a closed curve).
+fn profile(model: &Model, c: CurveId, h: f64) -> Profile {
+    let ce = &model.curves[c.idx()];
+    let (ts, pts) = sample(model, c);
+    let ns = pts.len() - 1;
+    let len: Vec<f64> = (0..ns).map(|j| {
+        let l = vec3::dist(pts[j], pts[j + 1]);
+        if l.is_finite() { l } else { 0.0 }
+    }).collect();
+    let dirs: Vec<Option<Vec3>> = (0..ns).map(|j| vec3::normalize(vec3::sub(pts[j + 1], pts[j]))).collect();
+    let closed = ce.start == ce.end && ns > 1;
+    // curvature at each sample point (turn over the mean length of its two intervals)
+    let kappa_at = |i: usize| -> f64 {
+        let (a, b) = if i == 0 || i == ns {
+            if !closed {
+                return 0.0;
+            }
+            (ns - 1, 0)
+        } else {
+            (i - 1, i)
+        };
+        match (dirs[a], dirs[b]) {
+            (Some(da), Some(db)) => {
+                let l = 0.5 * (len[a] + len[b]);
+                let turn = vec3::dot(da, db).clamp(-1.0, 1.0).acos();
+                // a turn the sampling could not spread out is a kink, not a bend:
+                // no spacing resolves it, so it asks for none
+                if l > 0.0 && turn <= KINK_TURN { turn / l } else { 0.0 }
+            }
+            _ => 0.0,
+        }
+    };
+    let smax = 2.0 * h;
+    let smin = MIN_SPACING_FRACTION * smax;
+    let mut sp: Vec<f64> = (0..ns)
+        .map(|j| {
+            let k = kappa_at(j).max(kappa_at(j + 1));
+            if k > 0.0 { (MAX_TURN_PER_SEGMENT / k).clamp(smin, smax) } else { smax }
+        })
+        .collect();
+    // grading: spacing(j) ≤ spacing(i) + GRADING × distance; two laps for a closed curve
+    let laps = if closed { 2 } else { 1 };
+    for _ in 0..laps {
+        for j in 1..ns {
+            sp[j] = sp[j].min(sp[j - 1] + GRADING * 0.5 * (len[j - 1] + len[j]));
+        }
+        if closed {
+            sp[0] = sp[0].min(sp[ns - 1] + GRADING * 0.5 * (len[ns - 1] + len[0]));
+        }
+    }
+    for _ in 0..laps {
+        for j in (0..ns.saturating_sub(1)).rev() {
+            sp[j] = sp[j].min(sp[j + 1] + GRADING * 0.5 * (len[j] + len[j + 1]));
+        }
+        if closed {
+            sp[ns - 1] = sp[ns - 1].min(sp[0] + GRADING * 0.5 * (len[ns - 1] + len[0]));
+        }
+    }
+    let mut cum = vec![0.0; ns + 1];
+    let mut budget = vec![0.0; ns + 1];
+    for j in 0..ns {
+        cum[j + 1] = cum[j] + len[j];
+        budget[j + 1] = budget[j] + len[j] / sp[j];
+    }
+    Profile { ts, cum, budget }
 }
 
 /// Length of every curve (0 for degenerate curves), measured on a fine polyline.
 pub fn curve_lengths(model: &Model) -> Vec<f64> {
     (0..model.curves.len())
-        .map(|i| if model.curves[i].degenerate { 0.0 } else { *profile(model, CurveId(i as u32)).cum.last().unwrap_or(&0.0) })
+        .map(|i| {
+            if model.curves[i].degenerate {
+                return 0.0;
+            }
+            let (_, pts) = sample(model, CurveId(i as u32));
+            pts.windows(2).map(|w| vec3::dist(w[0], w[1])).filter(|l| l.is_finite()).sum()
+        })
         .collect()
 }
 
-/// Coarse segment counts for target final edge length `h`: about
-/// `length / 2h`, at least 1, enough to keep the turning angle per segment
-/// below [`MAX_TURN_PER_SEGMENT`], at least 3 for a closed curve, and enough
-/// that every face loop has at least 3 coarse segments.
-pub fn initial_counts(model: &Model, h: f64) -> Vec<usize> {
-    let mut counts: Vec<usize> = (0..model.curves.len())
-        .map(|i| {
-            let ce = &model.curves[i];
-            if ce.degenerate {
-                return 1;
-            }
-            let p = profile(model, CurveId(i as u32));
-            let len = *p.cum.last().unwrap_or(&0.0);
-            let by_size = (len / (2.0 * h)).round();
-            let by_turn = (p.turn / MAX_TURN_PER_SEGMENT).ceil();
-            let mut n = by_size.max(by_turn).clamp(1.0, 1.0e6) as usize;
-            if ce.start == ce.end {
-                n = n.max(3);
-            }
-            n
-        })
+/// Plans the curves for target final edge length `h`: each curve's ideal
+/// coarse count is its segment budget ∫ ds / spacing (about `length / 2h` on
+/// a gently curved curve); counts are the rounded chord means
+/// ([`crate::curve_chords`]), at least 1, at least 3 for a closed curve, and
+/// enough that every face loop has at least 3 coarse segments.
+pub fn plan_curves(model: &Model, h: f64) -> CurvePlan {
+    use rayon::prelude::*;
+    let profiles: Vec<Option<Profile>> = (0..model.curves.len())
+        .into_par_iter()
+        .map(|i| if model.curves[i].degenerate { None } else { Some(profile(model, CurveId(i as u32), h)) })
         .collect();
-    let lengths = curve_lengths(model);
+    let ideal: Vec<f64> = profiles.iter().map(|p| p.as_ref().map_or(1.0, |p| p.budget.last().copied().unwrap_or(0.0))).collect();
+    let chords = chord_classes(model, &ideal);
+    let mut counts = chord_counts(&chords, &ideal);
+    let mut plan_chords = vec![Vec::new(); model.curves.len()];
+    for (c, &root) in chords.iter().enumerate() {
+        plan_chords[root].push(c);
+    }
+    let members = |c: usize| plan_chords[chords[c]].clone();
+    for (i, ce) in model.curves.iter().enumerate() {
+        if ce.start == ce.end && !ce.degenerate && counts[i] < 3 {
+            for j in members(i) {
+                counts[j] = counts[j].max(3);
+            }
+        }
+    }
+    let lengths: Vec<f64> = profiles.iter().map(|p| p.as_ref().map_or(0.0, |p| *p.cum.last().unwrap_or(&0.0))).collect();
     for f in &model.faces {
         for l in &f.loops {
             loop {
@@ -102,7 +267,7 @@ pub fn initial_counts(model: &Model, h: f64) -> Vec<usize> {
                 if total >= 3 || l.uses.is_empty() {
                     break;
                 }
-                // refine the use with the longest coarse segments (first on ties)
+                // refine the use with the longest coarse segments (first on ties), with its chord
                 let mut best = 0;
                 let mut best_len = f64::NEG_INFINITY;
                 for (k, u) in l.uses.iter().enumerate() {
@@ -112,30 +277,34 @@ pub fn initial_counts(model: &Model, h: f64) -> Vec<usize> {
                         best = k;
                     }
                 }
-                counts[l.uses[best].curve.idx()] += 1;
+                for j in members(l.uses[best].curve.idx()) {
+                    counts[j] += 1;
+                }
             }
         }
     }
-    counts
+    CurvePlan { counts, profiles, chords, ideal }
 }
 
-/// Discretizes curve `c` with `n` coarse segments: `2n + 1` points uniform in arc length.
-pub fn discretize_curve(model: &Model, c: CurveId, n: usize) -> CurveMesh {
+/// Discretizes curve `c` with `plan.counts[c]` coarse segments: `2n + 1`
+/// points uniform in the curve's segment budget (uniform in arc length where
+/// the curve is gently curved).
+pub fn discretize_curve(model: &Model, plan: &CurvePlan, c: CurveId) -> CurveMesh {
     let ce = &model.curves[c.idx()];
-    let n = n.max(1);
+    let n = plan.counts[c.idx()].max(1);
     let m = 2 * n;
     let (t0, t1) = ce.range;
     let mut params = Vec::with_capacity(m + 1);
-    let prof = if ce.degenerate { None } else { Some(profile(model, c)) };
-    let total = prof.as_ref().map_or(0.0, |p| *p.cum.last().unwrap_or(&0.0));
+    let prof = plan.profiles[c.idx()].as_ref();
+    let total = prof.map_or(0.0, |p| *p.budget.last().unwrap_or(&0.0));
     for i in 0..=m {
         let s = i as f64 / m as f64;
-        let t = match &prof {
+        let t = match prof {
             Some(p) if total > 0.0 && i > 0 && i < m => {
                 let target = s * total;
-                // first sample with cum >= target
-                let k = p.cum.partition_point(|&x| x < target).clamp(1, p.cum.len() - 1);
-                let (a, b) = (p.cum[k - 1], p.cum[k]);
+                // first sample with budget >= target
+                let k = p.budget.partition_point(|&x| x < target).clamp(1, p.budget.len() - 1);
+                let (a, b) = (p.budget[k - 1], p.budget[k]);
                 let w = if b > a { (target - a) / (b - a) } else { 0.0 };
                 p.ts[k - 1] + w * (p.ts[k] - p.ts[k - 1])
             }
@@ -161,13 +330,12 @@ pub fn discretize_curve(model: &Model, c: CurveId, n: usize) -> CurveMesh {
     CurveMesh { coarse: n, params, points }
 }
 
-/// Discretizes every curve with the given coarse counts (in parallel; the
-/// result does not depend on the thread count).
-pub fn discretize_all(model: &Model, counts: &[usize]) -> Vec<CurveMesh> {
+/// Discretizes every curve as planned (in parallel; the result does not
+/// depend on the thread count).
+pub fn discretize_all(model: &Model, plan: &CurvePlan) -> Vec<CurveMesh> {
     use rayon::prelude::*;
-    (0..model.curves.len()).into_par_iter().map(|i| discretize_curve(model, CurveId(i as u32), counts[i])).collect()
+    (0..model.curves.len()).into_par_iter().map(|i| discretize_curve(model, plan, CurveId(i as u32))).collect()
 }
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -176,14 +344,14 @@ mod tests {
     #[test]
     fn counts_follow_size_and_closure() {
         let m = primitives::square(4.0);
-        let c = initial_counts(&m, 0.5);
+        let c = plan_curves(&m, 0.5).counts;
         assert_eq!(c, vec![4; 4]);
         let cyl = primitives::cylinder(1.0, 3.0);
-        let c = initial_counts(&cyl, 10.0);
+        let c = plan_curves(&cyl, 10.0).counts;
         // closed circles: at least 3, and 4 by turning angle; the seam line: 1
         assert_eq!(c, vec![4, 4, 1]);
         let s = primitives::sphere(1.0);
-        let c = initial_counts(&s, 0.1);
+        let c = plan_curves(&s, 0.1).counts;
         assert_eq!(c[0], 1);
         assert_eq!(c[2], 1);
         assert!(c[1] >= 15);
@@ -192,7 +360,9 @@ mod tests {
     #[test]
     fn points_are_uniform_in_arc_length_and_on_the_curve() {
         let m = primitives::cylinder(2.0, 1.0);
-        let cm = discretize_curve(&m, CurveId(0), 5);
+        let mut plan = plan_curves(&m, 1.0);
+        plan.counts[0] = 5;
+        let cm = discretize_curve(&m, &plan, CurveId(0));
         assert_eq!(cm.params.len(), 11);
         assert_eq!(cm.points.len(), 11);
         let target = 2.0 * std::f64::consts::PI * 2.0 / 10.0;
@@ -203,7 +373,56 @@ mod tests {
         assert_eq!(cm.points[0], m.corners[0].point);
         assert_eq!(cm.points[10], m.corners[0].point);
         let s = primitives::sphere(1.0);
-        let pole = discretize_curve(&s, CurveId(0), 2);
+        let pole = discretize_curve(&s, &plan_curves(&s, 1.0), CurveId(0));
         assert!(pole.points.iter().all(|p| *p == s.corners[0].point));
+    }
+
+    /// A thin ellipse (semi-axes 5 and 0.2, so a tip radius of 0.008), closed
+    /// at one tip, as one curve: the spacing shrinks at the tips (each coarse
+    /// segment turns ≤ 90°) and grows back by a bounded ratio per segment,
+    /// across the closure point too.
+    #[test]
+    fn spacing_shrinks_at_a_tight_bend_and_grades_back() {
+        use geometry::{Corner, CurveEntity};
+        use std::sync::Arc;
+        #[derive(Debug)]
+        struct Ellipse;
+        impl geometry::Curve for Ellipse {
+            fn eval(&self, t: f64) -> Vec3 {
+                [5.0 * t.cos(), 0.2 * t.sin(), 0.0]
+            }
+            fn deriv(&self, t: f64) -> Vec3 {
+                [-5.0 * t.sin(), 0.2 * t.cos(), 0.0]
+            }
+            fn range(&self) -> (f64, f64) {
+                (0.0, std::f64::consts::TAU)
+            }
+            fn project(&self, _p: Vec3, _hint: Option<f64>) -> Option<(f64, Vec3)> {
+                None
+            }
+        }
+        let model = Model {
+            corners: vec![Corner { point: [5.0, 0.0, 0.0] }],
+            curves: vec![CurveEntity { geom: Some(Arc::new(Ellipse)), range: (0.0, std::f64::consts::TAU), start: geometry::CornerId(0), end: geometry::CornerId(0), degenerate: false }],
+            faces: vec![],
+        };
+        let h = 0.5;
+        let plan = plan_curves(&model, h);
+        let cm = discretize_curve(&model, &plan, CurveId(0));
+        // coarse segments: points 0, 2, 4, ...
+        let coarse: Vec<f64> = cm.points.iter().step_by(2).collect::<Vec<_>>().windows(2).map(|w| vec3::dist(*w[0], *w[1])).collect();
+        let shortest = coarse.iter().cloned().fold(f64::INFINITY, f64::min);
+        let longest = coarse.iter().cloned().fold(0.0, f64::max);
+        // the tips (radius 0.008) ask for coarse spacing ≤ 0.008 × π/2
+        assert!(shortest < 0.0126, "shortest coarse segment {shortest}");
+        assert!(longest <= 2.0 * h * 1.05, "longest coarse segment {longest}");
+        // neighbours (cyclically) differ by a bounded ratio
+        let n = coarse.len();
+        for i in 0..n {
+            let (a, b) = (coarse[i], coarse[(i + 1) % n]);
+            assert!(a.max(b) / a.min(b) < 1.6, "segments {i}: {a} then {b}");
+        }
+        // a uniform split would need ~20 / 1 segments; grading adds a few dozen, not thousands
+        assert!(plan.counts[0] > 20 && plan.counts[0] < 80, "count {}", plan.counts[0]);
     }
 }

@@ -722,12 +722,12 @@ fn curve_of_node(loops: &[Vec<u32>], mids: &[Vec<BoundaryMid>], id: u32) -> Vec<
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::curve_mesh::{discretize_all, initial_counts};
+    use crate::curve_mesh::{discretize_all, plan_curves};
     use geometry::primitives;
 
     fn tri(model: &Model, h: f64) -> Vec<(usize, usize)> {
-        let counts = initial_counts(model, h);
-        let cms = discretize_all(model, &counts);
+        let plan = plan_curves(model, h);
+        let cms = discretize_all(model, &plan);
         (0..model.faces.len())
             .map(|f| {
                 let mut ft = FaceTriangulation::new(model, FaceId(f as u32), &cms, 2.0 * h).unwrap();
@@ -748,8 +748,8 @@ mod tests {
     #[test]
     fn pole_triangles_are_dropped_and_seams_kept() {
         let m = primitives::sphere(1.0);
-        let counts = initial_counts(&m, 0.2);
-        let cms = discretize_all(&m, &counts);
+        let plan = plan_curves(&m, 0.2);
+        let cms = discretize_all(&m, &plan);
         let mut ft = FaceTriangulation::new(&m, FaceId(0), &cms, 0.4).unwrap();
         ft.refine().unwrap();
         for t in ft.triangles() {
@@ -762,8 +762,8 @@ mod tests {
     #[test]
     fn inside_flags_stay_valid_while_inserting() {
         let m = primitives::cylinder(1.0, 2.0);
-        let counts = initial_counts(&m, 0.2);
-        let cms = discretize_all(&m, &counts);
+        let plan = plan_curves(&m, 0.2);
+        let cms = discretize_all(&m, &plan);
         let mut ft = FaceTriangulation::new(&m, FaceId(0), &cms, 0.4).unwrap();
         let mut inserted = 0;
         for i in 1..40 {

@@ -13,12 +13,16 @@
 //!   (u, v), refined to the 3D size;
 //! - [`split`]: triangle → 3 quads, placement on the CAD, validity repair;
 //! - [`smoothing`]: light uv-Laplacian smoothing with rollback;
-//! - [`pipeline`]: options, parallel per-face meshing, deterministic assembly.
+//! - [`pipeline`]: options, parallel per-face meshing, deterministic assembly;
+//! - [`field_report`]: the cross field, singularities and size map of every
+//!   face of a model on its background triangulation (`quadrille field`).
 
 pub mod crossfield;
+pub mod curve_chords;
 pub mod curve_mesh;
 pub mod face_quads;
 pub mod face_triangulation;
+pub mod field_report;
 pub mod pipeline;
 pub mod regularize;
 pub mod scaling;
@@ -26,4 +30,4 @@ pub mod singularities;
 pub mod smoothing;
 pub mod split;
 
-pub use pipeline::{default_size, mesh_model, MeshError, MeshOptions, ProgressFn, Size};
+pub use pipeline::{default_size, mesh_model, resolve_size, MeshError, MeshOptions, ProgressFn, Size};

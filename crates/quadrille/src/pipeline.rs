@@ -16,7 +16,7 @@ use geometry::{CornerId, CurveId, FaceId, Model, ModelError};
 use mesh::{NodeClass, QuadMesh};
 use rayon::prelude::*;
 
-use crate::curve_mesh::{discretize_all, initial_counts, CurveMesh};
+use crate::curve_mesh::{discretize_all, plan_curves, CurveMesh};
 use crate::face_triangulation::{FaceFailure, FaceTriangulation, NodeRef};
 use crate::smoothing::{smooth, untangle};
 use crate::split::{quad_quality, split_triangles, QuadPatch};
@@ -163,7 +163,7 @@ pub fn mesh_model(model: &Model, opts: &MeshOptions) -> Result<QuadMesh, MeshErr
 
 fn run(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Result<QuadMesh, MeshError> {
     let nf = model.faces.len();
-    let mut counts = initial_counts(model, h);
+    let mut plan = plan_curves(model, h);
     let curve_faces = model.curve_faces();
     let mut results: Vec<Option<QuadPatch>> = vec![None; nf];
     let mut pending: Vec<usize> = (0..nf).collect();
@@ -171,7 +171,7 @@ fn run(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Result<QuadMesh,
     let mut cms: Vec<CurveMesh>;
     let mut round = 0;
     loop {
-        cms = discretize_all(model, &counts);
+        cms = discretize_all(model, &plan);
         let out: Vec<(usize, Result<QuadPatch, FaceFailure>)> = pending
             .par_iter()
             .map(|&f| {
@@ -209,8 +209,13 @@ fn run(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Result<QuadMesh,
             return Err(MeshError::Face { face: FaceId(f as u32), reason: reason.clone() });
         }
         let mut again: BTreeSet<usize> = failed.keys().copied().collect();
-        for c in &refine {
-            counts[c.idx()] = (counts[c.idx()] * 2).min(1 << 20);
+        let mut doubled: BTreeSet<CurveId> = BTreeSet::new();
+        for &c in &refine {
+            if !doubled.contains(&c) {
+                doubled.extend(plan.refine(c));
+            }
+        }
+        for c in &doubled {
             again.extend(curve_faces[c.idx()].iter().map(|f| f.idx()));
         }
         for &f in &again {

@@ -3,10 +3,11 @@
 //! quad around it does not get worse (SICN with CAD normals), so smoothing
 //! never creates or worsens an invalid quad.
 
+use geometry::vec3::Vec3;
 use geometry::Face;
 
 use crate::face_triangulation::NodeRef;
-use crate::split::{quad_quality, QuadPatch};
+use crate::split::{node_normal, quad_quality, quad_quality_with, QuadPatch};
 
 /// Node → incident quads, and node → neighbours along quad edges (sorted, deduplicated).
 fn adjacency(p: &QuadPatch) -> (Vec<Vec<u32>>, Vec<Vec<u32>>) {
@@ -85,7 +86,6 @@ pub fn smooth(face: &Face, p: &mut QuadPatch, sweeps: usize) -> usize {
 pub fn untangle(face: &Face, p: &mut QuadPatch, threshold: f64, passes: usize, max_nodes: usize) -> usize {
     let (quads_of, nbrs) = adjacency(p);
     let quality = |p: &QuadPatch, q: u32| quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize]);
-    let worst = |p: &QuadPatch, qs: &[u32]| qs.iter().map(|&q| quality(p, q)).fold(f64::INFINITY, f64::min);
     let mut improved = 0;
     for _ in 0..passes {
         // nodes to move: interior nodes of poor quads and their interior neighbours
@@ -109,7 +109,30 @@ pub fn untangle(face: &Face, p: &mut QuadPatch, threshold: f64, passes: usize, m
         }
         let mut any = false;
         for i in set {
-            let mut w = worst(p, &quads_of[i]);
+            // normals of the corners that do not move (poles and singular
+            // points excepted: their limit normal follows the quad centre)
+            let known: Vec<[Option<Vec3>; 4]> = quads_of[i]
+                .iter()
+                .map(|&q| {
+                    let quad = &p.quads[q as usize];
+                    let mut k = [None; 4];
+                    for c in 0..4 {
+                        let j = quad[c] as usize;
+                        if j != i && p.nodes[j].pole.is_none() && !face.is_singular(p.nodes[j].uv) {
+                            k[c] = node_normal(face, &p.nodes, quad, c);
+                        }
+                    }
+                    k
+                })
+                .collect();
+            let star_worst = |p: &QuadPatch| {
+                quads_of[i]
+                    .iter()
+                    .zip(&known)
+                    .map(|(&q, k)| quad_quality_with(face, &p.nodes, &p.pos, &p.quads[q as usize], k))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let mut w = star_worst(p);
             let mut cur = p.nodes[i].uv;
             let mut step = f64::INFINITY;
             for &j in &nbrs[i] {
@@ -136,7 +159,7 @@ pub fn untangle(face: &Face, p: &mut QuadPatch, threshold: f64, passes: usize, m
                     let (old_uv, old_x) = (p.nodes[i].uv, p.pos[i]);
                     p.nodes[i].uv = uv;
                     p.pos[i] = x;
-                    let v = worst(p, &quads_of[i]);
+                    let v = star_worst(p);
                     p.nodes[i].uv = old_uv;
                     p.pos[i] = old_x;
                     if v > w && best.is_none_or(|b| v > b.1) {
@@ -168,7 +191,7 @@ pub fn untangle(face: &Face, p: &mut QuadPatch, threshold: f64, passes: usize, m
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::curve_mesh::{discretize_all, initial_counts};
+    use crate::curve_mesh::{discretize_all, plan_curves};
     use crate::face_triangulation::FaceTriangulation;
     use crate::split::split_triangles;
     use geometry::{primitives, FaceId};
@@ -176,8 +199,8 @@ mod tests {
     #[test]
     fn smoothing_never_worsens_the_worst_quad() {
         let m = primitives::cylinder(1.0, 2.0);
-        let counts = initial_counts(&m, 0.15);
-        let cms = discretize_all(&m, &counts);
+        let plan = plan_curves(&m, 0.15);
+        let cms = discretize_all(&m, &plan);
         let face = &m.faces[0];
         let mut ft = FaceTriangulation::new(&m, FaceId(0), &cms, 0.3).unwrap();
         ft.refine().unwrap();

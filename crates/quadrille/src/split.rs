@@ -11,7 +11,7 @@
 use std::collections::HashMap;
 
 use geometry::vec3::{self, Vec3};
-use geometry::Face;
+use geometry::{CornerUv, Face};
 use mesh::quality::corner_sicn;
 
 use crate::face_triangulation::{centroid_uv, edge_mid_uv, BoundaryMid, LocalNode, NodeRef};
@@ -107,22 +107,17 @@ pub fn split_triangles(
 }
 
 /// Oriented unit normal of the face at node `k` of quad `q`: the CAD normal at
-/// the node's (u, v). At a pole (a singular point of the parametrization, where
-/// the CAD normal is undefined or meaningless) it is the limit normal taken
-/// slightly inside the quad, toward its (u, v) centre.
+/// the node's (u, v); at a pole (a node on a degenerate curve) or another
+/// singular point, the limit normal taken slightly inside the quad, toward its
+/// (u, v) centre. One rule with the mesh statistics: [`Face::corner_normal`].
 pub fn node_normal(face: &Face, nodes: &[LocalNode], q: &[u32; 4], k: usize) -> Option<Vec3> {
     let n = &nodes[q[k] as usize];
-    let centre = quad_uv_centre(nodes, q);
-    if n.pole.is_some() {
-        let p = n.uv_toward(centre);
-        let uv = [p[0] + POLE_OFFSET * (centre[0] - p[0]), p[1] + POLE_OFFSET * (centre[1] - p[1])];
-        return face.normal(uv).or_else(|| face.normal(centre));
-    }
-    face.normal(n.uv).or_else(|| face.normal(centre))
+    let at = match n.pole {
+        Some(seg) => CornerUv::Pole(seg),
+        None => CornerUv::Point(n.uv),
+    };
+    face.corner_normal(at, quad_uv_centre(nodes, q))
 }
-
-/// Relative step from a pole toward the quad centre where its normal is taken.
-const POLE_OFFSET: f64 = 1e-3;
 
 /// (u, v) centre of a quad (poles ignored unless all nodes are poles).
 pub fn quad_uv_centre(nodes: &[LocalNode], q: &[u32; 4]) -> [f64; 2] {
@@ -145,10 +140,17 @@ pub fn quad_uv_centre(nodes: &[LocalNode], q: &[u32; 4]) -> [f64; 2] {
 /// Minimum corner SICN of quad `q` measured with the CAD normals (−1 when a
 /// normal is undefined).
 pub fn quad_quality(face: &Face, nodes: &[LocalNode], pos: &[Vec3], q: &[u32; 4]) -> f64 {
+    quad_quality_with(face, nodes, pos, q, &[None; 4])
+}
+
+/// [`quad_quality`] with some corner normals already known: `known[k]` is
+/// used for corner `k` when set (an optimizer moving one node keeps the
+/// others' normals instead of evaluating the CAD again).
+pub fn quad_quality_with(face: &Face, nodes: &[LocalNode], pos: &[Vec3], q: &[u32; 4], known: &[Option<Vec3>; 4]) -> f64 {
     let p = [pos[q[0] as usize], pos[q[1] as usize], pos[q[2] as usize], pos[q[3] as usize]];
     let mut n = [[0.0; 3]; 4];
     for (k, nk) in n.iter_mut().enumerate() {
-        match node_normal(face, nodes, q, k) {
+        match known[k].or_else(|| node_normal(face, nodes, q, k)) {
             Some(v) => *nk = v,
             None => {
                 // no CAD normal at all: fall back to the quad's own normal
@@ -165,15 +167,15 @@ pub fn quad_quality(face: &Face, nodes: &[LocalNode], pos: &[Vec3], q: &[u32; 4]
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::curve_mesh::{discretize_all, initial_counts};
+    use crate::curve_mesh::{discretize_all, plan_curves};
     use crate::face_triangulation::FaceTriangulation;
     use geometry::{primitives, FaceId};
 
     #[test]
     fn square_split_gives_valid_ccw_quads() {
         let m = primitives::square(1.0);
-        let counts = initial_counts(&m, 0.1);
-        let cms = discretize_all(&m, &counts);
+        let plan = plan_curves(&m, 0.1);
+        let cms = discretize_all(&m, &plan);
         let mut ft = FaceTriangulation::new(&m, FaceId(0), &cms, 0.2).unwrap();
         ft.refine().unwrap();
         let tris = ft.triangles();

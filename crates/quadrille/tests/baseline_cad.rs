@@ -13,16 +13,6 @@ use std::time::Instant;
 
 use quadrille::{mesh_model, MeshOptions, Size};
 
-/// Models the baseline method cannot mesh yet, with the reason. They must fail
-/// with a clear error (never a panic or an invalid mesh); if they mesh, the
-/// mesh is checked like any other.
-///
-/// wing_surface: its blunt NACA trailing edge (0.0025 thick) is a hairpin of
-/// the B-spline inside Δu ≈ 0.003 next to the seam, where the normal turns by
-/// 180°; isotropic triangles at the default size cannot follow it (it needs an
-/// anisotropic layer along the seam). Gmsh leaves 5 inverted quads there.
-const KNOWN_FAILURES: &[&str] = &["wing_surface"];
-
 fn models() -> Vec<PathBuf> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad");
     let filter: Vec<String> = std::env::var("QUADRILLE_MODELS").map(|s| s.split(',').map(str::to_string).collect()).unwrap_or_default();
@@ -46,6 +36,7 @@ fn every_cad_model_meshes_validly() {
     }
     let factor: f64 = std::env::var("QUADRILLE_SIZE_FACTOR").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0);
     let mut failures = Vec::new();
+    let (mut opposite_pairs, mut opposite_close) = (0usize, 0usize);
     println!(
         "{:<28} {:>6} {:>7} {:>7} {:>8} {:>8} {:>6} {:>6} {:>9}",
         "model", "faces", "quads", "time s", "min SICN", "avg SICN", "inv", "open", "dist/diag"
@@ -63,13 +54,8 @@ fn every_cad_model_meshes_validly() {
         let mesh = match mesh_model(&model, &MeshOptions { size: Size::Factor(factor), threads: None, progress: None }) {
             Ok(m) => m,
             Err(e) => {
-                if KNOWN_FAILURES.contains(&name.as_str()) {
-                    println!("{name:<28} known failure: {e}");
-                    assert!(matches!(e, quadrille::MeshError::Face { .. }), "{name}: {e}");
-                } else {
-                    println!("{name:<28} FAILED: {e}");
-                    failures.push(format!("{name}: {e}"));
-                }
+                println!("{name:<28} FAILED: {e}");
+                failures.push(format!("{name}: {e}"));
                 continue;
             }
         };
@@ -110,10 +96,28 @@ fn every_cad_model_meshes_validly() {
         if !r.class_errors.is_empty() {
             bad.push(format!("classification: {:?}", &r.class_errors[..r.class_errors.len().min(3)]));
         }
+        // opposite sides of 4-sided faces: equal counts unless very different (spec §6.3)
+        let plan = quadrille::curve_mesh::plan_curves(&model, quadrille::resolve_size(&model, Size::Factor(factor)).unwrap());
+        let mut edges_per_curve = vec![0usize; model.curves.len()];
+        for (_, c) in &mesh.curve_edges {
+            edges_per_curve[c.idx()] += 1;
+        }
+        for [a, b] in quadrille::curve_chords::opposite_pairs(&model) {
+            let (ia, ib) = (plan.ideal(geometry::CurveId(a as u32)), plan.ideal(geometry::CurveId(b as u32)));
+            opposite_pairs += 1;
+            if (ia - ib).abs() <= quadrille::curve_chords::CHORD_TOLERANCE * ia.max(ib) {
+                opposite_close += 1;
+                if edges_per_curve[a] != edges_per_curve[b] {
+                    bad.push(format!("opposite curves {} and {} have {} and {} edges", a + 1, b + 1, edges_per_curve[a], edges_per_curve[b]));
+                }
+            }
+        }
         if !bad.is_empty() {
             failures.push(format!("{name}: {}", bad.join("; ")));
         }
     }
+    println!("opposite curve pairs of 4-sided faces: {opposite_pairs}, of which {opposite_close} within the chord tolerance (all equal)");
+    assert!(opposite_close > 100, "expected many 4-sided faces in the shared models, found {opposite_close} pairs");
     assert!(failures.is_empty(), "failures:\n{}", failures.join("\n"));
 }
 

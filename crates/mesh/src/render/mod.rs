@@ -7,6 +7,10 @@
 //! with `tiny-skia`, which also encodes the PNG. Text uses a built-in 5×7
 //! bitmap font, so there is no font dependency.
 //!
+//! An optional [`Overlay`] adds 3D line segments (e.g. cross-field glyphs) and
+//! coloured dots (e.g. singularities) with their own legend, hidden where the
+//! surface covers them.
+//!
 //! Colours: front faces are light steel blue, back faces (seen from behind
 //! their oriented normal) a darker brown so an open or inverted surface shows
 //! at once. Irregular vertices (face-interior nodes whose quad valence ≠ 4 and
@@ -87,6 +91,54 @@ pub struct RenderOptions<'a> {
     pub title: Option<&'a str>,
     /// Draw a line with the element, node and irregular-vertex counts.
     pub show_info: bool,
+    /// Extra segments and dots drawn over the surface, with a legend.
+    pub overlay: Option<&'a Overlay>,
+}
+
+/// A 3D line segment of an [`Overlay`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OverlaySegment {
+    /// One end.
+    pub a: Vec3,
+    /// The other end.
+    pub b: Vec3,
+    /// Its colour.
+    pub color: [u8; 3],
+    /// The normal of the surface it lies on, when it lies on one: the
+    /// segment is then left out where the surface is seen at a grazing angle
+    /// (`|normal · view| <` [`MIN_FACING`]), where it would crowd the outline.
+    pub normal: Option<Vec3>,
+}
+
+/// Overlay segments on a surface seen more obliquely than this (cosine of
+/// the angle between the normal and the view direction) are not drawn.
+pub const MIN_FACING: f64 = 0.3;
+
+/// A coloured dot of an [`Overlay`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OverlayPoint {
+    /// Where it is.
+    pub position: Vec3,
+    /// Its fill colour (drawn with a thin dark outline).
+    pub color: [u8; 3],
+}
+
+/// Marks drawn over the shaded surface: segments first, then dots, each
+/// drawn only where it is not hidden behind the surface (tested at the
+/// segment's midpoint and at the dot's centre against the depth buffer);
+/// segments with a normal are also left out at grazing angles ([`MIN_FACING`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Overlay {
+    /// Line segments.
+    pub segments: Vec<OverlaySegment>,
+    /// Segment width in pixels (0 means 1.5).
+    pub line_width: f32,
+    /// Dots.
+    pub points: Vec<OverlayPoint>,
+    /// Dot radius in pixels (0 means 4 times the text scale).
+    pub point_radius: f32,
+    /// Legend entries `(dot colour, text)`, drawn in a line at the bottom left.
+    pub legend: Vec<([u8; 3], String)>,
 }
 
 impl Default for RenderOptions<'_> {
@@ -104,6 +156,7 @@ impl Default for RenderOptions<'_> {
             values_label: "SICN",
             title: None,
             show_info: true,
+            overlay: None,
         }
     }
 }
@@ -273,6 +326,15 @@ impl Scene {
                 return Err(RenderError::InvalidOptions(format!("{} quad values for {} quads", v.len(), mesh.quads.len())));
             }
         }
+        if let Some(o) = opts.overlay {
+            let finite = |p: &Vec3| p.iter().all(|c| c.is_finite());
+            if !o.segments.iter().all(|s| finite(&s.a) && finite(&s.b)) || !o.points.iter().all(|p| finite(&p.position)) {
+                return Err(RenderError::InvalidOptions("overlay with non-finite coordinates".into()));
+            }
+            if !(o.line_width.is_finite() && o.line_width >= 0.0 && o.point_radius.is_finite() && o.point_radius >= 0.0) {
+                return Err(RenderError::InvalidOptions(format!("overlay line width {} / point radius {}", o.line_width, o.point_radius)));
+            }
+        }
         let eye = normalize(opts.eye_dir)
             .filter(|e| e.iter().all(|c| c.is_finite()))
             .ok_or_else(|| RenderError::InvalidOptions(format!("view direction {:?}", opts.eye_dir)))?;
@@ -313,7 +375,8 @@ impl Scene {
         } else {
             0
         };
-        let bottom = if opts.show_irregular && !irregular.is_empty() { line + 8 * k } else { 0 };
+        let legend_lines = (opts.show_irregular && !irregular.is_empty()) as u32 + opts.overlay.is_some_and(|o| !o.legend.is_empty()) as u32;
+        let bottom = legend_lines * (line + 8 * k);
         let mut plot = [margin as f64, top as f64, (w - margin - right_panel.min(w / 3)) as f64, (h - margin - bottom.min(h / 3)) as f64];
         if plot[2] - plot[0] < 8.0 || plot[3] - plot[1] < 8.0 {
             plot = [0.0, 0.0, w as f64, h as f64];
@@ -436,8 +499,16 @@ impl Scene {
         if opts.quad_values.is_some() {
             self.draw_colour_bar(opts, pixmap.data_mut(), pw, ph);
         }
+        if let Some(o) = opts.overlay {
+            self.draw_overlay(o, &canvas, &mut pixmap);
+        }
+        let mut legend_y = pixmap.height() as i64 - self.layout.margin as i64 - (7 * self.layout.k) as i64;
         if opts.show_irregular && !self.irregular.is_empty() {
-            self.draw_valence_legend(&counts, &mut pixmap);
+            self.draw_valence_legend(&counts, legend_y, &mut pixmap);
+            legend_y -= ((font::CELL_H + 8) * self.layout.k) as i64;
+        }
+        if let Some(o) = opts.overlay.filter(|o| !o.legend.is_empty()) {
+            self.draw_legend(&o.legend, legend_y, &mut pixmap);
         }
         RenderedImage { width: pw, height: ph, rgba: pixmap.take() }
     }
@@ -517,11 +588,17 @@ impl Scene {
             y += (font::CELL_H * k) as i64;
         }
         if opts.show_info {
-            let mut s = format!("{} quads", thousands(mesh.quads.len()));
-            if !mesh.triangles.is_empty() {
-                s += &format!(", {} triangles", thousands(mesh.triangles.len()));
-            }
-            s += &format!(", {} nodes, {} irregular vertices", thousands(mesh.nodes.len()), thousands(self.irregular.len()));
+            // a triangle-only mesh (a background triangulation) has no quad counts
+            let s = if mesh.quads.is_empty() && !mesh.triangles.is_empty() {
+                format!("{} triangles, {} nodes", thousands(mesh.triangles.len()), thousands(mesh.nodes.len()))
+            } else {
+                let mut s = format!("{} quads", thousands(mesh.quads.len()));
+                if !mesh.triangles.is_empty() {
+                    s += &format!(", {} triangles", thousands(mesh.triangles.len()));
+                }
+                s + &format!(", {} nodes, {} irregular vertices", thousands(mesh.nodes.len()), thousands(self.irregular.len()))
+            };
+            let mut s = s;
             if let Some(v) = opts.quad_values {
                 let min = v.iter().copied().filter(|x| !x.is_nan()).fold(f64::INFINITY, f64::min);
                 let neg = v.iter().filter(|x| **x < 0.0).count();
@@ -577,23 +654,90 @@ impl Scene {
         font::draw_text(rgba, w, h, x0, y0 - 6 * k - (7 * k), opts.values_label, k as u32, TEXT);
     }
 
-    /// "● 3: n  ● 5: n  ● 6+: n  ● other: n" at the bottom left.
-    fn draw_valence_legend(&self, counts: &[usize; 4], pixmap: &mut Pixmap) {
+    /// "● 3: n  ● 5: n  ● 6+: n  ● other: n" at the left of text row `y`.
+    fn draw_valence_legend(&self, counts: &[usize; 4], y: i64, pixmap: &mut Pixmap) {
+        let items = [(3u32, "valence 3"), (5, "5"), (6, "6+"), (2, "other")];
+        let entries: Vec<([u8; 3], String)> = items
+            .iter()
+            .zip(counts)
+            .filter(|(_, &n)| n > 0)
+            .map(|((v, name), &n)| (valence_color(*v), format!("{}: {}", name, thousands(n))))
+            .collect();
+        self.draw_legend(&entries, y, pixmap);
+    }
+
+    /// A row of "● text" entries at the left of text row `y`.
+    fn draw_legend(&self, entries: &[([u8; 3], String)], y: i64, pixmap: &mut Pixmap) {
         let k = self.layout.k;
         let (w, h) = (pixmap.width(), pixmap.height());
-        let y = h as i64 - self.layout.margin as i64 - (7 * k) as i64;
         let mut x = self.layout.margin as i64;
-        let items = [(3u32, "valence 3"), (5, "5"), (6, "6+"), (2, "other")];
         let r = 3.5 * k as f32;
-        for (i, (v, name)) in items.iter().enumerate() {
-            if counts[i] == 0 {
+        for (color, label) in entries {
+            draw_dot(pixmap, x as f32 + r, y as f32 + 3.5 * k as f32, r, *color);
+            x += (2.0 * r) as i64 + 3 * k as i64;
+            font::draw_text(pixmap.data_mut(), w, h, x, y, label, k, TEXT);
+            x += font::text_width(label, k) as i64 + 10 * k as i64;
+        }
+    }
+
+    /// True when world point `p` is not behind the drawn surface: the depth
+    /// buffer around its projection is at most `tol` (world units) nearer.
+    fn visible(&self, canvas: &Canvas, p: Vec3, tol: f64) -> bool {
+        let ss = canvas.ss as f64;
+        let q = self.camera.project(p);
+        let (cx, cy) = ((q[0] * ss).floor() as i64, (q[1] * ss).floor() as i64);
+        for dy in -1..=1 {
+            for dx in -1..=1 {
+                let (x, y) = (cx + dx, cy + dy);
+                if x < 0 || y < 0 || x >= canvas.w as i64 || y >= canvas.h as i64 {
+                    continue;
+                }
+                let d = canvas.depth[y as usize * canvas.w + x as usize];
+                if d == f32::NEG_INFINITY || d as f64 <= q[2] + tol {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// Draws the visible segments, then the visible dots, of `overlay`.
+    fn draw_overlay(&self, overlay: &Overlay, canvas: &Canvas, pixmap: &mut Pixmap) {
+        let k = self.layout.k as f32;
+        let px_world = 1.0 / self.camera.scale;
+        let width = if overlay.line_width > 0.0 { overlay.line_width } else { 1.5 };
+        let stroke = Stroke { width, line_cap: tiny_skia::LineCap::Round, ..Stroke::default() };
+        let mut paint = Paint { anti_alias: true, ..Paint::default() };
+        for s in &overlay.segments {
+            if s.normal.and_then(normalize).is_some_and(|n| dot(n, self.camera.eye).abs() < MIN_FACING) {
                 continue;
             }
-            draw_dot(pixmap, x as f32 + r, y as f32 + 3.5 * k as f32, r, valence_color(*v));
-            x += (2.0 * r) as i64 + 3 * k as i64;
-            let label = format!("{}: {}", name, thousands(counts[i]));
-            font::draw_text(pixmap.data_mut(), w, h, x, y, &label, k, TEXT);
-            x += font::text_width(&label, k) as i64 + 10 * k as i64;
+            let mid = scale([s.a[0] + s.b[0], s.a[1] + s.b[1], s.a[2] + s.b[2]], 0.5);
+            if !self.visible(canvas, mid, 0.5 * dist(s.a, s.b) + 3.0 * px_world) {
+                continue;
+            }
+            let (a, b) = (self.camera.project(s.a), self.camera.project(s.b));
+            let mut pb = PathBuilder::new();
+            pb.move_to(a[0] as f32, a[1] as f32);
+            pb.line_to(b[0] as f32, b[1] as f32);
+            if let Some(path) = pb.finish() {
+                paint.set_color_rgba8(s.color[0], s.color[1], s.color[2], 255);
+                pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
+            }
+        }
+        let r = if overlay.point_radius > 0.0 { overlay.point_radius } else { 4.0 * k };
+        let mut dots: Vec<(f64, [f64; 3], [u8; 3])> = overlay
+            .points
+            .iter()
+            .filter(|p| self.visible(canvas, p.position, (2.0 * r as f64 + 3.0) * px_world))
+            .map(|p| {
+                let q = self.camera.project(p.position);
+                (q[2], q, p.color)
+            })
+            .collect();
+        dots.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (_, q, c) in dots {
+            draw_dot(pixmap, q[0] as f32, q[1] as f32, r, c);
         }
     }
 }

@@ -117,13 +117,10 @@ pub fn assemble(topo: &FaceTopology, active: &[bool], fixed: &[bool], u: &[Cplx]
             }
         }
     }
-    let coords: Vec<[f64; 3]> = free
-        .iter()
-        .map(|&e| {
-            let [a, b] = topo.edges[e as usize];
-            vec3::lerp(topo.positions[a as usize], topo.positions[b as usize], 0.5)
-        })
-        .collect();
-    let spd = SparseSpd::analyze(pattern, Some(&coords))?;
+    // faer's AMD: on the CR edge graphs of 100k-triangle faces it gives
+    // 8–27 % less fill and faster factorizations than the geometric nested
+    // dissection of `linsolve` (disk: 5.6M vs 6.1M entries; pentagon: 4.7M
+    // vs 6.3M), and its symbolic analysis is faster as well.
+    let spd = SparseSpd::analyze(pattern, None)?;
     Ok(CrSystem { free, spd, stiffness, mass, coupling })
 }

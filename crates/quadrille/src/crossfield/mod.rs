@@ -14,8 +14,9 @@
 //! 3. the one-triangle boundary-condition extension (Laplace on the layer of
 //!    triangles touching a feature curve, [`mbo::extend_boundary_conditions`]);
 //! 4. the multilevel MBO heat diffusion of Algorithm 1 ([`mbo::diffuse`]) with
-//!    `faer`'s sparse Cholesky: one symbolic analysis per face, one numeric
-//!    factorization per level.
+//!    `faer`'s sparse Cholesky (AMD ordering): one symbolic analysis per face,
+//!    one numeric factorization per level into the same buffers, and
+//!    [`linsolve`]'s own supernodal triangular solves for the iterations.
 //!
 //! A surface without any feature edge (a closed sphere or torus given as one
 //! triangle mesh) has no Dirichlet condition; the iterations then start from
@@ -106,13 +107,21 @@ pub enum CrossFieldError {
 pub struct CrossFieldOptions {
     /// Number of diffusion levels N (the paper: 3–4 suffice for a CAD face).
     pub levels: usize,
-    /// Convergence threshold c on the ∞-norm change of projected iterates.
+    /// Convergence threshold c of a level: on the ∞-norm change between the
+    /// solutions of successive linear solves, before their projection (see
+    /// [`mbo::diffuse`]).
     pub tolerance: f64,
     /// Cap on the MBO iterations of one level. Each iteration costs a solve
-    /// (about a fifth of a factorization), and the paper notes that a fully
-    /// converged field is not needed; 10 keeps singularities within a few
-    /// percent of their converged place on the disk benchmark (0.79 vs 0.80
-    /// radius) at a quarter of the cost of the spec's cap of 50.
+    /// (about a ninth of a factorization at 100k triangles). Most levels of
+    /// CAD faces converge before it (3.7 solves per level on the bundled
+    /// models); on large smooth faces whose singularities travel far (the
+    /// 100k-triangle disk and pentagon of `bench_crossfield`) a level needs
+    /// 6–30 solves with the extrapolation of [`mbo::diffuse`], and the
+    /// final level, `α = (3 h_min)²`, where singularities creep by about a
+    /// triangle per 10–20 solves, up to 150. With 8 the 100k disk's
+    /// singularities are at radius 0.800 and the pentagon's −1 within 0.016
+    /// of its place with converged coarse levels (0.029 of the place with
+    /// all levels converged; edge length 0.014).
     pub max_iterations: usize,
     /// Apply the one-triangle boundary-condition extension (§3.1 of the paper).
     pub extend_boundary_conditions: bool,
@@ -120,7 +129,7 @@ pub struct CrossFieldOptions {
 
 impl Default for CrossFieldOptions {
     fn default() -> Self {
-        CrossFieldOptions { levels: 4, tolerance: 1e-3, max_iterations: 10, extend_boundary_conditions: true }
+        CrossFieldOptions { levels: 4, tolerance: 1e-3, max_iterations: 8, extend_boundary_conditions: true }
     }
 }
 
@@ -131,7 +140,8 @@ pub struct LevelStats {
     pub alpha: f64,
     /// MBO iterations (solve + projection) run.
     pub iterations: usize,
-    /// ∞-norm change of the last iteration.
+    /// ∞-norm change between the (unprojected) solutions of the last two
+    /// solves of the level.
     pub final_change: f64,
     /// Time of the numeric factorization.
     pub factor_seconds: f64,

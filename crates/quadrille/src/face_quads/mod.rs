@@ -529,4 +529,6 @@ pub fn ideal_boundary_valence(theta_deg: f64) -> u32 {
 }
 
 #[cfg(test)]
-pub(crate) mod tests;
+pub(crate) mod test_support;
+#[cfg(test)]
+mod tests;

@@ -1,53 +1,11 @@
-//! Unit tests of [`FaceQuads`], and the hand-built planar patches the
-//! regularization tests share.
+//! Unit tests of [`FaceQuads`] and of the shared patch builders
+//! ([`super::test_support`]).
 
-use geometry::{primitives, CurveId, FaceId, Model};
+use geometry::FaceId;
 use mesh::NodeClass;
 
+use super::test_support::{grid, plane, Patch};
 use super::*;
-
-/// The unit-square model whose face is the plane z = 0 with (u, v) = (x, y)
-/// over `[0, side]²`; hand-built patches live on it.
-pub(crate) fn plane(side: f64) -> Model {
-    primitives::square(side)
-}
-
-/// A planar patch from (u, v) points and counter-clockwise quads: vertices with
-/// an open fan are fixed boundary vertices, the others movable.
-pub(crate) fn planar(points: &[[f64; 2]], quads: Vec<[u32; 4]>) -> FaceQuads {
-    let verts = points
-        .iter()
-        .enumerate()
-        .map(|(i, &uv)| QVertex { global: Some(i as u32), ..QVertex::interior(uv, [uv[0], uv[1], 0.0], NodeClass::Face(FaceId(0), Some(uv))) })
-        .collect();
-    let mut fq = FaceQuads::new(verts, quads).expect("valid quads");
-    for v in 0..fq.verts.len() as u32 {
-        if fq.ordered_star(v).is_none() {
-            fq.verts[v as usize].fixed = true;
-            fq.verts[v as usize].class = NodeClass::Curve(CurveId(0), None);
-        }
-    }
-    fq.classify_fixed();
-    fq
-}
-
-/// An n × n grid of unit quads on `[0, n]²`; vertex `(i, j)` has id `j (n + 1) + i`.
-pub(crate) fn grid(n: u32) -> FaceQuads {
-    let mut pts = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            pts.push([i as f64, j as f64]);
-        }
-    }
-    let id = |i: u32, j: u32| j * (n + 1) + i;
-    let mut quads = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    planar(&pts, quads)
-}
 
 #[test]
 fn grid_is_regular_with_boundary_ideals_from_angles() {
@@ -107,4 +65,48 @@ fn rollback_restores_topology_and_positions_exactly() {
     assert_eq!(fq.quads, orig.quads);
     assert_eq!(fq.quad_alive, orig.quad_alive);
     fq.check().unwrap();
+}
+
+/// Twice the signed area of a planar quad (positive when counter-clockwise).
+fn signed_area2(fq: &FaceQuads, q: u32) -> f64 {
+    let p = fq.quads[q as usize].map(|v| fq.verts[v as usize].uv);
+    (0..4).map(|i| p[i][0] * p[(i + 1) % 4][1] - p[(i + 1) % 4][0] * p[i][1]).sum()
+}
+
+#[test]
+fn patch_rings_make_the_core_interior_with_the_requested_valences() {
+    // one unit quad, ringed so that its corners get (3, 5, 3, 5) quads
+    let core = Patch::new(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], &[[0, 1, 2, 3]]);
+    assert_eq!(core.boundary_loop(), vec![0, 1, 2, 3]);
+    let want = [3, 5, 3, 5];
+    let once = core.ring(|v| want[v as usize]);
+    let fq = once.build();
+    for v in 0..4u32 {
+        assert!(!fq.verts[v as usize].fixed);
+        assert_eq!(fq.valence(v), want[v as usize]);
+        assert!(fq.ordered_star(v).is_some());
+    }
+    // one ring quad per radial edge: Σ (valence − fan − 1) = 1 + 3 + 1 + 3
+    assert_eq!(fq.num_quads(), 1 + 8);
+    assert!(fq.live_quads().all(|q| signed_area2(&fq, q) > 0.0));
+    // a second, regular ring makes the first ring's outer loop interior too
+    let twice = once.clone().ring_regular(&[]);
+    let fq2 = twice.build();
+    for v in 0..fq.verts.len() as u32 {
+        assert!(!fq2.verts[v as usize].fixed, "vertex {v}");
+        if v < 4 {
+            assert_eq!(fq2.valence(v), want[v as usize]);
+        } else {
+            assert!(fq2.valence(v) >= 4, "first-ring vertex {v}");
+        }
+    }
+    assert!(fq2.live_quads().all(|q| signed_area2(&fq2, q) > 0.0));
+    // relaxing moves only the rings (the boundary onto a circle), keeps the topology
+    let relaxed = twice.clone().relaxed(4);
+    assert_eq!((&relaxed.pts[..4], &relaxed.quads), (&twice.pts[..4], &twice.quads));
+    let fq3 = relaxed.build();
+    assert!(fq3.live_quads().all(|q| signed_area2(&fq3, q) > 0.0));
+    // ids are stable: the core and the first ring keep their points
+    assert_eq!(&twice.pts[..once.pts.len()], &once.pts[..]);
+    assert_eq!(&twice.quads[..once.quads.len()], &once.quads[..]);
 }

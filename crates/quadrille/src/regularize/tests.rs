@@ -1,21 +1,67 @@
-//! Tests of the regular method on hand-built planar stars: exact valence
-//! bookkeeping of every operation (Eq. 1, Eq. 2, the split formula), V − Q
-//! invariance, bit-identical boundary vertices, validity and rollback; then the
-//! whole method on a triangle-split patch and on a meshed model.
+//! Tests of the regular method: the checking harness of one operation
+//! ([`apply_checked`]: exact valence bookkeeping of Eq. 1, Eq. 2 and the split
+//! formula, V − Q invariance, bit-identical boundary, validity, topology-only
+//! = placed), the operations on grids, validity and rollback; then the whole
+//! method on a triangle-split patch and on a meshed model. The hand-built
+//! stars of every operation and named composition are in [`stars`].
 
 use geometry::{primitives, FaceId};
 
 use super::driver::Regularizer;
-use super::ops::{apply, effect, score_delta, Effect, Op};
+use super::ops::{apply, apply_topology, effect, score_delta, Effect, Op};
 use super::validity::{quad_angles, quad_valid, AngleWindow};
 use super::*;
-use crate::face_quads::tests::{grid, plane, planar};
+use crate::face_quads::test_support::{grid, plane, planar, split_patch};
 use crate::face_quads::FaceQuads;
 
-/// Asserts that `after` differs from `before` exactly as `eff` predicted, that
-/// V − Q is unchanged and that every fixed vertex is bit-identical.
-fn assert_bookkeeping(before: &FaceQuads, after: &FaceQuads, eff: &Effect) {
+mod stars;
+
+/// (ΔV, ΔQ) of one operation on a face: a swap keeps both; a collapse removes
+/// one vertex and one quad; a split adds one of each. So V − Q never changes
+/// (spec §10.2 and §14: "V − Q is invariant per face under all operations",
+/// V − Q = χ + B/2 on a face with a fixed boundary).
+fn count_change(op: Op) -> (i64, i64) {
+    match op {
+        Op::Swap { .. } => (0, 0),
+        Op::Collapse { .. } => (-1, -1),
+        Op::Split { .. } => (1, 1),
+    }
+}
+
+/// The directed boundary edges (held by a single live quad), sorted.
+fn boundary_edges(fq: &FaceQuads) -> Vec<(u32, u32)> {
+    let mut directed = std::collections::BTreeSet::new();
+    for q in fq.live_quads() {
+        let r = fq.quads[q as usize];
+        for i in 0..4 {
+            directed.insert((r[i], r[(i + 1) % 4]));
+        }
+    }
+    directed.iter().copied().filter(|&(a, b)| !directed.contains(&(b, a))).collect()
+}
+
+/// Asserts that `after` (= `op` applied to `before`) differs from `before`
+/// exactly as `eff` predicted:
+/// - valences: the listed vertices go from their "before" to their "after"
+///   value, the removed one dies, the created one has the predicted valence,
+///   every other vertex keeps its valence;
+/// - counts: V and Q change as [`count_change`] says, so V − Q is unchanged;
+/// - boundary: every fixed vertex is alive, still fixed, with bit-identical
+///   (u, v), xyz, classification, ideal and edge offset, and the directed
+///   boundary edges are the same;
+/// - validity: every live quad has 4 distinct live vertices and every edge is
+///   used once in each direction at most ([`FaceQuads::check`]).
+fn assert_bookkeeping(before: &FaceQuads, after: &FaceQuads, op: Op, eff: &Effect) {
     after.check().unwrap();
+    for q in after.live_quads() {
+        let r = after.quads[q as usize];
+        for i in 0..4 {
+            assert!(after.verts[r[i] as usize].alive, "quad {q} uses a dead vertex");
+            assert!(!(0..i).any(|j| r[j] == r[i]), "quad {q} repeats a vertex: {r:?}");
+        }
+    }
+    let fans: usize = after.verts.iter().filter(|v| v.alive).map(|v| v.fan.len()).sum();
+    assert_eq!(fans, 4 * after.num_quads(), "every live quad is in 4 fans");
     for &(v, b, a) in &eff.changes {
         assert_eq!(before.valence(v), b, "valence before of {v}");
         assert_eq!(after.valence(v), a, "valence after of {v}");
@@ -23,34 +69,68 @@ fn assert_bookkeeping(before: &FaceQuads, after: &FaceQuads, eff: &Effect) {
     for v in 0..before.verts.len() as u32 {
         let listed = eff.changes.iter().any(|c| c.0 == v) || eff.removed.is_some_and(|r| r.0 == v);
         if before.verts[v as usize].alive && !listed {
+            assert!(after.verts[v as usize].alive, "vertex {v} removed unexpectedly");
             assert_eq!(before.valence(v), after.valence(v), "vertex {v} changed valence unexpectedly");
         }
-        if before.verts[v as usize].fixed {
-            let (x, y) = (&before.verts[v as usize], &after.verts[v as usize]);
-            assert_eq!(x.uv.map(f64::to_bits), y.uv.map(f64::to_bits));
-            assert_eq!(x.xyz.map(f64::to_bits), y.xyz.map(f64::to_bits));
-            assert!(y.alive);
+        let (x, y) = (&before.verts[v as usize], &after.verts[v as usize]);
+        if x.fixed {
+            assert!(y.alive && y.fixed, "fixed vertex {v} survives, fixed");
+            assert_eq!(x.uv.map(f64::to_bits), y.uv.map(f64::to_bits), "uv of fixed vertex {v}");
+            assert_eq!(x.xyz.map(f64::to_bits), y.xyz.map(f64::to_bits), "xyz of fixed vertex {v}");
+            assert_eq!((&x.class, x.ideal, x.edge_offset, x.global), (&y.class, y.ideal, y.edge_offset, y.global), "fixed vertex {v}");
+        } else if y.alive {
+            assert!(!y.fixed, "movable vertex {v} stays movable");
         }
     }
-    if let Some((r, _)) = eff.removed {
-        assert!(!after.verts[r as usize].alive);
+    assert_eq!(boundary_edges(before), boundary_edges(after), "boundary edges");
+    if let Some((r, val)) = eff.removed {
+        assert_eq!(before.valence(r), val);
+        assert!(!after.verts[r as usize].alive && after.verts[r as usize].fan.is_empty());
     }
-    if let Some(c) = eff.created {
-        assert_eq!(after.verts.len(), before.verts.len() + 1);
-        assert_eq!(after.valence(after.verts.len() as u32 - 1), c);
+    match eff.created {
+        Some(c) => {
+            assert_eq!(after.verts.len(), before.verts.len() + 1);
+            let n = after.verts.len() as u32 - 1;
+            assert_eq!(after.valence(n), c, "valence of the created vertex");
+            assert!(!after.verts[n as usize].fixed && after.verts[n as usize].ideal == 4);
+        }
+        None => assert_eq!(after.verts.len(), before.verts.len()),
     }
+    let (dv, dq) = count_change(op);
+    assert_eq!(after.num_verts() as i64 - before.num_verts() as i64, dv, "ΔV of {op:?}");
+    assert_eq!(after.num_quads() as i64 - before.num_quads() as i64, dq, "ΔQ of {op:?}");
     let vq = |f: &FaceQuads| f.num_verts() as i64 - f.num_quads() as i64;
     assert_eq!(vq(before), vq(after), "V − Q must be invariant");
 }
 
-/// Applies `op` and checks it against its predicted effect; returns the effect.
+/// Applies `op` twice from the same state, topology only ([`apply_topology`])
+/// and with vertex placement ([`apply`]); checks both against the prediction of
+/// [`effect`] and that they give the same topology. Keeps the placed result in
+/// `fq`; returns the effect.
 fn apply_checked(fq: &mut FaceQuads, op: Op) -> Effect {
     let m = plane(8.0);
     let before = fq.clone();
     let eff = effect(fq, op).expect("operation allowed");
+    let mut topo = fq.clone();
+    let region = apply_topology(&mut topo, op).expect("operation applied (topology)");
+    assert_bookkeeping(&before, &topo, op, &eff);
+    for &(v, _, _) in &eff.changes {
+        assert!(region.contains(&v), "changed vertex {v} is in the region {region:?}");
+    }
     apply(fq, &m.faces[0], op).expect("operation applied");
-    assert_bookkeeping(&before, fq, &eff);
+    assert_bookkeeping(&before, fq, op, &eff);
+    assert_eq!((&topo.quads, &topo.quad_alive), (&fq.quads, &fq.quad_alive), "same topology with and without placement");
+    for (x, y) in topo.verts.iter().zip(&fq.verts) {
+        assert_eq!((x.alive, &x.fan), (y.alive, &y.fan));
+    }
     eff
+}
+
+/// `eff.changes` sorted by vertex, for comparing with a hand-computed list.
+fn sorted(eff: &Effect) -> Vec<(u32, u32, u32)> {
+    let mut c = eff.changes.clone();
+    c.sort();
+    c
 }
 
 #[test]
@@ -188,51 +268,6 @@ fn an_operation_is_kept_valid_or_rolled_back_exactly() {
     assert_eq!(fq.verts, orig.verts);
     assert_eq!(fq.quads, orig.quads);
     assert_eq!(fq.quad_alive, orig.quad_alive);
-}
-
-/// A planar patch made like the method's input: an n × n grid of squares, each
-/// cut into two triangles, each triangle split into three quads.
-fn split_patch(n: u32) -> FaceQuads {
-    let mut pts: Vec<[f64; 2]> = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            pts.push([i as f64, j as f64]);
-        }
-    }
-    let id = |i: u32, j: u32| j * (n + 1) + i;
-    let mut tris = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            // alternate the diagonals for variety
-            if (i + j) % 2 == 0 {
-                tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-                tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-            } else {
-                tris.push([id(i, j), id(i + 1, j), id(i, j + 1)]);
-                tris.push([id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
-            }
-        }
-    }
-    let mut mids = std::collections::BTreeMap::new();
-    let mut quads = Vec::new();
-    for t in &tris {
-        let mut m = [0u32; 3];
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            m[k] = *mids.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                let (p, q) = (pts[a as usize], pts[b as usize]);
-                pts.push([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])]);
-                pts.len() as u32 - 1
-            });
-        }
-        let (a, b, c) = (pts[t[0] as usize], pts[t[1] as usize], pts[t[2] as usize]);
-        pts.push([(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0]);
-        let g = pts.len() as u32 - 1;
-        quads.push([t[0], m[0], g, m[2]]);
-        quads.push([t[1], m[1], g, m[0]]);
-        quads.push([t[2], m[2], g, m[1]]);
-    }
-    planar(&pts, quads)
 }
 
 #[test]

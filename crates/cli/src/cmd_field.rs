@@ -1,0 +1,182 @@
+//! `quadrille field`: the cross field of every face of a CAD model on its
+//! background triangulation, its singularities and the check of relation (2)
+//! of the quasi-structured paper, written as VTU, drawn as PNG, reported as JSON.
+
+use std::time::Instant;
+
+use anyhow::{bail, Result};
+use quadrille::field_report::{model_fields, FieldOptions, ModelFields};
+use quadrille::singularities::SingularitySite;
+use serde::Serialize;
+
+use crate::files;
+use crate::progress::FaceProgress;
+use crate::FieldArgs;
+
+/// Glyph spacing of the picture: the model's bounding-box diagonal / this.
+const GLYPHS_PER_DIAGONAL: f64 = 60.0;
+
+/// One singularity in the JSON report.
+#[derive(Serialize)]
+struct SingularityJson {
+    /// +1 (valence 3) or −1 (valence 5).
+    index: i32,
+    position: [f64; 3],
+    /// `vertex`, `triangle` or `acute_corner` (the artificial +1 of a corner below 45°).
+    site: &'static str,
+}
+
+/// One face in the JSON report.
+#[derive(Serialize)]
+struct FaceJson {
+    /// 1-based, as in mesh files.
+    face: usize,
+    /// Background triangles the field lives on (0 when it failed).
+    triangles: usize,
+    euler_characteristic: Option<i64>,
+    singularities: Vec<SingularityJson>,
+    /// `2 − n̄` for each CAD corner on the face boundary (n̄ its ideal valence).
+    corner_indices: Vec<i64>,
+    /// Σ singularity indices + Σ corner indices = 4χ (relation (2)).
+    euler_ok: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    error: Option<String>,
+}
+
+/// Totals of the JSON report.
+#[derive(Serialize)]
+struct TotalsJson {
+    faces: usize,
+    faces_euler_ok: usize,
+    /// `faces_euler_ok / faces` (faces without a field count as not ok).
+    euler_ok_share: f64,
+    faces_failed: usize,
+    triangles: usize,
+    singularities_plus: usize,
+    singularities_minus: usize,
+}
+
+/// The JSON report.
+#[derive(Serialize)]
+struct ReportJson {
+    file: String,
+    /// Target quad size (model units).
+    size: f64,
+    /// Background triangulation size (model units).
+    background_size: f64,
+    faces: Vec<FaceJson>,
+    totals: TotalsJson,
+}
+
+fn report(args: &FieldArgs, fields: &ModelFields) -> ReportJson {
+    let faces: Vec<FaceJson> = fields
+        .faces
+        .iter()
+        .map(|r| match &r.outcome {
+            Ok(f) => FaceJson {
+                face: r.face.idx() + 1,
+                triangles: f.triangles(),
+                euler_characteristic: Some(f.singularities.euler_characteristic),
+                singularities: f
+                    .singularities
+                    .list
+                    .iter()
+                    .map(|s| SingularityJson {
+                        index: s.index,
+                        position: s.position,
+                        site: match s.site {
+                            SingularitySite::Vertex(_) => "vertex",
+                            SingularitySite::Triangle(_) => "triangle",
+                            SingularitySite::AcuteCorner(..) => "acute_corner",
+                        },
+                    })
+                    .collect(),
+                corner_indices: f.corner_indices(),
+                euler_ok: r.euler_ok(),
+                error: None,
+            },
+            Err(e) => FaceJson {
+                face: r.face.idx() + 1,
+                triangles: 0,
+                euler_characteristic: None,
+                singularities: Vec::new(),
+                corner_indices: Vec::new(),
+                euler_ok: false,
+                error: Some(e.to_string()),
+            },
+        })
+        .collect();
+    let count = |k: i32| faces.iter().flat_map(|f| &f.singularities).filter(|s| s.index == k).count();
+    let totals = TotalsJson {
+        faces: fields.faces.len(),
+        faces_euler_ok: fields.faces_euler_ok(),
+        euler_ok_share: fields.euler_ok_share(),
+        faces_failed: fields.faces_failed(),
+        triangles: fields.triangles(),
+        singularities_plus: count(1),
+        singularities_minus: count(-1),
+    };
+    ReportJson { file: args.model.display().to_string(), size: fields.size, background_size: fields.background_size, faces, totals }
+}
+
+/// Runs `quadrille field`: checks the outputs, computes the fields, writes
+/// the VTU (and PNG), prints the JSON report and a summary.
+pub fn run(args: &FieldArgs) -> Result<()> {
+    // Everything that can be checked before the long work is checked first.
+    files::check_output(&args.output, &["vtu"])?;
+    if let Some(png) = &args.png {
+        files::check_output(png, &["png"])?;
+    }
+    let size = crate::size_arg(args.size, args.size_factor);
+    let t0 = Instant::now();
+    let model = files::load_model(&args.model)?;
+
+    let bar = FaceProgress::new(args.quiet, model.faces.len(), "cross field");
+    let progress = bar.callback();
+    let opts = FieldOptions { size, progress, ..Default::default() };
+    let fields = model_fields(&model, &opts).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()));
+    bar.finish();
+    let fields = fields?;
+    let field_mesh = fields.to_field_mesh(&model);
+    if field_mesh.triangles.is_empty() {
+        let why = fields.faces.iter().find_map(|f| f.outcome.as_ref().err()).map(|e| e.to_string()).unwrap_or_default();
+        bail!("{}: no face could be given a cross field ({why})", args.model.display());
+    }
+
+    mesh::vtu::write_field_vtu(&field_mesh, &args.output)?;
+    if let Some(png) = &args.png {
+        let name = args.model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let title = format!(
+            "{name}: cross field, Eq. (2) holds on {}/{} faces",
+            fields.faces_euler_ok(),
+            fields.faces.len()
+        );
+        let ropts = mesh::render::RenderOptions { title: Some(&title), ..Default::default() };
+        let spacing = model.diagonal() / GLYPHS_PER_DIAGONAL;
+        if let Err(e) = mesh::field::render_field_png(&field_mesh, spacing, &ropts, png) {
+            // no half-finished output set: the field file goes too
+            let _ = std::fs::remove_file(&args.output);
+            return Err(e.into());
+        }
+    }
+    let rep = report(args, &fields);
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&rep)?);
+    }
+    if !args.quiet {
+        let t = &rep.totals;
+        eprintln!(
+            "{}: {} faces, Eq. (2) holds on {} ({:.1} %), {} failed; {} background triangles; singularities +1: {}, -1: {}; {:.2} s",
+            args.output.display(),
+            t.faces,
+            t.faces_euler_ok,
+            100.0 * t.euler_ok_share,
+            t.faces_failed,
+            t.triangles,
+            t.singularities_plus,
+            t.singularities_minus,
+            t0.elapsed().as_secs_f64()
+        );
+    }
+    Ok(())
+}

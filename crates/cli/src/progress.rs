@@ -1,0 +1,37 @@
+//! The progress bar of the commands that work face by face (`mesh`, `field`).
+
+use std::sync::Arc;
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+/// A "`label` [bar] done/total faces" bar on stderr, or nothing when quiet.
+pub struct FaceProgress {
+    bar: Option<ProgressBar>,
+}
+
+impl FaceProgress {
+    /// A bar over `faces` faces, labelled `label`; none when `quiet`.
+    pub fn new(quiet: bool, faces: usize, label: &str) -> Self {
+        let bar = (!quiet).then(|| {
+            let b = ProgressBar::new(faces as u64);
+            b.set_style(
+                ProgressStyle::with_template(&format!("{label} {{bar:30}} {{pos}}/{{len}} faces {{elapsed}}"))
+                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            );
+            b
+        });
+        FaceProgress { bar }
+    }
+
+    /// The callback the library calls as faces finish.
+    pub fn callback(&self) -> Option<quadrille::ProgressFn> {
+        self.bar.clone().map(|b| -> quadrille::ProgressFn { Arc::new(move |done, _| b.set_position(done as u64)) })
+    }
+
+    /// Removes the bar from the terminal.
+    pub fn finish(&self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}
