@@ -105,7 +105,9 @@ pub struct MeshStats {
     pub triangles: usize,
     /// Number of distinct element edges (of quads and triangles).
     pub edges: usize,
-    /// `nodes − edges + quads + triangles` (2 for a closed genus-0 surface).
+    /// `V − edges + quads + triangles`, V counting the nodes used by an
+    /// element (2 for a closed genus-0 surface; nodes of curves no face
+    /// uses, e.g. free wire edges, do not count).
     pub euler_characteristic: i64,
     /// Number of face-interior nodes (classified on a face).
     pub face_interior_nodes: usize,
@@ -529,7 +531,12 @@ impl MeshStats {
         s.edges = uses.len();
         s.open_edges = uses.values().filter(|&&u| u == 1).count();
         s.non_manifold_edges = uses.values().filter(|&&u| u > 2).count();
-        s.euler_characteristic = nn as i64 - s.edges as i64 + (s.quads + s.triangles) as i64;
+        let mut used = vec![false; nn];
+        for &v in mesh.quads.iter().flatten().chain(mesh.triangles.iter().flatten()) {
+            used[v as usize] = true;
+        }
+        let used_nodes = used.iter().filter(|&&u| u).count();
+        s.euler_characteristic = used_nodes as i64 - s.edges as i64 + (s.quads + s.triangles) as i64;
 
         let val = mesh.node_valences();
         for (v, &d) in val.iter().enumerate() {
@@ -689,6 +696,20 @@ mod tests {
     use super::*;
     use crate::fixtures;
     use geometry::CurveId;
+
+    /// Nodes no element uses (the mesh of a free wire curve) are nodes of the
+    /// file but not vertices of the surface: χ of the disk stays 1.
+    #[test]
+    fn unused_nodes_do_not_change_the_euler_characteristic() {
+        let (_, mut mesh) = fixtures::square_grid(2.0, 2);
+        for k in 0..3 {
+            mesh.nodes.push([5.0 + k as f64, 0.0, 0.0]);
+            mesh.node_class.push(NodeClass::Unclassified);
+        }
+        let s = MeshStats::compute(&mesh, None);
+        assert_eq!(s.nodes, 12);
+        assert_eq!(s.euler_characteristic, 1);
+    }
 
     #[test]
     fn square_grid_counts_and_boundary() {
