@@ -197,6 +197,20 @@ fn size_arg(size: Option<f64>, factor: Option<f64>) -> quadrille::Size {
     }
 }
 
+/// The error and its causes on one line, `a: b: c`, leaving out a cause whose
+/// text the message already holds (many library errors print their source).
+fn error_chain(e: &anyhow::Error) -> String {
+    let mut msg = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !msg.contains(&c) {
+            msg.push_str(": ");
+            msg.push_str(&c);
+        }
+    }
+    msg
+}
+
 /// Restores the default SIGPIPE action, so `quadrille info model.step | head`
 /// ends quietly when the reader closes the pipe instead of panicking in `println!`.
 fn quiet_on_closed_pipe() {
@@ -220,7 +234,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", error_chain(&e));
             ExitCode::FAILURE
         }
     }

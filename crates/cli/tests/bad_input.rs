@@ -130,3 +130,12 @@ fn closed_output_pipe_is_not_a_panic() {
     assert!(!stderr.contains("panicked"), "panic on a closed pipe: {stderr}");
     assert_ne!(out.status.code(), Some(101), "exit code 101 is a Rust panic: {stderr}");
 }
+
+/// The error line says each cause once (library errors that print their
+/// source must not have it repeated by the error chain).
+#[test]
+fn missing_mesh_error_says_its_cause_once() {
+    let r = common::quadrille(&["stats", "/nonexistent/quadrille-missing.msh"]);
+    let stderr = common::assert_clean_failure(&r, "quadrille-missing.msh");
+    assert_eq!(stderr.matches("No such file or directory").count(), 1, "cause repeated: {stderr}");
+}
