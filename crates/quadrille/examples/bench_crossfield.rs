@@ -157,7 +157,12 @@ fn main() {
     let (mut rings, mut runs, mut verbose) = (Vec::new(), 3usize, false);
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
-        let mut value = || args.next().and_then(|v| v.parse::<f64>().ok()).unwrap_or_else(|| panic!("{a} needs a number"));
+        let mut value = || {
+            args.next().and_then(|v| v.parse::<f64>().ok()).unwrap_or_else(|| {
+                eprintln!("bench_crossfield: {a} needs a number");
+                std::process::exit(2)
+            })
+        };
         match a.as_str() {
             "--levels" => opts.levels = value() as usize,
             "--max-iterations" => opts.max_iterations = value() as usize,
@@ -171,7 +176,13 @@ fn main() {
                 solve_bench(&fixtures::convex_polygon(&pentagon, 142));
                 return;
             }
-            _ => rings.push(a.parse::<usize>().unwrap_or_else(|_| panic!("unknown argument {a}"))),
+            _ => match a.parse::<usize>() {
+                Ok(r) => rings.push(r),
+                Err(_) => {
+                    eprintln!("usage: bench_crossfield [RINGS...] [--levels N] [--max-iterations N] [--tolerance C] [--runs N] [--verbose] [--solvers]");
+                    std::process::exit(if a == "--help" || a == "-h" { 0 } else { 2 });
+                }
+            },
         }
     }
     if rings.is_empty() {

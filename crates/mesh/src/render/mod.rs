@@ -3,7 +3,7 @@
 //! optionally, a per-quad scalar (SICN) on a red → yellow → green colour map.
 //!
 //! Visibility comes from a small z-buffer rasterizer of our own
-//! ([`raster`]), supersampled for antialiasing; dots and legends are drawn
+//! (the private `raster` module), supersampled for antialiasing; dots and legends are drawn
 //! with `tiny-skia`, which also encodes the PNG. Text uses a built-in 5×7
 //! bitmap font, so there is no font dependency.
 //!

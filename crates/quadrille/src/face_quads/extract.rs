@@ -122,7 +122,7 @@ fn candidates(model: &Model, fid: FaceId, class: NodeClass, xyz: [f64; 3]) -> Ve
 /// nodes, poles, seam copies, nodes of other faces) are fixed with their input
 /// position. A face-interior vertex whose fan is not a closed disk is fixed too.
 /// Ideal valences: 4 inside; on the boundary from the interior angle
-/// ([`ideal_boundary_valence`]); poles and other odd fixed vertices keep their
+/// ([`super::ideal_boundary_valence`]); poles and other odd fixed vertices keep their
 /// current valence as ideal (they are not counted as irregular).
 pub fn extract_face(model: &Model, mesh: &QuadMesh, fid: FaceId, quad_ids: &[usize]) -> Result<FaceQuads, ExtractError> {
     if fid.idx() >= model.faces.len() {
