@@ -145,13 +145,8 @@ pub fn conformal_scaling(field: &CrossField) -> Result<ConformalScaling, Scaling
     }
     let mut h = vec![0.0; nv];
     if n > 0 {
-        let mut coords = vec![[0.0; 3]; n];
-        for v in 0..nv {
-            if index[v] != NONE {
-                coords[index[v] as usize] = topo.positions[v];
-            }
-        }
-        let spd = SparseSpd::analyze(pattern, Some(&coords)).map_err(|e| ScalingError::Solver(e.to_string()))?;
+        // AMD ordering (less fill than the geometric nested dissection here)
+        let spd = SparseSpd::analyze(pattern, None).map_err(|e| ScalingError::Solver(e.to_string()))?;
         let f = spd.factor(&vals).map_err(|e| ScalingError::Solver(e.to_string()))?;
         f.solve_in_place(&mut rhs);
         for v in 0..nv {
