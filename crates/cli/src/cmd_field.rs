@@ -7,6 +7,7 @@ use std::time::Instant;
 use anyhow::{bail, Result};
 use quadrille::field_report::{model_fields, FieldOptions, ModelFields};
 use quadrille::singularities::SingularitySite;
+use quadrille::size_map::SizeMapOptions;
 use serde::Serialize;
 
 use crate::files;
@@ -56,6 +57,19 @@ struct TotalsJson {
     singularities_minus: usize,
 }
 
+/// One curve in the JSON report: its quantization against the size map.
+#[derive(Serialize)]
+struct CurveJson {
+    /// 1-based, as in mesh files.
+    curve: usize,
+    /// ∫ dl / s over the curve, in mesh edges (before rounding and chords).
+    ideal_edges: f64,
+    /// Mesh edges the curve gets (even: 2 per coarse segment).
+    edges: usize,
+    /// Smallest and largest size map value on the curve.
+    size_range: Option<[f64; 2]>,
+}
+
 /// The JSON report.
 #[derive(Serialize)]
 struct ReportJson {
@@ -65,10 +79,21 @@ struct ReportJson {
     /// Background triangulation size (model units).
     background_size: f64,
     faces: Vec<FaceJson>,
+    curves: Vec<CurveJson>,
+    /// Smallest and largest value of the size map (absent without one).
+    size_range: Option<[f64; 2]>,
     totals: TotalsJson,
 }
 
-fn report(args: &FieldArgs, fields: &ModelFields) -> ReportJson {
+/// Smallest and largest of `values`; `None` when empty.
+fn range(values: impl IntoIterator<Item = f64>) -> Option<[f64; 2]> {
+    values.into_iter().fold(None, |r, x| Some(match r {
+        None => [x, x],
+        Some([a, b]) => [a.min(x), b.max(x)],
+    }))
+}
+
+fn report(args: &FieldArgs, model: &geometry::Model, fields: &ModelFields) -> ReportJson {
     let faces: Vec<FaceJson> = fields
         .faces
         .iter()
@@ -116,7 +141,18 @@ fn report(args: &FieldArgs, fields: &ModelFields) -> ReportJson {
         singularities_plus: count(1),
         singularities_minus: count(-1),
     };
-    ReportJson { file: args.model.display().to_string(), size: fields.size, background_size: fields.background_size, faces, totals }
+    let plan = fields.curve_plan(model);
+    let profiles = fields.size_map.as_ref().map(|m| m.curve_sizes(model, &fields.curves)).unwrap_or_default();
+    let curves = (0..model.curves.len())
+        .map(|c| CurveJson {
+            curve: c + 1,
+            ideal_edges: 2.0 * plan.ideal(geometry::CurveId(c as u32)),
+            edges: 2 * plan.counts[c],
+            size_range: profiles.get(c).and_then(|p| p.as_ref()).and_then(|p| range(p.iter().map(|x| x[1]))),
+        })
+        .collect();
+    let size_range = fields.size_map.as_ref().and_then(|m| range(m.size.iter().copied()));
+    ReportJson { file: args.model.display().to_string(), size: fields.size, background_size: fields.background_size, faces, curves, size_range, totals }
 }
 
 /// Runs `quadrille field`: checks the outputs, computes the fields, writes
@@ -124,7 +160,7 @@ fn report(args: &FieldArgs, fields: &ModelFields) -> ReportJson {
 pub fn run(args: &FieldArgs) -> Result<()> {
     // Everything that can be checked before the long work is checked first.
     files::check_output(&args.output, &["vtu"])?;
-    if let Some(png) = &args.png {
+    for png in args.png.iter().chain(&args.size_png) {
         files::check_output(png, &["png"])?;
     }
     let size = crate::size_arg(args.size, args.size_factor);
@@ -133,7 +169,14 @@ pub fn run(args: &FieldArgs) -> Result<()> {
 
     let bar = FaceProgress::new(args.quiet, model.faces.len(), "cross field");
     let progress = bar.callback();
-    let opts = FieldOptions { size, progress, ..Default::default() };
+    let sizing = SizeMapOptions {
+        gradient: args.size_gradient,
+        small_features: !args.no_small_features,
+        min_size: args.min_size,
+        max_size: args.max_size,
+        entity_sizes: args.entity_sizes.clone(),
+    };
+    let opts = FieldOptions { size, progress, sizing, ..Default::default() };
     let fields = model_fields(&model, &opts).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()));
     bar.finish();
     let fields = fields?;
@@ -144,22 +187,31 @@ pub fn run(args: &FieldArgs) -> Result<()> {
     }
 
     mesh::vtu::write_field_vtu(&field_mesh, &args.output)?;
-    if let Some(png) = &args.png {
-        let name = args.model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let title = format!(
-            "{name}: cross field, Eq. (2) holds on {}/{} faces",
-            fields.faces_euler_ok(),
-            fields.faces.len()
-        );
-        let ropts = mesh::render::RenderOptions { title: Some(&title), ..Default::default() };
-        let spacing = model.diagonal() / GLYPHS_PER_DIAGONAL;
-        if let Err(e) = mesh::field::render_field_png(&field_mesh, spacing, &ropts, png) {
-            // no half-finished output set: the field file goes too
-            let _ = std::fs::remove_file(&args.output);
-            return Err(e.into());
+    let name = args.model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let mut written = vec![args.output.clone()];
+    let mut pictures = || -> Result<(), mesh::render::RenderError> {
+        if let Some(png) = &args.png {
+            let title = format!("{name}: cross field, Eq. (2) holds on {}/{} faces", fields.faces_euler_ok(), fields.faces.len());
+            let ropts = mesh::render::RenderOptions { title: Some(&title), ..Default::default() };
+            let spacing = model.diagonal() / GLYPHS_PER_DIAGONAL;
+            mesh::field::render_field_png(&field_mesh, spacing, &ropts, png)?;
+            written.push(png.clone());
         }
+        if let Some(png) = &args.size_png {
+            let title = format!("{name}: size map (quad size {:.4})", fields.size);
+            let ropts = mesh::render::RenderOptions { title: Some(&title), ..Default::default() };
+            mesh::field::render_size_png(&field_mesh, &ropts, png)?;
+        }
+        Ok(())
+    };
+    if let Err(e) = pictures() {
+        // no half-finished output set: what was written goes too
+        for f in &written {
+            let _ = std::fs::remove_file(f);
+        }
+        return Err(e.into());
     }
-    let rep = report(args, &fields);
+    let rep = report(args, &model, &fields);
     if args.json {
         println!("{}", serde_json::to_string_pretty(&rep)?);
     }

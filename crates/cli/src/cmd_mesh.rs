@@ -24,8 +24,27 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let progress = bar.callback();
     let opts = MeshOptions { size, threads: args.threads, progress };
     let t1 = Instant::now();
-    let mut m = quadrille::mesh_model(&model, &opts).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
+    let method = match args.method {
+        Method::Unstructured => quadrille::MeshMethod::Unstructured,
+        Method::Baseline | Method::Regular => quadrille::MeshMethod::Baseline,
+    };
+    let (mut m, report) = quadrille::mesh_model_with(&model, &opts, method).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
     bar.finish();
+    if !args.quiet {
+        for (f, reason) in &report.fallback {
+            eprintln!("face {}: unstructured meshing failed ({reason}); meshed with the baseline", f.0 + 1);
+        }
+        if let Method::Unstructured = args.method {
+            let d = &report.defects;
+            eprintln!(
+                "{} of {} faces meshed by a pattern; {} of {} very irregular vertices replaced by disk quadrangulations",
+                report.patterns.len(),
+                model.faces.len(),
+                d.replaced,
+                d.found
+            );
+        }
+    }
     let t_mesh = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
     if let Method::Regular = args.method {

@@ -6,8 +6,34 @@ use anyhow::{bail, Context, Result};
 use geometry::Model;
 use mesh::QuadMesh;
 
-/// Loads a CAD model (STEP, IGES, BREP); the error names the file.
+/// Options of the triangle-mesh import (`--feature-angle`, `--feature-edges`),
+/// set once by `main` before the command runs.
+static TRIMESH_OPTIONS: std::sync::OnceLock<trimesh::Options> = std::sync::OnceLock::new();
+
+/// Sets the triangle-mesh import options from the command's arguments.
+pub fn set_trimesh_options(args: &crate::ImportArgs) -> Result<()> {
+    let mut opts = trimesh::Options { feature_angle: args.feature_angle, ..Default::default() };
+    if let Some(f) = &args.feature_edges {
+        opts.feature_edges = trimesh::read_feature_edges(f)?;
+    }
+    let _ = TRIMESH_OPTIONS.set(opts);
+    Ok(())
+}
+
+/// Loads a model: a CAD file (STEP, IGES, BREP) through OpenCASCADE, or a
+/// triangle mesh (STL, OBJ, PLY, MSH) through the discrete B-rep import of
+/// the `trimesh` crate; the error names the file. Import warnings (repairs)
+/// go to stderr.
 pub fn load_model(path: &Path) -> Result<Model> {
+    let ext = extension(path);
+    if trimesh::Format::from_extension(&ext).is_some() {
+        let opts = TRIMESH_OPTIONS.get().cloned().unwrap_or_default();
+        let imp = trimesh::load(path, &opts)?;
+        for w in &imp.report.warnings {
+            eprintln!("warning: {}: {w}", path.display());
+        }
+        return Ok(imp.model);
+    }
     Ok(occt::load(path)?)
 }
 

@@ -61,16 +61,31 @@ corner indices (2 - ideal valence) of a face add up to 4 times its Euler charact
 The VTU file holds the background triangles, then one vertex cell per singularity, with \
 cell data cad_face, cross (one unit branch of the cross, for glyphs), size (the conformal \
 size map) and singularity_index (0 on triangles, +1 or -1 on singularities).",
-        after_help = "Examples:\n  quadrille field part.step -o field.vtu --png field.png\n  quadrille field part.step -o field.vtu --json --size-factor 0.5 --quiet"
+        after_help = "Examples:\n  quadrille field part.step -o field.vtu --png field.png\n  quadrille field part.step -o field.vtu --json --size-factor 0.5 --quiet\n  quadrille field part.step -o field.vtu --size-png size.png --entity-size curve:3=0.05"
     )]
     Field(FieldArgs),
+}
+
+/// Options of the triangle-mesh import (STL, OBJ, PLY, MSH models).
+#[derive(Args, Debug, Clone)]
+pub struct ImportArgs {
+    /// Triangle-mesh input: dihedral angle (degrees) above which an edge is a
+    /// feature curve edge.
+    #[arg(long, default_value_t = trimesh::DEFAULT_FEATURE_ANGLE)]
+    feature_angle: f64,
+    /// Triangle-mesh input: a file of extra feature edges, one pair of
+    /// 1-based vertex numbers per line.
+    #[arg(long, value_name = "FILE")]
+    feature_edges: Option<PathBuf>,
 }
 
 /// Arguments of `quadrille info`.
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// CAD model (.step, .stp, .iges, .igs, .brep, .brp).
+    /// Model: CAD (.step, .stp, .iges, .igs, .brep, .brp) or triangle mesh (.stl, .obj, .ply, .msh).
     model: PathBuf,
+    #[command(flatten)]
+    import: ImportArgs,
     /// Print JSON instead of text.
     #[arg(long)]
     json: bool,
@@ -79,8 +94,10 @@ pub struct InfoArgs {
 /// Arguments of `quadrille mesh`.
 #[derive(Args, Debug)]
 pub struct MeshArgs {
-    /// CAD model (.step, .stp, .iges, .igs, .brep, .brp).
+    /// Model: CAD (.step, .stp, .iges, .igs, .brep, .brp) or triangle mesh (.stl, .obj, .ply, .msh).
     model: PathBuf,
+    #[command(flatten)]
+    import: ImportArgs,
     /// Output mesh: .msh (MSH 4.1), .vtu (VTK) or .obj.
     #[arg(short, long)]
     output: PathBuf,
@@ -102,8 +119,9 @@ pub struct MeshArgs {
     /// No progress bar and no summary.
     #[arg(short, long)]
     quiet: bool,
-    /// Meshing method: `baseline` (triangulate and split) or `regular`
-    /// (baseline, then topological regularization).
+    /// Meshing method: `baseline` (triangulate and split), `regular`
+    /// (baseline, then topological regularization) or `unstructured`
+    /// (cross-field-guided frontal triangulation, recombination, subdivision).
     #[arg(long, value_enum, default_value_t = Method::Baseline)]
     method: Method,
     /// Print the time of each stage (load, mesh, improve, write) as JSON on stderr.
@@ -118,6 +136,9 @@ pub enum Method {
     Baseline,
     /// The baseline, then swaps, collapses and splits towards regular vertices.
     Regular,
+    /// Frontal points along the cross field, triangle recombination and
+    /// midpoint subdivision (faces where it fails use the baseline).
+    Unstructured,
 }
 
 /// Arguments of `quadrille stats`.
@@ -165,8 +186,10 @@ pub struct RenderArgs {
 /// Arguments of `quadrille field`.
 #[derive(Args, Debug)]
 pub struct FieldArgs {
-    /// CAD model (.step, .stp, .iges, .igs, .brep, .brp).
+    /// Model: CAD (.step, .stp, .iges, .igs, .brep, .brp) or triangle mesh (.stl, .obj, .ply, .msh).
     model: PathBuf,
+    #[command(flatten)]
+    import: ImportArgs,
     /// Output field file (.vtu).
     #[arg(short, long)]
     output: PathBuf,
@@ -174,6 +197,10 @@ pub struct FieldArgs {
     /// glyphs, singularities coloured by index.
     #[arg(long)]
     png: Option<PathBuf>,
+    /// Also draw the size map to this PNG picture (red: smallest sizes, green:
+    /// largest), with the singularities.
+    #[arg(long)]
+    size_png: Option<PathBuf>,
     /// Print per-face singularities, corner indices and the Eq. (2) check as JSON on stdout.
     #[arg(long)]
     json: bool,
@@ -183,9 +210,48 @@ pub struct FieldArgs {
     /// Multiplier of the default quad edge length (1/18 of the bounding-box diagonal).
     #[arg(long)]
     size_factor: Option<f64>,
+    /// Largest growth of the size map per unit of distance (Eq. 10 of the paper).
+    #[arg(long, default_value_t = quadrille::size_map::DEFAULT_GRADIENT)]
+    size_gradient: f64,
+    /// Do not shrink sizes at small CAD features (short curves, curves close to each other).
+    #[arg(long)]
+    no_small_features: bool,
+    /// Sizes are never below this (model units).
+    #[arg(long)]
+    min_size: Option<f64>,
+    /// Sizes are never above this (model units).
+    #[arg(long)]
+    max_size: Option<f64>,
+    /// A size on one entity, `KIND:ID=SIZE` with KIND `corner`, `curve` or
+    /// `face` and ID 1-based as in `quadrille info` (repeatable), e.g. `curve:3=0.05`.
+    #[arg(long = "entity-size", value_name = "KIND:ID=SIZE", value_parser = parse_entity_size)]
+    entity_sizes: Vec<(quadrille::size_map::Entity, f64)>,
     /// No progress bar and no summary.
     #[arg(short, long)]
     quiet: bool,
+}
+
+/// Parses `KIND:ID=SIZE` (see `--entity-size`).
+fn parse_entity_size(text: &str) -> Result<(quadrille::size_map::Entity, f64), String> {
+    use quadrille::size_map::Entity;
+    let bad = || format!("`{text}` is not KIND:ID=SIZE (e.g. curve:3=0.05)");
+    let (entity, size) = text.split_once('=').ok_or_else(bad)?;
+    let (kind, id) = entity.split_once(':').ok_or_else(bad)?;
+    let id: u32 = id.trim().parse().map_err(|_| bad())?;
+    if id == 0 {
+        return Err(format!("`{text}`: entity numbers start at 1"));
+    }
+    let size: f64 = size.trim().parse().map_err(|_| bad())?;
+    if !(size.is_finite() && size > 0.0) {
+        return Err(format!("`{text}`: the size must be a positive number"));
+    }
+    let entity = match kind.trim() {
+        "corner" => Entity::Corner(geometry::CornerId(id - 1)),
+        "curve" => Entity::Curve(geometry::CurveId(id - 1)),
+        "face" => Entity::Face(geometry::FaceId(id - 1)),
+        other => return Err(format!("`{text}`: unknown entity kind `{other}` (corner, curve or face)")),
+    };
+    Ok((entity, size))
 }
 
 /// The mesh size of `--size H` / `--size-factor F` (H wins; the default size when neither is given).
@@ -224,6 +290,16 @@ fn quiet_on_closed_pipe() {
 fn main() -> ExitCode {
     quiet_on_closed_pipe();
     let cli = Cli::parse();
+    let import = match &cli.command {
+        Command::Info(a) => Some(&a.import),
+        Command::Mesh(a) => Some(&a.import),
+        Command::Field(a) => Some(&a.import),
+        _ => None,
+    };
+    if let Some(Err(e)) = import.map(files::set_trimesh_options) {
+        eprintln!("error: {}", error_chain(&e));
+        return ExitCode::FAILURE;
+    }
     let result = match cli.command {
         Command::Info(a) => cmd_info::run(&a),
         Command::Mesh(a) => cmd_mesh::run(&a),

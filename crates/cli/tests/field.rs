@@ -197,3 +197,56 @@ fn help_has_an_example() {
     let top = quadrille(&["--help"]);
     assert!(String::from_utf8_lossy(&top.stdout).contains("field"));
 }
+
+/// The JSON lists every curve's quantization: an even edge count near its
+/// ideal ∫ dl / s, and a size range; a user size on one curve of the twisted
+/// body raises its count (and its chord's) and lowers its sizes.
+#[test]
+fn curves_are_quantized_against_the_size_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("size.png");
+    let (plain, xml) = field("twisted_body.step", dir.path(), &["--size-png", png.to_str().unwrap()]);
+    assert_eq!(&std::fs::read(&png).unwrap()[..8], b"\x89PNG\r\n\x1a\n");
+    vtu_matches_report(&plain, &xml);
+    let curves = plain["curves"].as_array().unwrap();
+    assert_eq!(curves.len(), 12);
+    for c in curves {
+        let edges = c["edges"].as_u64().unwrap();
+        let ideal = c["ideal_edges"].as_f64().unwrap();
+        assert!(edges % 2 == 0 && edges >= 2, "{c}");
+        assert!((edges as f64 - ideal).abs() <= 0.5 * ideal.max(2.0), "count far from its ideal: {c}");
+        let r = c["size_range"].as_array().unwrap();
+        assert!(r[0].as_f64().unwrap() > 0.0 && r[0].as_f64() <= r[1].as_f64(), "{c}");
+    }
+    let range = plain["size_range"].as_array().unwrap();
+    let h = plain["size"].as_f64().unwrap();
+    assert!(range[0].as_f64().unwrap() > 0.3 * h && range[1].as_f64().unwrap() < 3.0 * h, "{range:?} for size {h}");
+    let small = 0.25 * h;
+    let (sized, _) = field("twisted_body.step", dir.path(), &["--entity-size", &format!("curve:1={small}")]);
+    let c1 = &sized["curves"][0];
+    assert!(c1["edges"].as_u64().unwrap() >= 3 * plain["curves"][0]["edges"].as_u64().unwrap(), "{c1} vs {}", plain["curves"][0]);
+    assert!((c1["size_range"][0].as_f64().unwrap() - small).abs() < 1e-9 * h, "{c1}");
+}
+
+#[test]
+fn bad_size_options_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("field.vtu");
+    let model = cad("s17o_sphere.stp");
+    for (opt, says) in [
+        ("--entity-size=curve:0=1", "start at 1"),
+        ("--entity-size=edge:1=1", "unknown entity kind"),
+        ("--entity-size=curve:1=-2", "positive"),
+        ("--entity-size=curve1", "KIND:ID=SIZE"),
+        ("--entity-size=curve:99=1", "does not have"),
+        ("--size-gradient=0", "gradient"),
+        ("--min-size=-1", "minimum size"),
+    ] {
+        let r = quadrille(&["field", model.to_str().unwrap(), "-o", out.to_str().unwrap(), opt, "--quiet"]);
+        assert!(!r.status.success(), "{opt} accepted");
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(err.contains(says), "{opt}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(!out.exists());
+    }
+}

@@ -323,7 +323,13 @@ fn line_use(curve: u32, forward: bool, origin: [f64; 2], dir: [f64; 2], seam: bo
 
 /// A planar square `[0, side]²` in the z = 0 plane: 1 face, 4 line curves, 4 corners.
 pub fn square(side: f64) -> Model {
-    let p = [[0.0, 0.0, 0.0], [side, 0.0, 0.0], [side, side, 0.0], [0.0, side, 0.0]];
+    rectangle(side, side)
+}
+
+/// A planar rectangle `[0, width] × [0, height]` in the z = 0 plane: 1 face,
+/// 4 line curves (bottom, right, top, left), 4 corners.
+pub fn rectangle(width: f64, height: f64) -> Model {
+    let p = [[0.0, 0.0, 0.0], [width, 0.0, 0.0], [width, height, 0.0], [0.0, height, 0.0]];
     let corners = p.iter().map(|&point| Corner { point }).collect();
     let mut curves = Vec::new();
     let mut uses = Vec::new();
@@ -339,7 +345,7 @@ pub fn square(side: f64) -> Model {
         });
         uses.push(line_use(i as u32, true, [a[0], a[1]], [b[0] - a[0], b[1] - a[1]], false));
     }
-    let bounds = Bounds2 { umin: 0.0, umax: side, vmin: 0.0, vmax: side };
+    let bounds = Bounds2 { umin: 0.0, umax: width, vmin: 0.0, vmax: height };
     let plane = Plane { origin: [0.0; 3], xdir: [1.0, 0.0, 0.0], ydir: [0.0, 1.0, 0.0], bounds };
     Model {
         corners,

@@ -212,6 +212,27 @@ pub fn render_field_png(field: &CrossFieldMesh, spacing: f64, opts: &RenderOptio
     render::render_png(&field.surface(), &opts, path)
 }
 
+/// Draws the size map of `field` (its per-triangle `size`) as colours, red
+/// for the smallest sizes to green for the largest (value = size / largest
+/// size, named on the colour bar), with the singularities as dots, and writes
+/// the PNG atomically to `path`. Fails when the field has no size map.
+pub fn render_size_png(field: &CrossFieldMesh, opts: &RenderOptions, path: &Path) -> Result<(), RenderError> {
+    field.check().map_err(RenderError::InvalidMesh)?;
+    let sizes = field.size.as_ref().ok_or_else(|| RenderError::InvalidOptions("the field has no size map".into()))?;
+    let largest = sizes.iter().copied().filter(|s| s.is_finite()).fold(0.0, f64::max);
+    if !(largest > 0.0) {
+        return Err(RenderError::InvalidOptions("the size map has no positive value".into()));
+    }
+    let values: Vec<f64> = sizes.iter().map(|&s| if s.is_finite() { s / largest } else { f64::NAN }).collect();
+    let label = format!("size / {largest:.3}");
+    let mut overlay = field.overlay(f64::INFINITY);
+    overlay.segments.clear();
+    let k = ((opts.width.min(opts.height) as f32 / 600.0).round()).max(1.0);
+    overlay.point_radius = 5.0 * k;
+    let opts = RenderOptions { overlay: Some(&overlay), triangle_values: Some(&values), values_label: &label, show_irregular: false, show_edges: false, ..opts.clone() };
+    render::render_png(&field.surface(), &opts, path)
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
@@ -319,6 +340,34 @@ pub(crate) mod tests {
         // glyphs: many more dark pixels than the plain triangulation has
         let dark = |img: &render::RenderedImage| img.rgba.chunks(4).filter(|p| (p[0] as u32 + p[1] as u32 + p[2] as u32) < 200).count();
         assert!(dark(&with) > dark(&without) + 1000, "{} vs {}", dark(&with), dark(&without));
+    }
+
+    /// The size picture colours small sizes red and large ones green, and
+    /// refuses a field without sizes.
+    #[test]
+    fn size_picture_colours_by_size() {
+        // the square's size grows with the triangle index: small at y = 0, large at y = 1
+        let f = square_field(16);
+        let dir = std::env::temp_dir().join(format!("quadrille-size-png-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("size.png");
+        let opts = RenderOptions { width: 400, height: 400, eye_dir: [0.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], show_info: false, ..Default::default() };
+        render_size_png(&f, &opts, &path).unwrap();
+        let img = tiny_skia::Pixmap::decode_png(&std::fs::read(&path).unwrap()).unwrap();
+        // the pixel column through the middle of the picture crosses the square
+        let (w, h) = (img.width() as usize, img.height() as f64);
+        let column: Vec<[u8; 3]> = (0..img.height() as usize).map(|y| { let p = &img.data()[4 * (y * w + w / 2)..]; [p[0], p[1], p[2]] }).collect();
+        let coloured: Vec<usize> = (0..column.len()).filter(|&y| { let c = column[y]; (c[0] as i32 - c[1] as i32).abs() > 40 }).collect();
+        assert!(coloured.len() as f64 > 0.3 * h, "only {} coloured rows", coloured.len());
+        let (top, bottom) = (column[coloured[2]], column[coloured[coloured.len() - 3]]);
+        // image rows go down, so the top of the picture is y = 1 (large sizes: green)
+        assert!(top[1] > top[0], "large sizes are green: {top:?}");
+        assert!(bottom[0] > bottom[1], "small sizes are red: {bottom:?}");
+        let mut no_size = f.clone();
+        no_size.size = None;
+        assert!(matches!(render_size_png(&no_size, &opts, &dir.join("none.png")), Err(RenderError::InvalidOptions(_))));
+        assert!(!dir.join("none.png").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

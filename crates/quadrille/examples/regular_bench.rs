@@ -52,7 +52,15 @@ fn main() {
         let t1 = Instant::now();
         let env = |k: &str, d: usize| std::env::var(k).ok().and_then(|v| v.parse().ok()).unwrap_or(d);
         let d = RegularizeOptions::default();
-        let ropts = RegularizeOptions { max_sequence: env("QR_DEPTH", d.max_sequence), search_budget: env("QR_BUDGET", d.search_budget), ..d };
+        let ropts = RegularizeOptions { max_sequence: env("QR_DEPTH", d.max_sequence), search_budget: env("QR_BUDGET", d.search_budget),
+            translation_steps: env("QR_TRANSLATION", d.translation_steps),
+            sweep_orders: env("QR_ORDERS", d.sweep_orders),
+            pair_radius: env("QR_PAIR_RADIUS", d.pair_radius),
+            pair_depth: env("QR_PAIR_DEPTH", d.pair_depth),
+            pair_beam: env("QR_PAIR_BEAM", d.pair_beam),
+            pair_budget: env("QR_PAIR_BUDGET", d.pair_budget),
+            ..d
+        };
         let rep = match regularize_mesh(&model, &mut mesh, &ropts) {
             Ok(r) => r,
             Err(e) => {
@@ -103,10 +111,125 @@ fn main() {
             }
             eprintln!("  valence histogram after: {:?}", s1.valence_histogram);
         }
+        if std::env::var("QR_DIAG").is_ok() {
+            let sicn = mesh::stats::quad_sicn_values(&mesh, Some(&model));
+            if let Some((q, s)) = sicn.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1)) {
+                let classes: Vec<String> = mesh.quads[q].iter().map(|&n| format!("{:?}", mesh.node_class[n as usize])).collect();
+                eprintln!("  worst quad {q} (face {}): SICN {s:.3}, nodes {classes:?}", mesh.quad_face[q].0 + 1);
+            }
+            diagnose(&model, &mesh);
+        }
         for (f, why) in &rep.skipped {
             eprintln!("{name}: face {} skipped: {why}", f.0 + 1);
+        }
+        for f in rep.faces.iter().filter(|f| f.strict && !f.reverted) {
+            eprintln!("{name}: face {} redone in strict mode (the first result had more inverted quads)", f.face.0 + 1);
+        }
+        for f in rep.faces.iter().filter(|f| f.reverted) {
+            eprintln!("{name}: face {} reverted to its input (the result had more inverted quads)", f.face.0 + 1);
         }
         let o = rep.ops();
         eprintln!("{name}: ops swaps {} collapses {} splits {} compositions {} rejected {} sweeps {}", o.swaps, o.collapses, o.splits, o.compositions, o.rejected, o.sweeps);
     }
+}
+
+/// Where the irregular vertices left after regularization sit (`QR_DIAG=1`):
+/// interior ones by valence and by hop distance to the face boundary, boundary
+/// ones by sign of (valence − ideal), and how many interior valence-3 vertices
+/// have a boundary-excess vertex among their links.
+fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
+    use quadrille::face_quads::extract::{extract_face, quads_by_face};
+    use std::collections::BTreeMap;
+    let mut hist: BTreeMap<String, usize> = BTreeMap::new();
+    let (mut floor, mut irr, mut nv) = (0i64, 0usize, 0usize);
+    for (fid, qids) in quads_by_face(mesh) {
+        let Ok(fq) = extract_face(model, mesh, fid, &qids) else { continue };
+        let n = fq.verts.len() as u32;
+        // the index sum Σ (ideal − valence) is invariant under every operation:
+        // at least |Σ| / 2 irregular vertices remain (a vertex rarely carries more than 2)
+        let index: i64 = (0..n).filter(|&v| fq.verts[v as usize].alive).map(|v| fq.verts[v as usize].ideal as i64 - fq.valence(v) as i64).sum();
+        let face_irr = fq.irregular_count();
+        floor += index.abs();
+        irr += face_irr;
+        nv += fq.num_verts();
+        if std::env::var("QR_DIAG").as_deref() == Ok("2") {
+            eprintln!("  face {}: verts {} irregular {} index sum {}", fid.0 + 1, fq.num_verts(), face_irr, index);
+            for v in 0..n {
+                let x = &fq.verts[v as usize];
+                if x.alive && x.fixed && (fq.valence(v) > 4 || fq.is_irregular(v)) {
+                    eprintln!("     fixed {v}: class {:?} pole {} valence {} ideal {} offset {} angle {:.0}", x.class, x.pole.is_some(), fq.valence(v), x.ideal, x.edge_offset, fq.angle_sum(v));
+                }
+            }
+        }
+        // hop distance to the boundary
+        let mut dist = vec![u32::MAX; n as usize];
+        let mut front: Vec<u32> = (0..n).filter(|&v| fq.verts[v as usize].alive && fq.verts[v as usize].fixed).collect();
+        for &v in &front {
+            dist[v as usize] = 0;
+        }
+        let mut d = 0;
+        while !front.is_empty() {
+            d += 1;
+            let mut next = Vec::new();
+            for &v in &front {
+                for l in fq.links(v) {
+                    if dist[l as usize] == u32::MAX {
+                        dist[l as usize] = d;
+                        next.push(l);
+                    }
+                }
+            }
+            front = next;
+        }
+        for v in 0..n {
+            if !fq.is_irregular(v) {
+                continue;
+            }
+            let x = &fq.verts[v as usize];
+            let val = fq.valence(v);
+            let key = if x.fixed {
+                let kind = match x.class {
+                    mesh::NodeClass::Corner(_) => "corner",
+                    _ => "curve",
+                };
+                format!("boundary {kind} {:+}", val as i64 - x.ideal as i64)
+            } else {
+                let near_excess = fq.links(v).into_iter().any(|l| fq.verts[l as usize].fixed && fq.valence(l) > fq.verts[l as usize].ideal);
+                let near_irr = fq.links(v).into_iter().filter(|&l| fq.is_irregular(l)).count();
+                // hop distance to the nearest vertex of opposite index
+                let sign = |w: u32| -> i64 {
+                    let y = &fq.verts[w as usize];
+                    let ideal = if y.fixed { y.ideal } else { 4 };
+                    (ideal as i64 - fq.valence(w) as i64).signum()
+                };
+                let s0 = sign(v);
+                let mut seen = vec![v];
+                let mut fr = vec![v];
+                let mut partner = 9;
+                'bfs: for h in 1..=8 {
+                    let mut nx = Vec::new();
+                    for &a in &fr {
+                        for l in fq.links(a) {
+                            if seen.contains(&l) {
+                                continue;
+                            }
+                            seen.push(l);
+                            if sign(l) == -s0 {
+                                partner = h;
+                                break 'bfs;
+                            }
+                            nx.push(l);
+                        }
+                    }
+                    fr = nx;
+                }
+                format!("interior val {val} hops {} partner {partner} {}{}", dist[v as usize].min(3), if near_excess { "next to bdry excess" } else { "" }, if near_irr > 0 { format!(" irr-links {near_irr}") } else { String::new() })
+            };
+            *hist.entry(key).or_default() += 1;
+        }
+    }
+    for (k, c) in hist {
+        eprintln!("  {c:5}  {k}");
+    }
+    eprintln!("  irregular {irr} of {nv} face-local vertices ({:.1} %); sum of |index sum| over faces {floor} ({:.1} %)", 100.0 * irr as f64 / nv.max(1) as f64, 100.0 * floor as f64 / nv.max(1) as f64);
 }

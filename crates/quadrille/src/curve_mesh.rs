@@ -36,6 +36,8 @@ const SAMPLES: usize = 160;
 const SAMPLE_TURN: f64 = 0.05;
 /// A turn at one sample larger than this after sampling is a kink (C0 point).
 const KINK_TURN: f64 = 4.0 * SAMPLE_TURN;
+/// Samples of one curve beyond which [`resample_to_sizes`] stops refining.
+const MAX_SIZED_SAMPLES: usize = 1 << 18;
 /// Bisection passes over the samples, at most.
 const SAMPLE_DEPTH: u32 = 30;
 
@@ -151,12 +153,63 @@ fn sample(model: &Model, c: CurveId) -> (Vec<f64>, Vec<Vec3>) {
     (ts, pts)
 }
 
-/// Profile of curve `c` for final size `h`: spacing `min(2h, radius × MAX_TURN)`
-/// (not below `MIN_SPACING_FRACTION × 2h`), graded at rate [`GRADING`]
-/// (around the closure point too for a closed curve).
-fn profile(model: &Model, c: CurveId, h: f64) -> Profile {
+/// Bisects the sample intervals longer than the size at their middle, so
+/// that ∫ dl / s is integrated finely wherever the size map is small.
+/// Sizes below `floor` count as `floor`; at most [`MAX_SIZED_SAMPLES`] samples.
+fn resample_to_sizes(model: &Model, c: CurveId, mut ts: Vec<f64>, mut pts: Vec<Vec3>, sizes: &[[f64; 2]], floor: f64) -> (Vec<f64>, Vec<Vec3>) {
     let ce = &model.curves[c.idx()];
-    let (ts, pts) = sample(model, c);
+    for _ in 0..SAMPLE_DEPTH {
+        if ts.len() > MAX_SIZED_SAMPLES {
+            break;
+        }
+        let mut nts = Vec::with_capacity(ts.len());
+        let mut npts = Vec::with_capacity(ts.len());
+        let mut changed = false;
+        for j in 0..ts.len() - 1 {
+            nts.push(ts[j]);
+            npts.push(pts[j]);
+            let tm = 0.5 * (ts[j] + ts[j + 1]);
+            if vec3::dist(pts[j], pts[j + 1]) > size_at(sizes, tm).max(floor) {
+                nts.push(tm);
+                npts.push(ce.eval(model, tm));
+                changed = true;
+            }
+        }
+        nts.push(ts[ts.len() - 1]);
+        npts.push(pts[pts.len() - 1]);
+        ts = nts;
+        pts = npts;
+        if !changed {
+            break;
+        }
+    }
+    (ts, pts)
+}
+
+/// Linear interpolation in a `(parameter, size)` profile sorted by parameter
+/// (constant beyond its ends).
+fn size_at(profile: &[[f64; 2]], t: f64) -> f64 {
+    let k = profile.partition_point(|p| p[0] < t);
+    if k == 0 {
+        return profile[0][1];
+    }
+    if k == profile.len() {
+        return profile[k - 1][1];
+    }
+    let ([ta, sa], [tb, sb]) = (profile[k - 1], profile[k]);
+    if tb > ta { sa + (sb - sa) * (t - ta) / (tb - ta) } else { sa.min(sb) }
+}
+
+/// Profile of curve `c` for final size `h`: spacing `min(2s, radius × MAX_TURN)`
+/// (not below `MIN_SPACING_FRACTION × 2h`), graded at rate [`GRADING`]
+/// (around the closure point too for a closed curve). `s` is the size map
+/// along the curve (`(parameter, size)` pairs) when given, else `h`.
+fn profile(model: &Model, c: CurveId, h: f64, sizes: Option<&[[f64; 2]]>) -> Profile {
+    let ce = &model.curves[c.idx()];
+    let (mut ts, mut pts) = sample(model, c);
+    if let Some(p) = sizes.filter(|p| !p.is_empty()) {
+        (ts, pts) = resample_to_sizes(model, c, ts, pts, p, MIN_SPACING_FRACTION * h);
+    }
     let ns = pts.len() - 1;
     let len: Vec<f64> = (0..ns).map(|j| {
         let l = vec3::dist(pts[j], pts[j + 1]);
@@ -189,8 +242,12 @@ fn profile(model: &Model, c: CurveId, h: f64) -> Profile {
     let smin = MIN_SPACING_FRACTION * smax;
     let mut sp: Vec<f64> = (0..ns)
         .map(|j| {
+            let base = match sizes {
+                Some(p) if !p.is_empty() => (2.0 * size_at(p, 0.5 * (ts[j] + ts[j + 1]))).max(smin),
+                _ => smax,
+            };
             let k = kappa_at(j).max(kappa_at(j + 1));
-            if k > 0.0 { (MAX_TURN_PER_SEGMENT / k).clamp(smin, smax) } else { smax }
+            if k > 0.0 { (MAX_TURN_PER_SEGMENT / k).clamp(smin, base) } else { base }
         })
         .collect();
     // grading: spacing(j) ≤ spacing(i) + GRADING × distance; two laps for a closed curve
@@ -239,10 +296,24 @@ pub fn curve_lengths(model: &Model) -> Vec<f64> {
 /// ([`crate::curve_chords`]), at least 1, at least 3 for a closed curve, and
 /// enough that every face loop has at least 3 coarse segments.
 pub fn plan_curves(model: &Model, h: f64) -> CurvePlan {
+    plan_curves_sized(model, h, &[])
+}
+
+/// Plans the curves against a size map (quantization, paper §4.3): curve `c`
+/// is spaced by `sizes[c]`, its size profile as `(parameter, size)` pairs
+/// sorted by parameter ([`crate::size_map::SizeMap::curve_sizes`]); its ideal
+/// coarse count is ∫ dl / 2s (the §1.2 convention: coarse segments of `2s`),
+/// and points are placed uniformly in that integral (Eq. 11). A curve with no
+/// profile (or beyond `sizes`) uses the uniform size `h`. Rounding, chords
+/// and the minimum counts are as in [`plan_curves`].
+pub fn plan_curves_sized(model: &Model, h: f64, sizes: &[Option<Vec<[f64; 2]>>]) -> CurvePlan {
     use rayon::prelude::*;
     let profiles: Vec<Option<Profile>> = (0..model.curves.len())
         .into_par_iter()
-        .map(|i| if model.curves[i].degenerate { None } else { Some(profile(model, CurveId(i as u32), h)) })
+        .map(|i| {
+            let own = sizes.get(i).and_then(|s| s.as_deref());
+            if model.curves[i].degenerate { None } else { Some(profile(model, CurveId(i as u32), h, own)) }
+        })
         .collect();
     let ideal: Vec<f64> = profiles.iter().map(|p| p.as_ref().map_or(1.0, |p| p.budget.last().copied().unwrap_or(0.0))).collect();
     let chords = chord_classes(model, &ideal);

@@ -25,9 +25,11 @@ use rayon::prelude::*;
 
 use crate::crossfield::{compute_cross_field, CrossField, CrossFieldError, CrossFieldOptions, FaceMesh};
 use crate::curve_mesh::{discretize_all, plan_curves, CurveMesh};
-use crate::face_triangulation::FaceTriangulation;
+use crate::face_triangulation::{FaceTriangulation, NodeRef};
 use crate::pipeline::{resolve_size, MeshError, ProgressFn, Size};
 use crate::scaling::{conformal_scaling, scaling_constant};
+use crate::size_map::{build_size_map, FaceBackground, SizeMap, SizeMapError, SizeMapOptions};
+use crate::curve_mesh::{plan_curves_sized, CurvePlan};
 use crate::singularities::{extract_singularities, Singularities};
 
 /// Default ratio between the quad size and the background triangle size
@@ -43,8 +45,10 @@ pub struct FieldOptions {
     pub refine: f64,
     /// Parameters of the cross-field diffusion.
     pub cross_field: CrossFieldOptions,
-    /// Also compute the conformal scaling (size map) of each face.
+    /// Also compute the conformal scaling of each face and the model's size map.
     pub size_map: bool,
+    /// How the size map is built (gradient, small features, user sizes).
+    pub sizing: SizeMapOptions,
     /// Called with `(faces done, total faces)` as faces finish (from worker threads).
     pub progress: Option<ProgressFn>,
 }
@@ -56,6 +60,7 @@ impl Default for FieldOptions {
             refine: BACKGROUND_REFINE,
             cross_field: CrossFieldOptions::default(),
             size_map: true,
+            sizing: SizeMapOptions::default(),
             progress: None,
         }
     }
@@ -68,6 +73,7 @@ impl std::fmt::Debug for FieldOptions {
             .field("refine", &self.refine)
             .field("cross_field", &self.cross_field)
             .field("size_map", &self.size_map)
+            .field("sizing", &self.sizing)
             .field("progress", &self.progress.as_ref().map(|_| "callback"))
             .finish()
     }
@@ -91,8 +97,16 @@ pub struct FaceField {
     pub field: CrossField,
     /// Its singularities and the corner data of relation (2).
     pub singularities: Singularities,
-    /// The size map `e^{H + C}` per welded vertex of `field.topology`, when
-    /// asked for and when the scaling solve succeeded.
+    /// Model identity of each welded vertex of `field.topology` (curve point,
+    /// corner or interior): how faces are welded into one size map.
+    pub refs: Vec<NodeRef>,
+    /// The conformal scaling `H` per welded vertex, when asked for and when
+    /// its solve succeeded.
+    pub scaling: Option<Vec<f64>>,
+    /// The size map per welded vertex of `field.topology`. From
+    /// [`face_field`] alone: the face's conformal size `e^{H + C}`; from
+    /// [`model_fields`]: the model's size map ([`crate::size_map`]), which
+    /// adds small features, gradation and continuity across curves.
     pub size: Option<Vec<f64>>,
 }
 
@@ -140,6 +154,10 @@ pub struct ModelFields {
     pub background_size: f64,
     /// One report per face, in face order.
     pub faces: Vec<FaceFieldReport>,
+    /// The background curve meshes the faces were triangulated against.
+    pub curves: Vec<CurveMesh>,
+    /// The model's size map over the faces that have a field (when asked for).
+    pub size_map: Option<SizeMap>,
 }
 
 impl ModelFields {
@@ -162,6 +180,14 @@ impl ModelFields {
     /// Total number of background triangles over the faces that have a field.
     pub fn triangles(&self) -> usize {
         self.faces.iter().filter_map(|f| f.outcome.as_ref().ok()).map(FaceField::triangles).sum()
+    }
+
+    /// Curve quantization against the size map (paper §4.3): each curve's
+    /// count from ∫ dl / s, chords of 4-sided faces equalized; without a
+    /// size map, the uniform plan for the quad size.
+    pub fn curve_plan(&self, model: &Model) -> CurvePlan {
+        let sizes = self.size_map.as_ref().map(|m| m.curve_sizes(model, &self.curves)).unwrap_or_default();
+        plan_curves_sized(model, self.size, &sizes)
     }
 
     /// The fields of all faces that have one as a single [`CrossFieldMesh`]
@@ -207,24 +233,30 @@ pub fn face_field(
     quad_size: f64,
     opts: &FieldOptions,
 ) -> Result<FaceField, FaceFieldError> {
-    let mesh = FaceTriangulation::new(model, fid, cms, 2.0 * background_size)
+    let ft = FaceTriangulation::new(model, fid, cms, 2.0 * background_size)
         .and_then(|mut ft| ft.refine().map(|_| ft))
-        .map(|ft| FaceMesh::from_face_triangulation(&ft))
         .map_err(|e| FaceFieldError::Triangulation(format!("{e:?}")))?;
+    let mesh = FaceMesh::from_face_triangulation(&ft);
     let field = compute_cross_field(&mesh, &opts.cross_field)?;
+    let mut refs = vec![NodeRef::Interior; field.topology.positions.len()];
+    for (i, &w) in field.topology.vertex_map.iter().enumerate() {
+        if ft.nodes[i].node != NodeRef::Interior {
+            refs[w as usize] = ft.nodes[i].node;
+        }
+    }
     let singularities = extract_singularities(&field);
-    let size = if opts.size_map { size_map(&field, quad_size) } else { None };
-    Ok(FaceField { field, singularities, size })
+    let scaling = if opts.size_map { conformal_scaling(&field).ok().map(|s| s.h).filter(|h| h.iter().all(|x| x.is_finite())) } else { None };
+    let size = scaling.as_ref().and_then(|h| face_conformal_size(&field, h, quad_size));
+    Ok(FaceField { field, singularities, refs, scaling, size })
 }
 
 /// `e^{H + C}` per welded vertex, `C` set for `area / quad_size²` quads;
-/// `None` when the scaling cannot be computed.
-fn size_map(field: &CrossField, quad_size: f64) -> Option<Vec<f64>> {
+/// `None` when the constant cannot be computed.
+fn face_conformal_size(field: &CrossField, h: &[f64], quad_size: f64) -> Option<Vec<f64>> {
     let topo = &field.topology;
-    let scaling = conformal_scaling(field).ok()?;
     let area: f64 = topo.areas.iter().sum();
-    let c = scaling_constant(topo, &scaling.h, area / (quad_size * quad_size)).ok()?;
-    let sizes: Vec<f64> = (0..scaling.h.len()).map(|v| scaling.size(v, c)).collect();
+    let c = scaling_constant(topo, h, area / (quad_size * quad_size)).ok()?;
+    let sizes: Vec<f64> = h.iter().map(|&x| (x + c).exp()).collect();
     sizes.iter().all(|s| s.is_finite()).then_some(sizes)
 }
 
@@ -256,7 +288,34 @@ pub fn model_fields(model: &Model, opts: &FieldOptions) -> Result<ModelFields, M
             FaceFieldReport { face, outcome }
         })
         .collect();
-    Ok(ModelFields { size: h, background_size: h_bg, faces })
+    let mut fields = ModelFields { size: h, background_size: h_bg, faces, curves: cms, size_map: None };
+    if opts.size_map {
+        fields.apply_size_map(model, &opts.sizing)?;
+    }
+    Ok(fields)
+}
+
+impl ModelFields {
+    /// Builds the model's size map from the faces' fields and stores it,
+    /// replacing each face's conformal size with it.
+    fn apply_size_map(&mut self, model: &Model, sizing: &SizeMapOptions) -> Result<(), MeshError> {
+        let ok: Vec<usize> = (0..self.faces.len()).filter(|&i| self.faces[i].outcome.is_ok()).collect();
+        let inputs: Vec<FaceBackground<'_>> = ok
+            .iter()
+            .map(|&i| {
+                let f = self.faces[i].outcome.as_ref().expect("filtered on ok");
+                FaceBackground { face: self.faces[i].face, topo: &f.field.topology, refs: &f.refs, scaling: f.scaling.as_deref() }
+            })
+            .collect();
+        let map = build_size_map(model, &self.curves, &inputs, self.size, sizing).map_err(|e: SizeMapError| MeshError::Sizing(e.to_string()))?;
+        for (k, &i) in ok.iter().enumerate() {
+            if let Ok(f) = &mut self.faces[i].outcome {
+                f.size = Some(map.face_sizes(k));
+            }
+        }
+        self.size_map = Some(map);
+        Ok(())
+    }
 }
 
 #[cfg(test)]

@@ -14,20 +14,36 @@
 //! - [`split`]: triangle → 3 quads, placement on the CAD, validity repair;
 //! - [`smoothing`]: light uv-Laplacian smoothing with rollback;
 //! - [`pipeline`]: options, parallel per-face meshing, deterministic assembly;
+//! - [`size_map`]: the model's size map (conformal size, small features,
+//!   gradation, user sizes) on the background triangulations;
 //! - [`field_report`]: the cross field, singularities and size map of every
-//!   face of a model on its background triangulation (`quadrille field`).
+//!   face of a model on its background triangulation (`quadrille field`);
+//! - the unstructured method ([`MeshMethod::Unstructured`]): [`background`]
+//!   (point location and field interpolation), [`frontal`] (frontal point
+//!   insertion), [`recombine`] (greedy triangle pairing), [`subdivide`]
+//!   (midpoint subdivision on the CAD), driven per face by [`unstructured`].
 
+pub mod background;
 pub mod crossfield;
 pub mod curve_chords;
 pub mod curve_mesh;
+pub mod defects;
+pub mod disk_quads;
 pub mod face_quads;
 pub mod face_triangulation;
 pub mod field_report;
+pub mod frontal;
+pub mod pattern_face;
+pub mod patterns;
 pub mod pipeline;
+pub mod recombine;
 pub mod regularize;
 pub mod scaling;
 pub mod singularities;
+pub mod size_map;
 pub mod smoothing;
 pub mod split;
+pub mod subdivide;
+pub mod unstructured;
 
-pub use pipeline::{default_size, mesh_model, resolve_size, MeshError, MeshOptions, ProgressFn, Size};
+pub use pipeline::{default_size, mesh_model, mesh_model_with, resolve_size, MeshError, MeshMethod, MeshOptions, MeshReport, ProgressFn, Size};

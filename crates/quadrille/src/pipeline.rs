@@ -16,7 +16,7 @@ use geometry::{CornerId, CurveId, FaceId, Model, ModelError};
 use mesh::{NodeClass, QuadMesh};
 use rayon::prelude::*;
 
-use crate::curve_mesh::{discretize_all, plan_curves, CurveMesh};
+use crate::curve_mesh::{discretize_all, plan_curves, CurveMesh, CurvePlan};
 use crate::face_triangulation::{FaceFailure, FaceTriangulation, NodeRef};
 use crate::smoothing::{smooth, untangle};
 use crate::split::{quad_quality, split_triangles, QuadPatch};
@@ -33,6 +33,12 @@ const UNTANGLE_PASSES: usize = 4;
 const UNTANGLE_MAX_NODES: usize = 5000;
 /// Smoothing sweeps per face.
 const SMOOTHING_SWEEPS: usize = 4;
+/// The unstructured method bounds the size map to these multiples of the
+/// target size, for faces and curves alike (the baseline fallback meshes at
+/// the target size and copes with curves at most twice finer).
+const SIZE_MAP_MIN: f64 = 0.5;
+/// See [`SIZE_MAP_MIN`].
+const SIZE_MAP_MAX: f64 = 2.0;
 
 /// Target mesh size.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,6 +100,9 @@ pub enum MeshError {
         /// What went wrong.
         reason: String,
     },
+    /// The size-map options are invalid (bad gradient, bounds or entity sizes).
+    #[error("size map: {0}")]
+    Sizing(String),
     /// The thread pool could not be created.
     #[error("could not start a pool of {threads} threads: {reason}")]
     Threads {
@@ -144,26 +153,163 @@ pub fn resolve_size(model: &Model, size: Size) -> Result<f64, MeshError> {
 /// classified on its entity, every quad counter-clockwise seen from its face's
 /// oriented normal. Output is identical for any `threads`.
 pub fn mesh_model(model: &Model, opts: &MeshOptions) -> Result<QuadMesh, MeshError> {
+    mesh_model_with(model, opts, MeshMethod::Baseline).map(|(m, _)| m)
+}
+
+/// The per-face meshing method of [`mesh_model_with`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MeshMethod {
+    /// Triangulate each face in (u, v) and split every triangle into three quads.
+    #[default]
+    Baseline,
+    /// Frontal points along the cross field, recombination and midpoint
+    /// subdivision ([`crate::unstructured`]); a face where it fails is meshed
+    /// with the baseline (listed in [`MeshReport::fallback`]).
+    Unstructured,
+}
+
+/// What [`mesh_model_with`] reports besides the mesh.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshReport {
+    /// Faces meshed with the baseline because the requested method failed on
+    /// them, with the reason, in face order.
+    pub fallback: Vec<(FaceId, String)>,
+    /// Faces meshed directly by a pattern ([`crate::pattern_face`]), with the
+    /// pattern's name, in face order.
+    pub patterns: Vec<(FaceId, String)>,
+    /// Very irregular vertices found and replaced by disk quadrangulations
+    /// ([`crate::defects`]), over all faces.
+    pub defects: crate::defects::DefectReport,
+}
+
+/// [`mesh_model`] with a choice of method; also reports the faces that fell
+/// back to the baseline. Output is identical for any `threads`.
+pub fn mesh_model_with(model: &Model, opts: &MeshOptions, method: MeshMethod) -> Result<(QuadMesh, MeshReport), MeshError> {
     model.validate()?;
     if model.faces.is_empty() {
         return Err(MeshError::NoFaces);
     }
     let h = resolve_size(model, opts.size)?;
+    let go = || match method {
+        MeshMethod::Baseline => run(model, plan_curves(model, h), opts.progress.as_ref(), &|fid, cms| mesh_face(model, fid, cms, 2.0 * h))
+            .and_then(|(cms, results)| assemble(model, &cms, &results))
+            .map(|m| (m, MeshReport::default())),
+        MeshMethod::Unstructured => run_unstructured(model, h, opts.progress.as_ref()),
+    };
     match opts.threads {
         Some(n) => {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(n.max(1))
                 .build()
                 .map_err(|e| MeshError::Threads { threads: n, reason: e.to_string() })?;
-            pool.install(|| run(model, h, opts.progress.as_ref()))
+            pool.install(go)
         }
-        None => run(model, h, opts.progress.as_ref()),
+        None => go(),
     }
 }
 
-fn run(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Result<QuadMesh, MeshError> {
+/// The unstructured method: the cross field and size map of every face
+/// first, then [`run`] with [`crate::unstructured::mesh_face_unstructured`]
+/// per face, the baseline where it fails.
+fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Result<(QuadMesh, MeshReport), MeshError> {
+    use crate::field_report::{model_fields, FieldOptions};
+    use crate::unstructured::{mesh_face_unstructured, UnstructuredOptions};
+    use crate::defects::{remove_defects, DefectReport};
+    use crate::pattern_face::mesh_face_pattern;
+    // the size map, bounded so that faces, curves and the baseline fallback agree
+    let sizing = crate::size_map::SizeMapOptions { min_size: Some(SIZE_MAP_MIN * h), max_size: Some(SIZE_MAP_MAX * h), ..Default::default() };
+    let fields = model_fields(model, &FieldOptions { size: Size::Absolute(h), sizing, ..Default::default() })?;
+    let uopts = UnstructuredOptions::default();
+    let fallback: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());
+    let patterns: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());
+    let defects: std::sync::Mutex<BTreeMap<u32, DefectReport>> = std::sync::Mutex::new(BTreeMap::new());
+    let face_mesher = |fid: FaceId, cms: &[CurveMesh]| -> Result<QuadPatch, FaceFailure> {
+        // a simple face is meshed by a pattern first (paper §6.1.2)
+        let by_pattern = mesh_face_pattern(model, fid, cms);
+        {
+            let mut pt = patterns.lock().unwrap_or_else(|e| e.into_inner());
+            match &by_pattern {
+                Ok((_, name)) => pt.insert(fid.0, name.clone()),
+                Err(_) => pt.remove(&fid.0),
+            };
+        }
+        if let Ok((p, _)) = by_pattern {
+            fallback.lock().unwrap_or_else(|e| e.into_inner()).remove(&fid.0);
+            defects.lock().unwrap_or_else(|e| e.into_inner()).remove(&fid.0);
+            return Ok(p);
+        }
+        let attempt = (|| -> Result<QuadPatch, String> {
+            let ff = fields.faces[fid.idx()].outcome.as_ref().map_err(|e| e.to_string())?;
+            let topo_n = ff.field.topology.positions.len();
+            // without a size map, the uniform size
+            let size: Vec<f64> = match &ff.size {
+                Some(s) => s.clone(),
+                None => vec![h; topo_n],
+            };
+            let (mut p, _) = mesh_face_unstructured(model, fid, cms, &ff.field, &size, &uopts)?;
+            // very irregular vertices out (paper §6.3)
+            let r = remove_defects(&model.faces[fid.idx()], &mut p);
+            defects.lock().unwrap_or_else(|e| e.into_inner()).insert(fid.0, r);
+            Ok(p)
+        })();
+        let mut fb = fallback.lock().unwrap_or_else(|e| e.into_inner());
+        match attempt {
+            Ok(p) => {
+                fb.remove(&fid.0);
+                Ok(p)
+            }
+            Err(reason) => {
+                fb.insert(fid.0, reason);
+                drop(fb);
+                mesh_face(model, fid, cms, 2.0 * h)
+            }
+        }
+    };
+    // curves quantized against the size map (paper §4.3)
+    let (cms, mut results) = run(model, fields.curve_plan(model), progress, &face_mesher)?;
+    let mut fb = fallback.into_inner().unwrap_or_else(|e| e.into_inner());
+    let mut mesh = assemble(model, &cms, &results)?;
+    // the final judge is the mesh statistics' SICN on the assembled mesh:
+    // a face with a quad it finds inverted is meshed again with the baseline
+    let sicn = mesh::stats::quad_sicn_values(&mesh, Some(model));
+    let mut again: BTreeSet<usize> = BTreeSet::new();
+    for (q, v) in sicn.iter().enumerate() {
+        let f = mesh.quad_face[q].idx();
+        if *v < 0.0 && !fb.contains_key(&(f as u32)) {
+            again.insert(f);
+        }
+    }
+    if !again.is_empty() {
+        let redo: Vec<(usize, Result<QuadPatch, FaceFailure>)> =
+            again.iter().copied().collect::<Vec<_>>().into_par_iter().map(|f| (f, mesh_face(model, FaceId(f as u32), &cms, 2.0 * h))).collect();
+        for (f, r) in redo {
+            if let Ok(p) = r {
+                results[f] = Some(p);
+                fb.insert(f as u32, "inverted quads in the assembled mesh".into());
+            }
+        }
+        mesh = assemble(model, &cms, &results)?;
+    }
+    let pt = patterns.into_inner().unwrap_or_else(|e| e.into_inner());
+    let df = defects.into_inner().unwrap_or_else(|e| e.into_inner());
+    let total = df.iter().filter(|(f, _)| !fb.contains_key(f)).fold(DefectReport::default(), |a, (_, r)| DefectReport { found: a.found + r.found, replaced: a.replaced + r.replaced, undone: a.undone + r.undone });
+    Ok((
+        mesh,
+        MeshReport {
+            fallback: fb.into_iter().map(|(f, r)| (FaceId(f), r)).collect(),
+            patterns: pt.into_iter().map(|(f, n)| (FaceId(f), n)).collect(),
+            defects: total,
+        },
+    ))
+}
+
+/// Per-face mesher of [`run`].
+type FaceMesher<'a> = dyn Fn(FaceId, &[CurveMesh]) -> Result<QuadPatch, FaceFailure> + Sync + 'a;
+
+/// Meshes every face with `mesher`, refining the curves around faces that
+/// ask for it; returns the final curve meshes and the face patches.
+fn run(model: &Model, mut plan: CurvePlan, progress: Option<&ProgressFn>, mesher: &FaceMesher<'_>) -> Result<(Vec<CurveMesh>, Vec<Option<QuadPatch>>), MeshError> {
     let nf = model.faces.len();
-    let mut plan = plan_curves(model, h);
     let curve_faces = model.curve_faces();
     let mut results: Vec<Option<QuadPatch>> = vec![None; nf];
     let mut pending: Vec<usize> = (0..nf).collect();
@@ -175,7 +321,7 @@ fn run(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Result<QuadMesh,
         let out: Vec<(usize, Result<QuadPatch, FaceFailure>)> = pending
             .par_iter()
             .map(|&f| {
-                let r = mesh_face(model, FaceId(f as u32), &cms, 2.0 * h);
+                let r = mesher(FaceId(f as u32), &cms);
                 if r.is_ok() {
                     let d = done.fetch_add(1, Ordering::Relaxed) + 1;
                     if let Some(p) = progress {
@@ -225,7 +371,7 @@ fn run(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Result<QuadMesh,
         }
         pending = again.into_iter().collect();
     }
-    assemble(model, &cms, &results)
+    Ok((cms, results))
 }
 
 /// Meshes one face against the given curve meshes; `target` is the triangle

@@ -85,6 +85,9 @@ pub struct RenderOptions<'a> {
     /// red (0) → yellow (0.5) → green (1) map, negatives dark red, with a
     /// colour bar. Triangles keep the plain colour.
     pub quad_values: Option<&'a [f64]>,
+    /// Colour triangles by these values (one per triangle, e.g. a size map
+    /// scaled to [0, 1]) on the same map and colour bar as `quad_values`.
+    pub triangle_values: Option<&'a [f64]>,
     /// Name shown above the colour bar.
     pub values_label: &'a str,
     /// Title line drawn at the top left (e.g. the file name).
@@ -153,6 +156,7 @@ impl Default for RenderOptions<'_> {
             show_feature_edges: true,
             show_irregular: true,
             quad_values: None,
+            triangle_values: None,
             values_label: "SICN",
             title: None,
             show_info: true,
@@ -326,6 +330,11 @@ impl Scene {
                 return Err(RenderError::InvalidOptions(format!("{} quad values for {} quads", v.len(), mesh.quads.len())));
             }
         }
+        if let Some(v) = opts.triangle_values {
+            if v.len() != mesh.triangles.len() {
+                return Err(RenderError::InvalidOptions(format!("{} triangle values for {} triangles", v.len(), mesh.triangles.len())));
+            }
+        }
         if let Some(o) = opts.overlay {
             let finite = |p: &Vec3| p.iter().all(|c| c.is_finite());
             if !o.segments.iter().all(|s| finite(&s.a) && finite(&s.b)) || !o.points.iter().all(|p| finite(&p.position)) {
@@ -370,7 +379,7 @@ impl Scene {
         let line = font::CELL_H * k;
         let text_lines = opts.title.is_some() as u32 + opts.show_info as u32;
         let top = margin + text_lines * line + if text_lines > 0 { 4 * k } else { 0 };
-        let right_panel = if opts.quad_values.is_some() {
+        let right_panel = if opts.quad_values.is_some() || opts.triangle_values.is_some() {
             (14 * k + 6 * k + font::text_width("0.75", k)).max(font::text_width(opts.values_label, k)) + margin
         } else {
             0
@@ -476,11 +485,15 @@ impl Scene {
             canvas.fill_triangle([v[0], v[1], v[2]], &shade);
             canvas.fill_triangle([v[0], v[2], v[3]], &shade);
         }
-        for t in &mesh.triangles {
+        for (ti, t) in mesh.triangles.iter().enumerate() {
             let p = t.map(|n| mesh.nodes[n as usize]);
             let n = normalize(cross(sub(p[1], p[0]), sub(p[2], p[0])));
-            let base = if cam.is_back(n) { BACK } else { FRONT };
-            let mut shade = Shade { fill: cam.shade(n, base, false), edge_color: EDGE, edges: [Edge::default(); 4], n_edges: 0 };
+            let base = match opts.triangle_values {
+                Some(v) => value_color(v[ti]),
+                None if cam.is_back(n) => BACK,
+                None => FRONT,
+            };
+            let mut shade = Shade { fill: cam.shade(n, base, opts.triangle_values.is_some()), edge_color: EDGE, edges: [Edge::default(); 4], n_edges: 0 };
             make_edges(t, &mut shade);
             canvas.fill_triangle(t.map(|n| proj[n as usize]), &shade);
         }
@@ -496,7 +509,7 @@ impl Scene {
         }
         let (pw, ph) = (pixmap.width(), pixmap.height());
         self.draw_text_lines(mesh, opts, pixmap.data_mut(), pw, ph);
-        if opts.quad_values.is_some() {
+        if opts.quad_values.is_some() || opts.triangle_values.is_some() {
             self.draw_colour_bar(opts, pixmap.data_mut(), pw, ph);
         }
         if let Some(o) = opts.overlay {

@@ -446,9 +446,11 @@ impl FaceQuads {
 
     /// Completes the classification once fans are known: a movable vertex whose
     /// fan is not a closed disk becomes fixed; every fixed vertex gets its
-    /// constant edge offset and its ideal valence (from the interior angle for
-    /// curve and corner nodes with an open fan; its current valence for poles
-    /// and other odd fixed vertices, which are then never counted irregular).
+    /// constant edge offset and its ideal valence: from the interior angle for
+    /// curve and corner nodes with an open fan; from the cone angle for a pole
+    /// with a closed fan (a sphere pole, a cone apex: [`ideal_pole_valence`]);
+    /// its current valence for other odd fixed vertices, which are then never
+    /// counted irregular.
     pub fn classify_fixed(&mut self) {
         for v in 0..self.verts.len() as u32 {
             if !self.verts[v as usize].alive {
@@ -465,7 +467,13 @@ impl FaceQuads {
             if x.fixed {
                 x.edge_offset = links.saturating_sub(nfan);
                 let odd = x.pole.is_some() || matches!(x.class, NodeClass::Face(..) | NodeClass::Unclassified) || x.edge_offset != 1;
-                x.ideal = if odd { links } else { ideal_boundary_valence(angle) };
+                x.ideal = if x.pole.is_some() && x.edge_offset == 0 && closed {
+                    ideal_pole_valence(angle)
+                } else if odd {
+                    links
+                } else {
+                    ideal_boundary_valence(angle)
+                };
             }
         }
     }
@@ -526,6 +534,17 @@ pub fn ideal_boundary_valence(theta_deg: f64) -> u32 {
     } else {
         5
     }
+}
+
+/// Ideal valence of a pole with a closed fan (a sphere pole, a cone apex)
+/// from its cone angle θ (the sum of the 3D quad angles there, degrees): the
+/// number of right angles that fit, θ / 90° rounded, at least 3 (a point of a
+/// smooth surface, 360°, wants 4; a sharp cone tip 3).
+pub fn ideal_pole_valence(theta_deg: f64) -> u32 {
+    if !theta_deg.is_finite() {
+        return 4;
+    }
+    ((theta_deg / 90.0).round() as i64).clamp(3, 8) as u32
 }
 
 #[cfg(test)]

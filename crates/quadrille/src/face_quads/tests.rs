@@ -110,3 +110,28 @@ fn patch_rings_make_the_core_interior_with_the_requested_valences() {
     assert_eq!(&twice.pts[..once.pts.len()], &once.pts[..]);
     assert_eq!(&twice.quads[..once.quads.len()], &once.quads[..]);
 }
+
+#[test]
+fn a_pole_with_a_closed_fan_wants_the_valence_its_cone_angle_holds() {
+    // the cone angle θ in right angles, rounded, at least 3
+    assert_eq!(ideal_pole_valence(360.0), 4, "a sphere pole is a smooth point");
+    assert_eq!(ideal_pole_valence(309.0), 3, "a 118° drill tip: 360° · sin 59° ≈ 309°");
+    assert_eq!(ideal_pole_valence(180.0), 3, "never fewer than 3 (no doublets)");
+    assert_eq!(ideal_pole_valence(450.0), 5);
+    assert_eq!(ideal_pole_valence(f64::NAN), 4);
+    // a fixed pole at the centre of a flat 6-star (360°) wants 4 edges, so it
+    // is irregular with 6; before it kept its current valence as ideal
+    let p = Patch::new(
+        &[[0.0, 0.0], [1.0, 0.0], [0.5, 0.87], [-0.5, 0.87], [-1.0, 0.0], [-0.5, -0.87], [0.5, -0.87], [1.5, 0.87], [0.0, 1.73], [-1.5, 0.87], [-1.5, -0.87], [0.0, -1.73], [1.5, -0.87]],
+        &[[0, 1, 7, 2], [0, 2, 8, 3], [0, 3, 9, 4], [0, 4, 10, 5], [0, 5, 11, 6], [0, 6, 12, 1]],
+    );
+    let mut fq = p.build();
+    fq.verts[0].fixed = true;
+    fq.verts[0].pole = Some([[0.0, 0.0], [0.0, 0.0]]);
+    fq.verts[0].class = NodeClass::Curve(geometry::CurveId(0), None);
+    fq.classify_fixed();
+    let x = &fq.verts[0];
+    assert_eq!((x.edge_offset, fq.valence(0), x.ideal), (0, 6, 4));
+    assert!(fq.is_irregular(0));
+    assert!((fq.angle_sum(0) - 360.0).abs() < 1.0);
+}

@@ -15,13 +15,26 @@
 //!
 //! Every operation is followed by local repositioning and a validity check of
 //! the quads around every vertex it touched; if the region holds more invalid
-//! quads than before, the whole sequence is rolled back.
+//! quads than before (in strict mode: any invalid quad), the whole sequence is
+//! rolled back.
+//!
+//! Beyond the paper: once sweeps and translations stop, the **pair search**
+//! ([`Regularizer::cancel_pair_at`]) looks, for each irregular vertex, for the
+//! nearest vertex of opposite index a few hops away (a 5 for a 3, a boundary
+//! vertex with an extra edge, or another dipole for a (3, 5) dipole) and
+//! searches deeper sequences (4 operations by default, beam-limited) along
+//! the path between them. The paper names such separated high-low pairs as
+//! what its star-local operations leave behind (§IV; spec §11.1).
+//!
+//! Quads and pair searches that found nothing are not searched again until a
+//! vertex near them changes (an epoch stamp per vertex), so later sweeps only
+//! revisit the regions that moved.
 
 use geometry::Face;
 
 use crate::face_quads::FaceQuads;
 
-use super::ops::{apply, apply_topology, candidates_at, effect, score_delta, Op};
+use super::ops::{apply, apply_topology, candidates_at, effect_valences as effect, score_delta, Op};
 use super::reposition::repair;
 use super::validity::{quad_valid, AngleWindow};
 
@@ -63,8 +76,33 @@ pub struct Regularizer<'a> {
     pub budget: usize,
     /// Longest translation chain (valence-neutral swaps moving an irregular vertex).
     pub translation_steps: usize,
+    /// Pair search ([`Regularizer::cancel_pair_at`]): hop radius within which a
+    /// partner of opposite index is looked for (0 turns the search off).
+    pub pair_radius: usize,
+    /// Pair search: longest operation sequence.
+    pub pair_depth: usize,
+    /// Pair search: operations expanded per level, best score first.
+    pub pair_beam: usize,
+    /// Pair search: topological trial applications per searched pair.
+    pub pair_budget: usize,
+    /// Keep an edit only when its region ends with no invalid quad at all
+    /// (default: no more than before, which lets an edit move an invalid quad
+    /// of the input around).
+    pub strict: bool,
+    /// Sweep the quads in decreasing id order.
+    pub reverse: bool,
     singles_in_search: bool,
+    /// Count of accepted edits; `stamp[v]` is the count when `v` last changed.
+    epoch: u64,
+    stamp: Vec<u64>,
+    /// Epoch at which the pair search around a vertex last found nothing.
+    pair_failed: Vec<u64>,
+    /// Epoch at which [`Regularizer::improve_at`] last found nothing at a quad.
+    quad_failed: Vec<u64>,
 }
+
+/// A sequence found by the pair search: (score change, length) and the operations.
+type Found = (((i64, i64), usize), Vec<Op>);
 
 /// Topological applications allowed per sequence search at one quad.
 const SEARCH_BUDGET: usize = 600;
@@ -77,7 +115,7 @@ impl<'a> Regularizer<'a> {
     /// Prepares the state (computes the invalid flags of every quad).
     pub fn new(face: &'a Face, fq: &'a mut FaceQuads) -> Self {
         let invalid = (0..fq.quads.len() as u32).map(|q| fq.quad_alive[q as usize] && !quad_valid(fq, face, q, AngleWindow::BASE)).collect();
-        Regularizer { face, fq, invalid, counts: OpCounts::default(), compositions: true, tries: 4, max_ops: 3, budget: SEARCH_BUDGET, translation_steps: 8, singles_in_search: false }
+        Regularizer { face, fq, invalid, counts: OpCounts::default(), compositions: true, tries: 4, max_ops: 3, budget: SEARCH_BUDGET, translation_steps: 8, pair_radius: 2, pair_depth: 4, pair_beam: 5, pair_budget: 600, strict: false, reverse: false, singles_in_search: false, epoch: 1, stamp: Vec::new(), pair_failed: Vec::new(), quad_failed: Vec::new() }
     }
 
     /// Number of live quads currently invalid for the base window.
@@ -117,8 +155,13 @@ impl<'a> Regularizer<'a> {
         check.retain(|&q| self.fq.quad_alive[q as usize]);
         let flags: Vec<(u32, bool)> = check.iter().map(|&q| (q, !quad_valid(self.fq, self.face, q, AngleWindow::BASE))).collect();
         let after = flags.iter().filter(|f| f.1).count();
-        if after > before {
+        if after > before || (self.strict && after > 0) {
             return false;
+        }
+        self.epoch += 1;
+        self.stamp.resize(self.fq.verts.len(), 0);
+        for &v in &touched {
+            self.stamp[v as usize] = self.epoch;
         }
         self.invalid.resize(self.fq.quads.len(), false);
         for q in all {
@@ -249,20 +292,32 @@ impl<'a> Regularizer<'a> {
 
     /// Sweeps the quads until no operation is accepted (or `max_sweeps`), then
     /// translates the remaining irregular vertices toward each other and
-    /// sweeps again, while that helps.
+    /// searches for pairs of opposite index to cancel ([`Regularizer::cancel_pair_at`]),
+    /// sweeping again after each, while that helps.
     pub fn run(&mut self, max_sweeps: usize) {
         for _ in 0..max_sweeps {
             self.sweep(max_sweeps);
-            if self.fq.irregular_count() == 0 || self.translation_steps == 0 || !self.compositions {
+            if self.fq.irregular_count() == 0 || !self.compositions {
                 break;
             }
             let mut moved = false;
-            let mut v = 0u32;
-            while (v as usize) < self.fq.verts.len() {
-                if self.translate_at(v) {
-                    moved = true;
+            if self.translation_steps > 0 {
+                let mut v = 0u32;
+                while (v as usize) < self.fq.verts.len() {
+                    if self.translate_at(v) {
+                        moved = true;
+                    }
+                    v += 1;
                 }
-                v += 1;
+            }
+            if !moved && self.pair_radius > 0 {
+                let mut v = 0u32;
+                while (v as usize) < self.fq.verts.len() {
+                    if self.cancel_pair_at(v) {
+                        moved = true;
+                    }
+                    v += 1;
+                }
             }
             if !moved {
                 break;
@@ -270,20 +325,217 @@ impl<'a> Regularizer<'a> {
         }
     }
 
+    /// Sign of the index of `v`: +1 when it has fewer edges than its ideal
+    /// valence (a 3 inside), −1 when more (a 5 inside, a boundary vertex with an
+    /// extra edge), 0 when regular or dead.
+    pub fn index_sign(&self, v: u32) -> i64 {
+        let x = &self.fq.verts[v as usize];
+        if !x.alive {
+            return 0;
+        }
+        (x.ideal as i64 - self.fq.valence(v) as i64).signum()
+    }
+
+    /// The shortest edge path (at most `radius` hops) from the irregular vertex
+    /// `v` or one of its irregular links (its cluster) to the nearest vertex
+    /// outside that cluster that could cancel with it: of opposite index when
+    /// the cluster has a net index, any irregular vertex when it has none (a
+    /// (3, 5) dipole cancels only with another dipole). The path's vertices,
+    /// cluster and partner included; `None` when there is none that close.
+    pub fn partner_path(&self, v: u32, radius: usize) -> Option<Vec<u32>> {
+        let s = self.index_sign(v);
+        if s == 0 {
+            return None;
+        }
+        let mut cluster: Vec<u32> = std::iter::once(v).chain(self.fq.links(v).into_iter().filter(|&l| self.fq.is_irregular(l))).collect();
+        cluster.sort_unstable();
+        let net: i64 = cluster.iter().map(|&c| self.fq.verts[c as usize].ideal as i64 - self.fq.valence(c) as i64).sum();
+        let wanted = |w: u32| if net == 0 { self.index_sign(w) != 0 } else { self.index_sign(w) == -net.signum() };
+        let mut parent: Vec<(u32, u32)> = cluster.iter().map(|&c| (c, c)).collect();
+        let mut front = cluster.clone();
+        for _ in 0..radius {
+            let mut next = Vec::new();
+            for &a in &front {
+                for l in self.fq.links(a) {
+                    if parent.iter().any(|p| p.0 == l) {
+                        continue;
+                    }
+                    parent.push((l, a));
+                    if wanted(l) {
+                        let mut path = cluster.clone();
+                        path.push(l);
+                        let mut x = a;
+                        while cluster.binary_search(&x).is_err() {
+                            path.push(x);
+                            x = match parent.iter().find(|p| p.0 == x) {
+                                Some(p) => p.1,
+                                None => break,
+                            };
+                        }
+                        path.sort_unstable();
+                        path.dedup();
+                        return Some(path);
+                    }
+                    next.push(l);
+                }
+            }
+            front = next;
+        }
+        None
+    }
+
+    /// Pair search (beyond the paper's star-local compositions, which leave
+    /// "pairs of high-low valences which could balance out but are not
+    /// detected", spec §11.1): finds the nearest vertex of opposite index to
+    /// the irregular vertex `v` (an interior 5 for a 3, or a boundary vertex
+    /// with an extra edge; within [`Regularizer::pair_radius`] hops) and
+    /// searches sequences of up to [`Regularizer::pair_depth`] operations
+    /// around the path between them (intermediate states at most two irregular
+    /// vertices worse, [`Regularizer::pair_beam`] best operations expanded per
+    /// level). The best sequence that lowers the score is applied with
+    /// repositioning and validity checks, or rolled back. Returns whether one was kept.
+    pub fn cancel_pair_at(&mut self, v: u32) -> bool {
+        if (v as usize) >= self.fq.verts.len() || !self.fq.is_irregular(v) {
+            return false;
+        }
+        // nothing changed within reach since the last failed search here: skip
+        let reach = self.ball(v, self.pair_radius + 2);
+        self.stamp.resize(self.fq.verts.len(), 0);
+        self.pair_failed.resize(self.fq.verts.len(), 0);
+        let failed = self.pair_failed[v as usize];
+        if failed > 0 && reach.iter().all(|&w| self.stamp[w as usize] <= failed) {
+            return false;
+        }
+        let Some(corridor) = self.partner_path(v, self.pair_radius) else {
+            self.pair_failed[v as usize] = self.epoch;
+            return false;
+        };
+        let mut found = Vec::new();
+        let mut budget = self.pair_budget;
+        self.pair_extend(&corridor, &mut Vec::new(), (0, 0), &[], &mut found, &mut budget);
+        found.sort();
+        found.dedup_by(|a, b| a.1 == b.1);
+        for (_, ops) in found.iter().take(self.tries) {
+            if self.try_sequence(ops) {
+                self.counts.compositions += 1;
+                return true;
+            }
+        }
+        self.pair_failed[v as usize] = self.epoch;
+        false
+    }
+
+    /// The vertices within `radius` hops of `v` (itself included).
+    fn ball(&self, v: u32, radius: usize) -> Vec<u32> {
+        let mut seen = vec![v];
+        let mut front = vec![v];
+        for _ in 0..radius {
+            let mut next = Vec::new();
+            for &a in &front {
+                for l in self.fq.links(a) {
+                    if !seen.contains(&l) {
+                        seen.push(l);
+                        next.push(l);
+                    }
+                }
+            }
+            front = next;
+        }
+        seen
+    }
+
+    /// Depth-first search of [`Regularizer::cancel_pair_at`]: operations around
+    /// the corridor and the vertices changed so far, each changing the valence
+    /// of one of them; sequences that lower the score go to `found` with their
+    /// score change and length. Topology only (rolled back after).
+    #[allow(clippy::too_many_arguments)]
+    fn pair_extend(&mut self, corridor: &[u32], path: &mut Vec<Op>, acc: (i64, i64), changed: &[u32], found: &mut Vec<Found>, budget: &mut usize) {
+        let mut active: Vec<u32> = corridor.iter().chain(changed).copied().filter(|&x| self.fq.verts[x as usize].alive).collect();
+        active.sort_unstable();
+        active.dedup();
+        let mut cands: Vec<Op> = self.fq.quads_around(&active).into_iter().flat_map(|q| candidates_at(self.fq, q)).collect();
+        cands.sort_unstable();
+        cands.dedup();
+        let mut expand: Vec<((i64, i64), Op, Vec<u32>)> = Vec::new();
+        for op in cands {
+            let Some(eff) = effect(self.fq, op) else { continue };
+            let touches = eff.changes.iter().any(|c| c.1 != c.2 && active.binary_search(&c.0).is_ok()) || eff.removed.is_some_and(|r| active.binary_search(&r.0).is_ok());
+            if !touches {
+                continue;
+            }
+            let d1 = score_delta(self.fq, &eff);
+            let d = (acc.0 + d1.0, acc.1 + d1.1);
+            if better(d) {
+                let mut ops = path.clone();
+                ops.push(op);
+                found.push(((d, ops.len()), ops));
+                continue;
+            }
+            if path.len() + 1 < self.pair_depth && d.0 <= 2 {
+                expand.push((d, op, eff.changes.iter().filter(|c| c.1 != c.2).map(|c| c.0).collect()));
+            }
+        }
+        expand.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
+        for (d, op, ch) in expand.into_iter().take(self.pair_beam) {
+            if *budget == 0 || found.len() >= 8 {
+                return;
+            }
+            *budget -= 1;
+            let cp = self.fq.checkpoint();
+            if apply_topology(self.fq, op).is_some() {
+                let mut next: Vec<u32> = changed.iter().copied().chain(ch).chain(cp.verts_len() as u32..self.fq.verts.len() as u32).collect();
+                next.sort_unstable();
+                next.dedup();
+                path.push(op);
+                self.pair_extend(corridor, path, d, &next, found, budget);
+                path.pop();
+            }
+            self.fq.rollback(cp);
+        }
+    }
+
     fn sweep(&mut self, max_sweeps: usize) {
         for _ in 0..max_sweeps {
             self.counts.sweeps += 1;
             let mut changed = false;
-            let mut q = 0u32;
-            while (q as usize) < self.fq.quads.len() {
-                if self.improve_at(q) {
+            let n = self.fq.quads.len() as u32;
+            for i in 0..n {
+                let q = if self.reverse { n - 1 - i } else { i };
+                if (q as usize) < self.fq.quads.len() && self.visit(q) {
                     changed = true;
                 }
-                q += 1;
             }
             if !changed || self.fq.irregular_count() == 0 {
                 break;
             }
+        }
+    }
+
+    /// [`Regularizer::improve_at`], skipped when it already found nothing at
+    /// `q` and no vertex within two hops of `q` has changed since.
+    fn visit(&mut self, q: u32) -> bool {
+        if !self.fq.quad_alive[q as usize] || !self.has_irregular(q) {
+            return false;
+        }
+        self.stamp.resize(self.fq.verts.len(), 0);
+        self.quad_failed.resize(self.fq.quads.len(), 0);
+        let failed = self.quad_failed[q as usize];
+        if failed > 0 {
+            let corners = self.fq.quads[q as usize];
+            let mut near = Vec::new();
+            for c in corners {
+                near.extend(self.ball(c, 2));
+            }
+            if near.iter().all(|&w| self.stamp[w as usize] <= failed) {
+                return false;
+            }
+        }
+        if self.improve_at(q) {
+            true
+        } else {
+            self.quad_failed.resize(self.fq.quads.len(), 0);
+            self.quad_failed[q as usize] = self.epoch;
+            false
         }
     }
 

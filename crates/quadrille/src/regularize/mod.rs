@@ -9,7 +9,9 @@
 //! - [`ops`]: swap, collapse, split with exact valence bookkeeping;
 //! - [`validity`]: projected-angle / triangle-sign validity of a quad;
 //! - [`reposition`]: Algorithm 1 and the local repair loop;
-//! - [`driver`]: the sweep over quads, compositions and translations, rollback;
+//! - [`driver`]: the sweep over quads, compositions and translations, the
+//!   pair search (deeper sequences between a vertex and its nearest partner of
+//!   opposite index), rollback;
 //! - [`redistribute`]: Algorithm 2 (tightening angle window).
 //!
 //! Faces are regularized independently (their boundary nodes never move, so
@@ -51,6 +53,27 @@ pub struct RegularizeOptions {
     pub max_sequence: usize,
     /// Topological trial applications allowed per sequence search at one quad.
     pub search_budget: usize,
+    /// Longest translation chain (valence-neutral swaps moving an irregular
+    /// cluster toward another, paper Fig. 5; 0: no translations).
+    pub translation_steps: usize,
+    /// Pair search: hop radius within which an irregular vertex looks for a
+    /// partner of opposite index to cancel with (0: off). See
+    /// [`driver::Regularizer::cancel_pair_at`].
+    pub pair_radius: usize,
+    /// Pair search: longest operation sequence.
+    pub pair_depth: usize,
+    /// Pair search: operations expanded per search level, best score first.
+    pub pair_beam: usize,
+    /// Pair search: topological trial applications per searched pair.
+    pub pair_budget: usize,
+    /// Sweep orders tried per face (1: increasing quad ids; 2: also
+    /// decreasing, keeping the better result). The greedy sweeps end in
+    /// different local minima; the second order costs a second topological phase.
+    pub sweep_orders: usize,
+    /// Keep an operation only when the quads around it end up all valid
+    /// (default: no more invalid than before). [`regularize_mesh`] reruns a
+    /// face in this mode when its result has more inverted quads than its input.
+    pub strict_validity: bool,
     /// Run Algorithm 2 after the topological phase.
     pub redistribute: bool,
     /// Worker threads (`None`: rayon's global pool). The output does not depend on it.
@@ -67,6 +90,13 @@ impl Default for RegularizeOptions {
             compositions: true,
             max_sequence: 3,
             search_budget: 600,
+            translation_steps: 8,
+            pair_radius: 2,
+            pair_depth: 4,
+            pair_beam: 5,
+            pair_budget: 600,
+            strict_validity: false,
+            sweep_orders: 2,
             redistribute: true,
             threads: None,
         }
@@ -91,6 +121,14 @@ pub struct FaceReport {
     pub ops: OpCounts,
     /// Tightest angle window reached by Algorithm 2 (the base window if it did not run).
     pub window: AngleWindow,
+    /// True when the result was discarded and the face's input quads kept,
+    /// because it had more quads inverted against the CAD normals (the
+    /// statistics' criterion, corner SICN < 0) than the input. The "after"
+    /// figures are then the input's.
+    pub reverted: bool,
+    /// True when the face was redone with [`RegularizeOptions::strict_validity`]
+    /// because the first result had more inverted quads than the input.
+    pub strict: bool,
 }
 
 /// What [`regularize_mesh`] did.
@@ -145,15 +183,20 @@ pub enum RegularizeError {
 /// moved or removed.
 pub fn regularize_face(face: &Face, fid: FaceId, fq: &mut FaceQuads, opts: &RegularizeOptions) -> FaceReport {
     let before = (fq.num_quads(), fq.num_verts(), fq.irregular_count());
-    let mut r = driver::Regularizer::new(face, fq);
-    r.compositions = opts.compositions;
-    r.max_ops = opts.max_sequence;
-    r.budget = opts.search_budget;
-    let invalid_before = r.invalid_count();
-    r.initial_repair();
-    r.run(opts.max_sweeps);
-    let ops = r.counts;
-    let invalid_mid = r.invalid_count();
+    // the topological phase once per sweep order; the result with the fewest
+    // invalid, then irregular, vertices is kept (ties: the first)
+    let orders = opts.sweep_orders.clamp(1, 2);
+    let input = if orders > 1 { Some(fq.clone()) } else { None };
+    let (invalid_before, ops, invalid_mid) = topological_phase(face, fq, opts, false);
+    let (mut ops, mut invalid_mid) = (ops, invalid_mid);
+    if let Some(mut other) = input {
+        let (_, ops2, invalid2) = topological_phase(face, &mut other, opts, true);
+        if (invalid2, other.irregular_count()) < (invalid_mid, fq.irregular_count()) {
+            *fq = other;
+            ops = ops2;
+            invalid_mid = invalid2;
+        }
+    }
     let window = if opts.redistribute && invalid_mid == 0 {
         redistribute::redistribute(fq, face, opts.window, opts.target, opts.angle_step)
     } else {
@@ -168,7 +211,48 @@ pub fn regularize_face(face: &Face, fid: FaceId, fq: &mut FaceQuads, opts: &Regu
         invalid: (invalid_before, invalid_after),
         ops,
         window,
+        reverted: false,
+        strict: opts.strict_validity,
     }
+}
+
+/// Initial repair and the operation loop of one face ([`driver::Regularizer::run`]),
+/// sweeping the quads in decreasing id order when `reverse`. Returns the
+/// invalid quads before, the operation counts and the invalid quads after.
+fn topological_phase(face: &Face, fq: &mut FaceQuads, opts: &RegularizeOptions, reverse: bool) -> (usize, OpCounts, usize) {
+    let mut r = driver::Regularizer::new(face, fq);
+    r.compositions = opts.compositions;
+    r.max_ops = opts.max_sequence;
+    r.budget = opts.search_budget;
+    r.translation_steps = opts.translation_steps;
+    r.strict = opts.strict_validity;
+    r.pair_radius = opts.pair_radius;
+    r.pair_depth = opts.pair_depth;
+    r.pair_beam = opts.pair_beam;
+    r.pair_budget = opts.pair_budget;
+    r.reverse = reverse;
+    let invalid_before = r.invalid_count();
+    r.initial_repair();
+    r.run(opts.max_sweeps);
+    (invalid_before, r.counts, r.invalid_count())
+}
+
+/// Number of quads of each face (indexed by face id) with a corner SICN < 0
+/// against the CAD normals, as [`mesh::stats::MeshStats`] counts "inverted".
+fn inverted_by_face(model: &Model, mesh: &QuadMesh) -> Vec<usize> {
+    let mut out = vec![0; model.faces.len()];
+    if mesh.quad_face.len() != mesh.quads.len() {
+        return out;
+    }
+    let sicn = mesh::stats::quad_sicn_values(mesh, Some(model));
+    for (s, f) in sicn.iter().zip(&mesh.quad_face) {
+        if *s < 0.0 {
+            if let Some(c) = out.get_mut(f.idx()) {
+                *c += 1;
+            }
+        }
+    }
+    out
 }
 
 /// Regularizes every face of `mesh` (a quad mesh of `model` whose nodes are
@@ -214,8 +298,51 @@ pub fn regularize_mesh(model: &Model, mesh: &mut QuadMesh, opts: &RegularizeOpti
             Err(e) => report.skipped.push((fid, e)),
         }
     }
-    let refs: Vec<(FaceId, &FaceQuads)> = edited.iter().map(|(f, q)| (*f, q)).collect();
-    *mesh = write_back(mesh, &refs);
+    // mesh validity is a hard requirement: a face that comes out with more
+    // quads inverted against the CAD normals than it went in keeps its input
+    let inverted_before = inverted_by_face(model, mesh);
+    let mut refs: Vec<(FaceId, &FaceQuads)> = edited.iter().map(|(f, q)| (*f, q)).collect();
+    let mut out = write_back(mesh, &refs);
+    let inverted_after = inverted_by_face(model, &out);
+    let worse: Vec<FaceId> = refs.iter().map(|r| r.0).filter(|f| inverted_after.get(f.idx()) > inverted_before.get(f.idx())).collect();
+    let mut worse_still = worse.clone();
+    if !worse.is_empty() {
+        // second chance in strict mode (no edit may leave an invalid quad), then the input
+        let strict = RegularizeOptions { strict_validity: true, ..opts.clone() };
+        let mut retried: Vec<(FaceId, FaceQuads, FaceReport)> = Vec::new();
+        for &fid in &worse {
+            let qids: Vec<usize> = (0..mesh.quads.len()).filter(|&q| mesh.quad_face[q] == fid).collect();
+            if let Ok(mut fq) = extract_face(model, mesh, fid, &qids) {
+                let rep = regularize_face(&model.faces[fid.idx()], fid, &mut fq, &strict);
+                retried.push((fid, fq, rep));
+            }
+        }
+        refs.retain(|r| !worse.contains(&r.0));
+        refs.extend(retried.iter().map(|(f, q, _)| (*f, q)));
+        refs.sort_by_key(|r| r.0);
+        out = write_back(mesh, &refs);
+        let inverted_retry = inverted_by_face(model, &out);
+        worse_still = worse.iter().copied().filter(|f| inverted_retry.get(f.idx()) > inverted_before.get(f.idx())).collect();
+        for (fid, _, rep) in &retried {
+            if !worse_still.contains(fid) {
+                if let Some(r) = report.faces.iter_mut().find(|r| r.face == *fid) {
+                    *r = rep.clone();
+                }
+            }
+        }
+        if !worse_still.is_empty() {
+            refs.retain(|r| !worse_still.contains(&r.0));
+            out = write_back(mesh, &refs);
+        }
+    }
+    for rep in report.faces.iter_mut().filter(|r| worse_still.contains(&r.face)) {
+        rep.reverted = true;
+        rep.quads.1 = rep.quads.0;
+        rep.verts.1 = rep.verts.0;
+        rep.irregular.1 = rep.irregular.0;
+        rep.invalid.1 = rep.invalid.0;
+    }
+    *mesh = out;
     Ok(report)
 }
 

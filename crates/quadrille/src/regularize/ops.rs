@@ -63,12 +63,26 @@ pub struct Effect {
     pub region: Vec<u32>,
 }
 
-/// Smallest number of quads a vertex may keep: 3 inside (no doublets), 1 on the boundary.
-fn min_fan(v: &QVertex) -> usize {
-    if v.fixed {
-        1
+/// Smallest number of quads a vertex may keep (spec §5.1, `validSwap`):
+/// - inside, 3 (valence ≥ 3: no doublets);
+/// - on a curve (or a seam), 2 quads (≥ 3 edges): with 2 edges the vertex would
+///   be the 180° corner of a single quad;
+/// - at a CAD corner, or wherever the boundary angle asks for 2 edges, 1 quad (2 edges);
+/// - at a pole with a closed fan (sphere pole, cone apex), 3 quads, as inside;
+/// - at other fixed vertices (odd fans), 1 quad.
+pub fn min_fan(v: &QVertex) -> usize {
+    if !v.fixed {
+        return 3;
+    }
+    if v.pole.is_some() && v.edge_offset == 0 {
+        // a pole with a closed fan is a point of the surface: no doublets
+        return 3;
+    }
+    let corner = matches!(v.class, mesh::NodeClass::Corner(_)) || v.ideal <= 2;
+    if v.edge_offset == 1 && !corner && v.pole.is_none() {
+        2
     } else {
-        3
+        1
     }
 }
 
@@ -103,6 +117,16 @@ pub fn hexagon(fq: &FaceQuads, q: u32, e: u8) -> Option<([u32; 6], u32)> {
 /// Checks the preconditions of `op` and predicts its valence changes, without
 /// changing the mesh. `None` when the operation is not allowed here.
 pub fn effect(fq: &FaceQuads, op: Op) -> Option<Effect> {
+    effect_impl(fq, op, true)
+}
+
+/// [`effect`] without [`Effect::region`] (left empty): the valence bookkeeping
+/// alone, cheaper, for scoring candidates during searches.
+pub fn effect_valences(fq: &FaceQuads, op: Op) -> Option<Effect> {
+    effect_impl(fq, op, false)
+}
+
+fn effect_impl(fq: &FaceQuads, op: Op, with_region: bool) -> Option<Effect> {
     let val = |v: u32| fq.valence(v);
     match op {
         Op::Swap { q, e, k } => {
@@ -124,7 +148,7 @@ pub fn effect(fq: &FaceQuads, op: Op) -> Option<Effect> {
                 changes: vec![(h[0], val(h[0]), val(h[0]) - 1), (h[3], val(h[3]), val(h[3]) - 1), (n1, val(n1), val(n1) + 1), (n2, val(n2), val(n2) + 1)],
                 removed: None,
                 created: None,
-                region: h.to_vec(),
+                region: if with_region { h.to_vec() } else { Vec::new() },
             })
         }
         Op::Collapse { q, d } => {
@@ -150,7 +174,8 @@ pub fn effect(fq: &FaceQuads, op: Op) -> Option<Effect> {
                 return None;
             }
             let l1 = fq.links(v1);
-            let common = fq.links(v3).into_iter().filter(|x| l1.binary_search(x).is_ok()).count();
+            let l3 = fq.links(v3);
+            let common = l3.iter().filter(|x| l1.binary_search(x).is_ok()).count();
             if common != 2 {
                 return None;
             }
@@ -159,12 +184,15 @@ pub fn effect(fq: &FaceQuads, op: Op) -> Option<Effect> {
             }
             let (keep, gone) = if f1 { (v1, v3) } else { (v3, v1) };
             let merged = (val(v1) + val(v3)).checked_sub(2)?;
-            let mut region = fq.links(v1);
-            region.extend(fq.links(v3));
-            region.push(keep);
-            region.sort_unstable();
-            region.dedup();
-            region.retain(|&x| x != gone);
+            let mut region = Vec::new();
+            if with_region {
+                region = l1;
+                region.extend(l3);
+                region.push(keep);
+                region.sort_unstable();
+                region.dedup();
+                region.retain(|&x| x != gone);
+            }
             Some(Effect {
                 changes: vec![(v2, val(v2), val(v2) - 1), (v4, val(v4), val(v4) - 1), (keep, val(keep), merged)],
                 removed: Some((gone, val(gone))),
@@ -185,10 +213,13 @@ pub fn effect(fq: &FaceQuads, op: Op) -> Option<Effect> {
             if dist < 2 || dist + 2 > k {
                 return None;
             }
-            let mut region: Vec<u32> = star.iter().flat_map(|s| [s.1[1], s.1[2]]).collect();
-            region.push(c);
-            region.sort_unstable();
-            region.dedup();
+            let mut region: Vec<u32> = Vec::new();
+            if with_region {
+                region = star.iter().flat_map(|s| [s.1[1], s.1[2]]).collect();
+                region.push(c);
+                region.sort_unstable();
+                region.dedup();
+            }
             Some(Effect {
                 changes: vec![(c, val(c), (k - dist + 1) as u32), (a, val(a), val(a) + 1), (b, val(b), val(b) + 1)],
                 removed: None,

@@ -126,6 +126,15 @@ fn apply_checked(fq: &mut FaceQuads, op: Op) -> Effect {
     eff
 }
 
+/// Reclassifies the fixed vertices `vs` as CAD corners (which may keep 2
+/// edges, spec §5.1), leaving their position and ideal valence as they are.
+fn as_corner(fq: &mut FaceQuads, vs: &[u32]) {
+    for &v in vs {
+        assert!(fq.verts[v as usize].fixed);
+        fq.verts[v as usize].class = mesh::NodeClass::Corner(geometry::CornerId(v));
+    }
+}
+
 /// `eff.changes` sorted by vertex, for comparing with a hand-computed list.
 fn sorted(eff: &Effect) -> Vec<(u32, u32, u32)> {
     let mut c = eff.changes.clone();
@@ -209,6 +218,10 @@ fn collapse_to_valence_six_then_perfect_split_at_distance_three() {
 fn boundary_vertices_are_fixed_and_boundary_edges_never_swap() {
     let mut fq = grid(4);
     // quad 0 = (0, 1, 6, 5): merging the interior 6 into the fixed corner 0
+    // leaves 1 and 5 with 2 edges: refused while they are curve vertices
+    // (spec §5.1: ≥ 3 edges on a curve), allowed at CAD corners (≥ 2)
+    assert!(effect(&fq, Op::Collapse { q: 0, d: 0 }).is_none());
+    as_corner(&mut fq, &[1, 5]);
     let eff = apply_checked(&mut fq, Op::Collapse { q: 0, d: 0 });
     assert_eq!(eff.removed, Some((6, 4)));
     assert!(eff.changes.contains(&(0, 2, 4)), "{:?}", eff.changes);
@@ -259,7 +272,9 @@ fn an_operation_is_kept_valid_or_rolled_back_exactly() {
     assert_ne!(fq.verts[7].uv, [2.0, 1.0], "vertex 7 was moved to repair the flat angle");
     // merging the only interior vertex into a corner flattens the boundary at
     // 1 and 3 (180°); nothing can move, so the collapse is undone bit-for-bit
+    // (1 and 3 are made CAD corners, which may keep 2 edges)
     let mut fq = grid(2);
+    as_corner(&mut fq, &[1, 3]);
     let orig = fq.clone();
     let mut r = Regularizer::new(face, &mut fq);
     assert!(!r.try_sequence(&[Op::Collapse { q: 0, d: 0 }]));
@@ -305,6 +320,7 @@ fn regularize_mesh_keeps_the_boundary_and_validity_of_a_meshed_model() {
     let s0 = mesh::stats::MeshStats::compute(&mesh, Some(&model));
     let rep = regularize_mesh(&model, &mut mesh, &RegularizeOptions { threads: Some(2), ..Default::default() }).unwrap();
     assert!(rep.skipped.is_empty(), "{:?}", rep.skipped);
+    assert!(rep.faces.iter().all(|f| !f.reverted), "no face had to fall back to its input: {rep:?}");
     let s1 = mesh::stats::MeshStats::compute(&mesh, Some(&model));
     assert_eq!(s1.open_edges, s0.open_edges);
     assert_eq!(s1.euler_characteristic, s0.euler_characteristic);
@@ -347,4 +363,99 @@ fn compositions_and_translations_remove_what_single_operations_cannot() {
             Regularizer::new(face, &mut g).try_sequence(&[op])
         }
     }))));
+}
+
+#[test]
+fn min_fan_follows_the_spec_per_kind_of_vertex() {
+    use super::ops::min_fan;
+    let fq = grid(3);
+    // inside: 3 quads (valence ≥ 3, no doublets)
+    assert_eq!(min_fan(&fq.verts[5]), 3);
+    // a curve vertex (180°, ideal 3) keeps ≥ 3 edges = 2 quads of its open fan
+    assert_eq!((fq.verts[1].ideal, min_fan(&fq.verts[1])), (3, 2));
+    // a 90° corner (ideal 2) may keep 2 edges = 1 quad, a CAD corner too
+    assert_eq!((fq.verts[0].ideal, min_fan(&fq.verts[0])), (2, 1));
+    let mut c = fq.clone();
+    as_corner(&mut c, &[1]);
+    assert_eq!(min_fan(&c.verts[1]), 1);
+    // a pole with a closed fan is a point of the surface: 3 quads, as inside
+    let mut p = fq.verts[5].clone();
+    p.fixed = true;
+    p.pole = Some([[0.0, 0.0], [1.0, 0.0]]);
+    p.edge_offset = 0;
+    assert_eq!(min_fan(&p), 3);
+}
+
+/// Every live quad valid, the structure consistent, V − Q and the fixed
+/// vertices (bits, class, ideal) as in `orig`.
+fn assert_sound(orig: &FaceQuads, fq: &FaceQuads, face: &geometry::Face) {
+    fq.check().unwrap();
+    assert!(fq.live_quads().all(|q| quad_valid(fq, face, q, AngleWindow::BASE)));
+    assert_eq!(fq.num_verts() as i64 - fq.num_quads() as i64, orig.num_verts() as i64 - orig.num_quads() as i64, "V − Q");
+    for (v, x) in orig.verts.iter().enumerate() {
+        if x.fixed {
+            let y = &fq.verts[v];
+            assert!(y.alive && y.fixed);
+            assert_eq!((x.uv.map(f64::to_bits), x.xyz.map(f64::to_bits), &x.class, x.ideal), (y.uv.map(f64::to_bits), y.xyz.map(f64::to_bits), &y.class, y.ideal));
+        }
+    }
+}
+
+#[test]
+fn partner_path_joins_a_vertex_to_the_nearest_one_of_opposite_index() {
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    // 4 × 4 grid; the swap of quad 5's edge 1 gives 8, 11 valence 5 and 7, 12
+    // valence 3 (see `an_operation_is_kept_valid_or_rolled_back_exactly`)
+    let mut fq = grid(4);
+    let mut r = Regularizer::new(face, &mut fq);
+    assert!(r.try_sequence(&[Op::Swap { q: 5, e: 1, k: 1 }]));
+    assert_eq!((r.index_sign(7), r.index_sign(8), r.index_sign(6)), (1, -1, 0));
+    // the path starts in the cluster of 7 (7 and its irregular links), ends
+    // at an irregular vertex, and is a chain of mesh edges
+    let path = r.partner_path(7, 3).expect("a partner within 3 hops");
+    assert!(path.contains(&7));
+    assert!(path.iter().filter(|&&v| v != 7).any(|&v| r.index_sign(v) != 0));
+    for &v in &path {
+        assert!(v == 7 || path.iter().any(|&w| w != v && r.fq.linked(v, w)), "{v} is joined to the rest of {path:?}");
+    }
+    // a regular vertex has no partner; radius 0 finds none
+    assert_eq!(r.partner_path(6, 3), None);
+    assert_eq!(r.partner_path(7, 0), None);
+}
+
+#[test]
+fn pair_search_lowers_the_score_where_the_star_search_has_stopped() {
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    // the star-local method alone (no pair search), to convergence
+    let base = RegularizeOptions { redistribute: false, pair_radius: 0, sweep_orders: 1, ..Default::default() };
+    let mut fq = split_patch(8);
+    let orig = fq.clone();
+    regularize_face(face, FaceId(0), &mut fq, &base);
+    let stuck = fq.clone();
+    let irr = fq.irregular_count();
+    // nothing more from the star search: a second run changes nothing
+    let mut again = fq.clone();
+    regularize_face(face, FaceId(0), &mut again, &base);
+    assert_eq!(again.irregular_count(), irr);
+    // the pair search goes on from there, keeping every quad valid
+    let mut r = Regularizer::new(face, &mut fq);
+    r.pair_radius = 3;
+    r.pair_depth = 4;
+    r.pair_beam = 8;
+    r.pair_budget = 600;
+    let mut kept = 0;
+    let mut v = 0;
+    while (v as usize) < r.fq.verts.len() {
+        if r.cancel_pair_at(v) {
+            kept += 1;
+        }
+        v += 1;
+    }
+    drop(r);
+    assert!(kept > 0, "the pair search found nothing on a patch with {irr} irregular vertices");
+    assert!(fq.irregular_count() < irr, "{irr} → {}", fq.irregular_count());
+    assert_sound(&orig, &fq, face);
+    assert_sound(&stuck, &fq, face);
 }

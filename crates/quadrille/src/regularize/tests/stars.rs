@@ -171,6 +171,10 @@ fn swap_of_an_edge_ending_on_the_boundary_changes_only_valences_there() {
     let mut fq = grid(3);
     assert_eq!(hexagon(&fq, 0, 1), Some(([5, 4, 0, 1, 2, 6], 1)));
     assert!(fq.verts[1].fixed && fq.verts[0].fixed && !fq.verts[5].fixed);
+    // the swap would leave the curve vertex 1 with 2 edges: refused (spec
+    // §5.1, an Edge vertex keeps ≥ 3 edges); a CAD corner may keep 2
+    assert!(effect(&fq, Op::Swap { q: 0, e: 1, k: 2 }).is_none());
+    as_corner(&mut fq, &[1]);
     // Eq. 1 with k = 2, new diagonal (h2, h5) = (0, 6): h0 = 5: 4 − 1 = 3;
     // h3 = 1: 3 − 1 = 2; corner 0: 2 + 1 = 3; 6: 4 + 1 = 5
     let eff = apply_checked(&mut fq, Op::Swap { q: 0, e: 1, k: 2 });
@@ -223,6 +227,9 @@ fn collapse_into_a_boundary_vertex_keeps_it_in_place() {
     // boundary vertex 1 (bottom side, 3 edges) and the interior vertex 7
     let mut fq = grid(4);
     assert_eq!(fq.quads[1], [1, 2, 7, 6]);
+    // v2 = 2 would keep 2 edges: refused on a curve, allowed at a CAD corner
+    assert!(effect(&fq, Op::Collapse { q: 1, d: 0 }).is_none());
+    as_corner(&mut fq, &[2]);
     // Eq. 2: the boundary vertex survives: val(v13) = 3 + 4 − 2 = 5;
     // v2 = 2 (boundary): 3 − 1 = 2; v4 = 6: 4 − 1 = 3; 7 disappears
     let eff = apply_checked(&mut fq, Op::Collapse { q: 1, d: 0 });

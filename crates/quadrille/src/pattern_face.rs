@@ -1,0 +1,333 @@
+//! Meshing a simple CAD face directly with a pattern (paper §6.1.2, spec
+//! §9.6): a face with one boundary loop whose convex corners (ideal valence
+//! 1) split it into the sides of a library pattern ([`crate::patterns`])
+//! gets the refined pattern, its boundary on the face's curve meshes, its
+//! interior placed by a harmonic map in (u, v) and evaluated on the surface.
+//! The result is kept only when every quad has a SICN (with CAD normals) of
+//! at least [`MIN_PATTERN_SICN`]; otherwise the caller meshes the face
+//! another way.
+
+use geometry::vec3::{self, Vec3};
+use geometry::{FaceId, Model};
+
+use crate::curve_mesh::CurveMesh;
+use crate::face_triangulation::{LocalNode, NodeRef};
+use crate::patterns::{library, match_pattern, refine};
+use crate::singularities::ideal_corner_valence;
+use crate::split::{quad_quality, QuadPatch};
+
+/// Smallest quad SICN a pattern mesh must reach to be kept (the paper's
+/// "satisfactory quality"; its value is ours).
+pub const MIN_PATTERN_SICN: f64 = 0.3;
+
+/// Conjugate-gradient iterations of the harmonic map, at most (times √n).
+const CG_ITERATIONS_PER_ROOT: usize = 40;
+
+/// The boundary of a face as one ring of local nodes with 3D positions, and
+/// the ring positions of its CAD corners with their interior angles.
+struct Ring {
+    nodes: Vec<LocalNode>,
+    pos: Vec<Vec3>,
+    corners: Vec<(usize, f64)>,
+}
+
+/// The face's single loop as a ring of every curve-mesh point (the odd
+/// midpoints included), with the interior angle at each CAD corner.
+fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, String> {
+    let face = &model.faces[fid.idx()];
+    if face.loops.len() != 1 {
+        return Err(format!("{} boundary loops", face.loops.len()));
+    }
+    let lp = &face.loops[0];
+    let mut ring = Ring { nodes: Vec::new(), pos: Vec::new(), corners: Vec::new() };
+    let n = lp.uses.len();
+    let degenerate = |k: usize| model.curves[lp.uses[k % n].curve.idx()].degenerate;
+    if (0..n).all(degenerate) {
+        return Err("only degenerate curves".into());
+    }
+    // a pole (degenerate use) is one ring node; its corner angle is measured
+    // in 3D between the neighbouring ring points, once they are known
+    for (k, u) in lp.uses.iter().enumerate() {
+        let ce = &model.curves[u.curve.idx()];
+        let cm = cms.get(u.curve.idx()).ok_or("missing curve mesh")?;
+        if ce.degenerate {
+            if degenerate(k + n - 1) {
+                return Err("two degenerate curves in a row".into());
+            }
+            let seg = [u.pcurve.eval(ce.range.0), u.pcurve.eval(ce.range.1)];
+            let mid = [0.5 * (seg[0][0] + seg[1][0]), 0.5 * (seg[0][1] + seg[1][1])];
+            ring.corners.push((ring.nodes.len(), f64::NAN));
+            ring.nodes.push(LocalNode { uv: mid, node: NodeRef::Corner(ce.start), pole: Some(seg) });
+            ring.pos.push(model.corners[ce.start.idx()].point);
+            continue;
+        }
+        let m = cm.params.len() - 1;
+        let after_pole = degenerate(k + n - 1);
+        if !after_pole {
+            // the corner where this use starts: angle between the previous use's end and this use's start
+            let prev = &lp.uses[(k + n - 1) % n];
+            let pce = &model.curves[prev.curve.idx()];
+            let t_prev = if prev.forward { pce.range.1 } else { pce.range.0 };
+            let t_here = if u.forward { ce.range.0 } else { ce.range.1 };
+            let uv = u.pcurve.eval(t_here);
+            let sgn = |fwd: bool| if fwd { 1.0 } else { -1.0 };
+            let d_in = prev.pcurve.deriv(t_prev).map(|x| x * sgn(prev.forward));
+            let d_out = u.pcurve.deriv(t_here).map(|x| x * sgn(u.forward));
+            let d = face.surface.derivs(uv);
+            let lift = |t: [f64; 2]| vec3::add(vec3::scale(d.du, t[0]), vec3::scale(d.dv, t[1]));
+            let (a, b) = (lift(d_in), lift(d_out));
+            let normal = vec3::cross(d.du, d.dv);
+            let turn = vec3::dot(normal, vec3::cross(a, b)).atan2(vec3::dot(a, b) * vec3::norm(normal));
+            let angle = std::f64::consts::PI - turn;
+            if !angle.is_finite() {
+                return Err("corner angle undefined".into());
+            }
+            ring.corners.push((ring.nodes.len(), angle));
+        }
+        // after a pole, the use's first point is the pole, already in the ring
+        for j in usize::from(after_pole)..m {
+            let i = if u.forward { j } else { m - j };
+            let node = if i == 0 {
+                NodeRef::Corner(ce.start)
+            } else if i == m {
+                NodeRef::Corner(ce.end)
+            } else {
+                NodeRef::Curve(u.curve, i as u32)
+            };
+            let uv = u.pcurve.eval(cm.params[i]);
+            if !(uv[0].is_finite() && uv[1].is_finite()) {
+                return Err(format!("pcurve of curve {} is not finite", u.curve.0 + 1));
+            }
+            ring.nodes.push(LocalNode { uv, node, pole: None });
+            ring.pos.push(cm.points[i]);
+        }
+    }
+    let len = ring.nodes.len();
+    if len < 3 {
+        return Err("fewer than 3 boundary points".into());
+    }
+    for c in ring.corners.iter_mut().filter(|c| c.1.is_nan()) {
+        let p = ring.pos[c.0];
+        let (a, b) = (vec3::sub(ring.pos[(c.0 + len - 1) % len], p), vec3::sub(ring.pos[(c.0 + 1) % len], p));
+        c.1 = (vec3::dot(a, b) / (vec3::norm(a) * vec3::norm(b))).clamp(-1.0, 1.0).acos();
+        if !c.1.is_finite() {
+            return Err("corner angle at a pole undefined".into());
+        }
+    }
+    Ok(ring)
+}
+
+/// Solves the uniform-weight Laplace equation for the interior (u, v) of a
+/// quad mesh with fixed boundary values (conjugate gradients, one solve per
+/// coordinate). `fixed[v]` marks boundary vertices.
+fn harmonic_uv(quads: &[[u32; 4]], uv: &mut [[f64; 2]], fixed: &[bool]) {
+    let n = uv.len();
+    let mut nbrs: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for q in quads {
+        for k in 0..4 {
+            nbrs[q[k] as usize].push(q[(k + 1) % 4]);
+            nbrs[q[k] as usize].push(q[(k + 3) % 4]);
+        }
+    }
+    for l in &mut nbrs {
+        l.sort_unstable();
+        l.dedup();
+    }
+    let free: Vec<usize> = (0..n).filter(|&v| !fixed[v]).collect();
+    let mut slot = vec![usize::MAX; n];
+    for (i, &v) in free.iter().enumerate() {
+        slot[v] = i;
+    }
+    let m = free.len();
+    if m == 0 {
+        return;
+    }
+    // A x = b: deg(v) x_v − Σ_{free nbrs} x_w = Σ_{fixed nbrs} uv_w
+    let apply = |x: &[f64], out: &mut [f64]| {
+        for (i, &v) in free.iter().enumerate() {
+            let mut s = nbrs[v].len() as f64 * x[i];
+            for &w in &nbrs[v] {
+                if slot[w as usize] != usize::MAX {
+                    s -= x[slot[w as usize]];
+                }
+            }
+            out[i] = s;
+        }
+    };
+    let max_iter = CG_ITERATIONS_PER_ROOT * ((m as f64).sqrt() as usize + 1);
+    for c in 0..2 {
+        let b: Vec<f64> = free.iter().map(|&v| nbrs[v].iter().filter(|&&w| fixed[w as usize]).map(|&w| uv[w as usize][c]).sum()).collect();
+        let mut x: Vec<f64> = free.iter().map(|&v| uv[v][c]).collect();
+        let mut ax = vec![0.0; m];
+        apply(&x, &mut ax);
+        let mut r: Vec<f64> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
+        let mut p = r.clone();
+        let mut rr: f64 = r.iter().map(|x| x * x).sum();
+        let stop = 1e-24 * b.iter().map(|x| x * x).sum::<f64>().max(1e-300);
+        let mut ap = vec![0.0; m];
+        for _ in 0..max_iter {
+            if rr <= stop {
+                break;
+            }
+            apply(&p, &mut ap);
+            let pap: f64 = p.iter().zip(&ap).map(|(a, b)| a * b).sum();
+            if !(pap > 0.0) {
+                break;
+            }
+            let alpha = rr / pap;
+            for i in 0..m {
+                x[i] += alpha * p[i];
+                r[i] -= alpha * ap[i];
+            }
+            let rr_new: f64 = r.iter().map(|x| x * x).sum();
+            let beta = rr_new / rr;
+            rr = rr_new;
+            for i in 0..m {
+                p[i] = r[i] + beta * p[i];
+            }
+        }
+        for (i, &v) in free.iter().enumerate() {
+            uv[v][c] = x[i];
+        }
+    }
+}
+
+/// Meshes face `fid` with a library pattern against the curve meshes `cms`
+/// (every curve point is a boundary node). Returns the patch and the
+/// pattern's name, or why the face is not meshed that way.
+pub fn mesh_face_pattern(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<(QuadPatch, String), String> {
+    let face = &model.faces[fid.idx()];
+    let ring = boundary_ring(model, fid, cms)?;
+    let nb = ring.nodes.len();
+    // convex corners (ideal valence 1) are the pattern's corners; flat ones
+    // (2) lie inside sides; a concave one rules patterns out
+    let mut corners = Vec::new();
+    for &(at, angle) in &ring.corners {
+        match ideal_corner_valence(angle) {
+            1 => corners.push(at),
+            2 => {}
+            _ => return Err(format!("a concave corner ({:.0}°)", angle.to_degrees())),
+        }
+    }
+    if corners.len() < 3 {
+        return Err(format!("{} convex corners", corners.len()));
+    }
+    let m = corners.len();
+    let sides: Vec<u32> = (0..m).map(|i| ((corners[(i + 1) % m] + nb - corners[i]) % nb) as u32).collect();
+    let found = match_pattern(&sides).ok_or_else(|| format!("no pattern for sides {sides:?}"))?;
+    let pattern = &library()[found.pattern];
+    let refined = refine(pattern, &found.subdivisions);
+    // refined boundary vertex k ↔ ring position (see `PatternMatch`)
+    let ring_of = |k: usize| {
+        if found.mirror {
+            (corners[(found.shift + 1) % m] + nb - k % nb) % nb
+        } else {
+            (corners[found.shift] + k) % nb
+        }
+    };
+    let nv = refined.coords.len();
+    let mut local = vec![u32::MAX; nv];
+    let mut nodes: Vec<LocalNode> = ring.nodes.clone();
+    let mut pos: Vec<Vec3> = ring.pos.clone();
+    let mut fixed = vec![false; nv];
+    for (k, &v) in refined.boundary.iter().enumerate() {
+        local[v as usize] = ring_of(k) as u32;
+        fixed[v as usize] = true;
+    }
+    // interior (u, v): harmonic in the pattern's connectivity, starting from the ring's centroid
+    let centroid = {
+        let s = ring.nodes.iter().fold([0.0, 0.0], |a, n| [a[0] + n.uv[0], a[1] + n.uv[1]]);
+        [s[0] / nb as f64, s[1] / nb as f64]
+    };
+    let mut uv: Vec<[f64; 2]> = (0..nv).map(|v| if fixed[v] { ring.nodes[local[v] as usize].uv } else { centroid }).collect();
+    harmonic_uv(&refined.quads, &mut uv, &fixed);
+    for v in 0..nv {
+        if !fixed[v] {
+            let p = face.surface.eval(uv[v]);
+            if !p.iter().all(|x| x.is_finite()) {
+                return Err("a pattern vertex falls outside the surface".into());
+            }
+            local[v] = nodes.len() as u32;
+            nodes.push(LocalNode { uv: uv[v], node: NodeRef::Interior, pole: None });
+            pos.push(p);
+        }
+    }
+    let quads: Vec<[u32; 4]> = refined
+        .quads
+        .iter()
+        .map(|q| {
+            let l = q.map(|v| local[v as usize]);
+            // counter-clockwise in (u, v), then about the oriented normal
+            if found.mirror != face.reversed { [l[0], l[3], l[2], l[1]] } else { l }
+        })
+        .collect();
+    let patch = QuadPatch { quad_tri: (0..quads.len() as u32).collect(), nodes, pos, quads };
+    let worst = patch.quads.iter().map(|q| quad_quality(face, &patch.nodes, &patch.pos, q)).fold(f64::INFINITY, f64::min);
+    if !(worst >= MIN_PATTERN_SICN) {
+        return Err(format!("pattern {} gives a quad of SICN {worst:.3}", pattern.name));
+    }
+    Ok((patch, pattern.name.clone()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::curve_mesh::{discretize_all, plan_curves};
+    use geometry::primitives;
+
+    fn valences(p: &QuadPatch) -> Vec<usize> {
+        let mut v = vec![0; p.nodes.len()];
+        for q in &p.quads {
+            for &x in q {
+                v[x as usize] += 1;
+            }
+        }
+        v
+    }
+
+    #[test]
+    fn a_rectangle_is_a_grid() {
+        let model = primitives::rectangle(3.0, 1.0);
+        let cms = discretize_all(&model, &plan_curves(&model, 0.25));
+        let (patch, name) = mesh_face_pattern(&model, FaceId(0), &cms).expect("a pattern");
+        assert_eq!(name, "R1");
+        // 3 / 0.25 = 12 by 1 / 0.25 = 4
+        assert_eq!(patch.quads.len(), 48);
+        let v = valences(&patch);
+        for (i, n) in patch.nodes.iter().enumerate() {
+            if n.node == NodeRef::Interior {
+                assert_eq!(v[i], 4);
+                // a harmonic grid on a rectangle is the uniform grid
+                let (x, y) = (n.uv[0] / 0.25, n.uv[1] / 0.25);
+                assert!((x - x.round()).abs() < 1e-6 && (y - y.round()).abs() < 1e-6, "{:?}", n.uv);
+            }
+        }
+        assert!(patch.quads.iter().all(|q| quad_quality(&model.faces[0], &patch.nodes, &patch.pos, q) > 0.999));
+        // a reversed face gets its quads turned the other way, still valid
+        let mut flipped = model.clone();
+        flipped.faces[0].reversed = true;
+        let (back, _) = mesh_face_pattern(&flipped, FaceId(0), &cms).expect("a pattern");
+        assert_eq!(back.quads.len(), 48);
+        assert_ne!(back.quads[0], patch.quads[0]);
+        assert!(back.quads.iter().all(|q| quad_quality(&flipped.faces[0], &back.nodes, &back.pos, q) > 0.999));
+    }
+
+    #[test]
+    fn a_cylinder_side_is_a_grid_and_its_discs_are_not_patterns() {
+        let model = primitives::cylinder(1.0, 2.0);
+        let cms = discretize_all(&model, &plan_curves(&model, 0.3));
+        let mut grids = 0;
+        for f in 0..model.faces.len() {
+            match mesh_face_pattern(&model, FaceId(f as u32), &cms) {
+                Ok((patch, name)) => {
+                    assert_eq!(name, "R1");
+                    let v = valences(&patch);
+                    assert!(patch.nodes.iter().enumerate().all(|(i, n)| n.node != NodeRef::Interior || v[i] == 4));
+                    grids += 1;
+                }
+                Err(why) => assert!(why.contains("convex corners"), "face {f}: {why}"),
+            }
+        }
+        assert_eq!(grids, 1, "the side (seam, circle, seam, circle) is a 4-sided grid");
+    }
+}

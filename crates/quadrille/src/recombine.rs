@@ -1,0 +1,250 @@
+//! Greedy triangle → quad recombination (paper §5.2, spec §7.3).
+//!
+//! Every pair of triangles sharing an edge that is not on a CAD curve is a
+//! candidate quad. Candidates are ranked by `SICN_min · w`, the quad's worst
+//! corner SICN (with the CAD normals) times its alignment `w ∈ [0, 1]` with
+//! the cross field, and taken greedily, best first, each triangle at most
+//! once, as long as their SICN is above a threshold (0.1 in the paper).
+//! Triangles left over stay triangles: the result is quad-dominant (no
+//! perfect matching is sought). Optionally ([`recombine`]'s `max_path`), short
+//! augmenting paths then pair more triangles: a free triangle, a candidate
+//! quad to a matched one, its mate, another candidate, ... ending at another
+//! free triangle; flipping the path turns two triangles into one more quad
+//! (each triangle left alone becomes an irregular vertex after subdivision).
+
+use std::collections::HashMap;
+
+use geometry::vec3::Vec3;
+use geometry::Face;
+
+use crate::face_triangulation::LocalNode;
+use crate::split::quad_quality;
+
+/// The paper's threshold on the SICN of a recombined quad.
+pub const MIN_SICN: f64 = 0.1;
+
+/// A quad-dominant mesh of one face on local nodes, counter-clockwise in (u, v).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct QuadDominant {
+    /// Quads made of two triangles.
+    pub quads: Vec<[u32; 4]>,
+    /// Triangles left alone.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Recombines `tris` (counter-clockwise in (u, v), on `nodes` at 3D
+/// positions `pos`). `is_curve_edge(a, b)` tells which edges lie on CAD
+/// curves (never removed); `alignment` gives the weight of a quad from its
+/// four 3D corners (return 1 to rank by quality only). Quads are counter-
+/// clockwise in (u, v) like the triangles; their quality is measured with the
+/// face's oriented normal (reversed faces are taken into account).
+#[allow(clippy::too_many_arguments)]
+pub fn recombine(
+    face: &Face,
+    nodes: &[LocalNode],
+    pos: &[Vec3],
+    tris: &[[u32; 3]],
+    is_curve_edge: impl Fn(u32, u32) -> bool,
+    alignment: impl Fn(&[Vec3; 4]) -> f64,
+    min_sicn: f64,
+    max_path: usize,
+) -> QuadDominant {
+    // edge → (triangle, local edge index) of its first use
+    let mut first: HashMap<(u32, u32), (u32, usize)> = HashMap::with_capacity(3 * tris.len());
+    let mut cands: Vec<(f64, u32, u32, [u32; 4])> = Vec::new();
+    for (ti, t) in tris.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let key = (a.min(b), a.max(b));
+            match first.get(&key) {
+                None => {
+                    first.insert(key, (ti as u32, k));
+                }
+                Some(&(tj, kj)) => {
+                    if is_curve_edge(a, b) {
+                        continue;
+                    }
+                    let u = tris[tj as usize];
+                    // u has the edge b → a at local index kj (same orientation: skip)
+                    if u[kj] != b || u[(kj + 1) % 3] != a {
+                        continue;
+                    }
+                    let c = t[(k + 2) % 3];
+                    let d = u[(kj + 2) % 3];
+                    if c == d {
+                        continue;
+                    }
+                    // t = (a, b, c), u = (b, a, d): the quad a, d, b, c
+                    let q = [a, d, b, c];
+                    let oriented = if face.reversed { [q[0], q[3], q[2], q[1]] } else { q };
+                    let sicn = quad_quality(face, nodes, pos, &oriented);
+                    if !(sicn > min_sicn) {
+                        continue;
+                    }
+                    let w = alignment(&oriented.map(|i| pos[i as usize]));
+                    let w = if w.is_finite() { w.clamp(0.0, 1.0) } else { 0.0 };
+                    cands.push((sicn * w, tj.min(ti as u32), tj.max(ti as u32), q));
+                }
+            }
+        }
+    }
+    // best first; ties broken by the triangle pair, so the order is total
+    cands.sort_by(|x, y| y.0.total_cmp(&x.0).then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
+    // mate[t] = (other triangle, candidate index)
+    let mut mate: Vec<Option<(u32, usize)>> = vec![None; tris.len()];
+    for (ci, &(_, t1, t2, _)) in cands.iter().enumerate() {
+        if mate[t1 as usize].is_some() || mate[t2 as usize].is_some() {
+            continue;
+        }
+        mate[t1 as usize] = Some((t2, ci));
+        mate[t2 as usize] = Some((t1, ci));
+    }
+    if max_path > 0 {
+        augment(tris.len(), &cands, &mut mate, max_path);
+    }
+    let mut out = QuadDominant::default();
+    let mut taken: Vec<usize> = mate.iter().flatten().map(|&(_, ci)| ci).collect();
+    taken.sort_unstable();
+    taken.dedup();
+    out.quads = taken.iter().map(|&ci| cands[ci].3).collect();
+    out.triangles = tris.iter().zip(&mate).filter(|(_, m)| m.is_none()).map(|(t, _)| *t).collect();
+    out
+}
+
+/// Pairs more triangles by augmenting paths of at most `max_path` candidate
+/// edges, searched breadth-first from each free triangle in order (candidates
+/// of a triangle in rank order), so the result is deterministic.
+fn augment(ntris: usize, cands: &[(f64, u32, u32, [u32; 4])], mate: &mut [Option<(u32, usize)>], max_path: usize) {
+    let mut adj: Vec<Vec<(u32, usize)>> = vec![Vec::new(); ntris];
+    for (ci, &(_, t1, t2, _)) in cands.iter().enumerate() {
+        adj[t1 as usize].push((t2, ci));
+        adj[t2 as usize].push((t1, ci));
+    }
+    // visit stamps and BFS parents: parent[v] = (the matched vertex before v, edge into v)
+    let mut stamp = vec![usize::MAX; ntris];
+    let mut parent: Vec<(u32, usize)> = vec![(u32::MAX, usize::MAX); ntris];
+    for root in 0..ntris {
+        if mate[root].is_some() || adj[root].is_empty() {
+            continue;
+        }
+        stamp[root] = root;
+        // frontier of "outer" vertices (root, or mates reached through a matched edge)
+        let mut frontier = vec![(root as u32, 0usize)];
+        let mut found: Option<(u32, u32, usize)> = None;
+        'search: while !frontier.is_empty() {
+            let mut next = Vec::new();
+            for &(u, depth) in &frontier {
+                if depth + 1 > max_path {
+                    continue;
+                }
+                for &(v, ci) in &adj[u as usize] {
+                    if stamp[v as usize] == root {
+                        continue;
+                    }
+                    match mate[v as usize] {
+                        None => {
+                            found = Some((u, v, ci));
+                            break 'search;
+                        }
+                        Some((w, _)) => {
+                            if stamp[w as usize] == root || depth + 3 > max_path {
+                                continue;
+                            }
+                            stamp[v as usize] = root;
+                            stamp[w as usize] = root;
+                            parent[v as usize] = (u, ci);
+                            next.push((w, depth + 2));
+                        }
+                    }
+                }
+            }
+            frontier = next;
+        }
+        let Some((mut u, mut v, mut ci)) = found else { continue };
+        // flip the path back to the root: v–u becomes matched, u's old mate
+        // is re-matched through its parent edge, and so on
+        loop {
+            let old = mate[u as usize];
+            mate[u as usize] = Some((v, ci));
+            mate[v as usize] = Some((u, ci));
+            match old {
+                None => break,
+                Some((x, _)) => {
+                    // x is matched to u no more; x was reached from parent[x]
+                    let (p, pc) = parent[x as usize];
+                    v = x;
+                    u = p;
+                    ci = pc;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::face_triangulation::NodeRef;
+    use geometry::primitives;
+
+    fn node(u: f64, v: f64) -> LocalNode {
+        LocalNode { uv: [u, v], node: NodeRef::Interior, pole: None }
+    }
+
+    #[test]
+    fn two_right_triangles_make_one_quad() {
+        let m = primitives::square(1.0);
+        let nodes = vec![node(0.0, 0.0), node(1.0, 0.0), node(1.0, 1.0), node(0.0, 1.0)];
+        let pos: Vec<Vec3> = nodes.iter().map(|n| [n.uv[0], n.uv[1], 0.0]).collect();
+        let tris = [[0, 1, 2], [0, 2, 3]];
+        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |_, _| false, |_| 1.0, MIN_SICN, 0);
+        assert_eq!(r.quads.len(), 1);
+        assert!(r.triangles.is_empty());
+        let q = r.quads[0];
+        // the quad is the square, counter-clockwise
+        let mut sorted = q;
+        sorted.sort();
+        assert_eq!(sorted, [0, 1, 2, 3]);
+        assert!(quad_quality(&m.faces[0], &nodes, &pos, &q) > 0.99);
+        // a CAD curve along the diagonal forbids it
+        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |a, b| (a.min(b), a.max(b)) == (0, 2), |_| 1.0, MIN_SICN, 3);
+        assert!(r.quads.is_empty());
+        assert_eq!(r.triangles.len(), 2);
+    }
+
+    #[test]
+    fn flat_pairs_are_refused_and_the_weight_counts() {
+        let m = primitives::square(1.0);
+        // a fan of four triangles around the centre of the square
+        let nodes = vec![node(0.0, 0.0), node(1.0, 0.0), node(1.0, 1.0), node(0.0, 1.0), node(0.5, 0.5)];
+        let pos: Vec<Vec3> = nodes.iter().map(|n| [n.uv[0], n.uv[1], 0.0]).collect();
+        let tris = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+        // two pairings are possible (0-1 & 2-3, or 1-2 & 3-0): all four quads
+        // have a 180° corner at the centre, SICN 0, refused
+        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |_, _| false, |_| 1.0, MIN_SICN, 3);
+        assert!(r.quads.is_empty());
+        // a strip of two unit squares cut in four triangles: quality alone
+        // takes the two squares, a weight favouring the middle parallelogram
+        // (SICN sin 45°) takes it and leaves two triangles
+        let nodes = vec![node(0.0, 0.0), node(1.0, 0.0), node(2.0, 0.0), node(2.0, 1.0), node(1.0, 1.0), node(0.0, 1.0)];
+        let pos: Vec<Vec3> = nodes.iter().map(|n| [n.uv[0], n.uv[1], 0.0]).collect();
+        let tris = [[0, 1, 4], [0, 4, 5], [1, 2, 3], [1, 3, 4]];
+        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |_, _| false, |_| 1.0, MIN_SICN, 0);
+        assert_eq!(r.quads.len(), 2);
+        assert!(r.triangles.is_empty());
+        let middle = |q: &[Vec3; 4]| if q.contains(&[0.0, 0.0, 0.0]) && q.contains(&[2.0, 1.0, 0.0]) { 1.0 } else { 0.5 };
+        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |_, _| false, middle, MIN_SICN, 0);
+        assert_eq!(r.quads.len(), 1, "{:?}", r.quads);
+        let mut q = r.quads[0];
+        q.sort();
+        assert_eq!(q, [0, 1, 3, 4]);
+        assert_eq!(r.triangles, vec![[0, 4, 5], [1, 2, 3]]);
+        // an augmenting path (045 – 014 = 134 – 123) pairs the two leftovers:
+        // back to the two squares; a path limit of 1 cannot find it
+        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |_, _| false, middle, MIN_SICN, 3);
+        assert_eq!(r.quads.len(), 2, "{:?}", r.quads);
+        assert!(r.triangles.is_empty());
+        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |_, _| false, middle, MIN_SICN, 1);
+        assert_eq!(r.quads.len(), 1);
+    }
+}

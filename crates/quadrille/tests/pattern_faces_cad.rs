@@ -1,0 +1,72 @@
+//! Simple CAD faces meshed directly by a pattern (paper §6.1.2) on two
+//! bundled models: the share of faces it takes, and on each of those faces a
+//! valid patch (every quad SICN ≥ the threshold, with CAD normals) whose
+//! only irregular interior vertices are the pattern's own, whose boundary is
+//! exactly the face's curve meshes, and whose Euler characteristic is 1.
+
+use std::collections::{HashMap, HashSet};
+use std::path::PathBuf;
+
+use geometry::FaceId;
+use quadrille::curve_mesh::{discretize_all, plan_curves};
+use quadrille::face_triangulation::NodeRef;
+use quadrille::pattern_face::{mesh_face_pattern, MIN_PATTERN_SICN};
+use quadrille::patterns::library;
+use quadrille::split::quad_quality;
+
+fn model(name: &str) -> geometry::Model {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad").join(name);
+    occt::load(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Meshes every face it can; returns how many.
+fn check_model(name: &str) -> (usize, usize) {
+    let m = model(name);
+    let h = quadrille::default_size(&m);
+    let cms = discretize_all(&m, &plan_curves(&m, h));
+    let mut by_pattern = 0;
+    for f in 0..m.faces.len() {
+        let Ok((patch, pattern)) = mesh_face_pattern(&m, FaceId(f as u32), &cms) else { continue };
+        by_pattern += 1;
+        let face = &m.faces[f];
+        for q in &patch.quads {
+            let s = quad_quality(face, &patch.nodes, &patch.pos, q);
+            assert!(s >= MIN_PATTERN_SICN, "{name} face {}: SICN {s}", f + 1);
+        }
+        // irregular interior vertices: exactly the pattern's
+        let mut val = vec![0usize; patch.nodes.len()];
+        let mut edges: HashMap<(u32, u32), usize> = HashMap::new();
+        for q in &patch.quads {
+            for k in 0..4 {
+                val[q[k] as usize] += 1;
+                let (a, b) = (q[k].min(q[(k + 1) % 4]), q[k].max(q[(k + 1) % 4]));
+                *edges.entry((a, b)).or_default() += 1;
+            }
+        }
+        let want = library().iter().find(|p| p.name == pattern).unwrap().irregular;
+        let irregular = (0..patch.nodes.len()).filter(|&i| patch.nodes[i].node == NodeRef::Interior && val[i] != 4).count();
+        assert_eq!(irregular, want, "{name} face {} ({pattern})", f + 1);
+        // Euler characteristic 1 over the used nodes
+        let used = val.iter().filter(|&&v| v > 0).count();
+        assert_eq!(used as i64 - edges.len() as i64 + patch.quads.len() as i64, 1, "{name} face {}", f + 1);
+        // edges in one quad are the boundary: every curve point of the face's curves, no interior node
+        let boundary: HashSet<u32> = edges.iter().filter(|(_, &n)| n == 1).flat_map(|(&(a, b), _)| [a, b]).collect();
+        for &v in &boundary {
+            assert_ne!(patch.nodes[v as usize].node, NodeRef::Interior, "{name} face {}: interior node on the boundary", f + 1);
+        }
+        // (a pole counts once: it is the end of the curve before it and the start of the one after)
+        let expected: usize = face.loops[0].uses.iter().map(|u| if m.curves[u.curve.idx()].degenerate { 0 } else { cms[u.curve.idx()].params.len() - 1 }).sum();
+        assert_eq!(boundary.len(), expected, "{name} face {}: boundary nodes", f + 1);
+    }
+    (by_pattern, m.faces.len())
+}
+
+#[test]
+fn simple_faces_of_cad_models_are_meshed_by_patterns() {
+    // the rounded cube: 18 rectangles (R1) and 8 sphere corners with a pole (T3)
+    assert_eq!(check_model("s12o_cube_rounded_1.stp"), (26, 26));
+    // a MAMBO part: every face with one loop
+    let (n, total) = check_model("i01o_m1.step");
+    assert_eq!(total, 42);
+    assert!(n >= 38, "{n} faces by pattern");
+}

@@ -1,0 +1,300 @@
+//! Parametrization of a disk-shaped patch: a Tutte embedding (Floater) with
+//! positive weights and a convex boundary, solved with a sparse Cholesky
+//! factorization (`faer`).
+//!
+//! - Boundary: a rectangle when the boundary loop has exactly four corners
+//!   and no interior edge joins two boundary vertices of the same side (each
+//!   side by arc length, width and height the mean lengths of opposite
+//!   sides: a cylinder side or a box face keeps its proportions); otherwise
+//!   a circle of the loop's perimeter, by arc length. Both are convex, and
+//!   no triangle has three vertices on one straight side, so by Tutte's
+//!   theorem the map is one-to-one: no flipped triangle.
+//! - Weights: cotangent weights clamped below at [`MIN_WEIGHT`] (symmetric,
+//!   positive: near-conformal on good meshes, still a valid embedding on bad
+//!   ones). When rounding leaves a triangle with non-positive area, the map
+//!   is recomputed with uniform weights.
+
+use faer::linalg::solvers::Solve;
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Mat, Side};
+use geometry::{vec3, Vec3};
+
+/// Lower bound on the cotangent weights (relative to 1).
+pub const MIN_WEIGHT: f64 = 1e-2;
+
+/// The boundary shape a patch was mapped to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape {
+    /// A circle by arc length.
+    Circle,
+    /// A rectangle of this width and height (four-cornered loops).
+    Rectangle(f64, f64),
+    /// Orthogonal projection onto the plane of the mean normal (a patch whose
+    /// triangles all face that normal: flat faces, faces with holes).
+    Plane,
+}
+
+/// Smallest cosine between a triangle normal and the mean normal for which
+/// a patch is parametrized by projection onto the mean plane (about 72°).
+pub const PROJECT_MIN_COS: f64 = 0.3;
+
+/// Projection of the patch onto the plane of its area-weighted mean normal,
+/// when every triangle's normal is within acos([`PROJECT_MIN_COS`]) of it
+/// (then no projected triangle is flipped); `None` otherwise.
+pub fn project_plane(xyz: &[Vec3], tris: &[[u32; 3]]) -> Option<DiskMap> {
+    let mut n = [0.0; 3];
+    let normals: Vec<Vec3> = tris
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| xyz[v as usize]);
+            let m = vec3::cross(vec3::sub(b, a), vec3::sub(c, a));
+            n = vec3::add(n, m);
+            m
+        })
+        .collect();
+    let n = vec3::normalize(n)?;
+    for m in &normals {
+        if vec3::dot(*m, n) < PROJECT_MIN_COS * vec3::norm(*m) {
+            return None;
+        }
+    }
+    // an orthonormal basis (e1, e2, n), right-handed so that uv areas are positive
+    let helper = if n[0].abs() < 0.6 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+    let e1 = vec3::normalize(vec3::cross(helper, n))?;
+    let e2 = vec3::cross(n, e1);
+    let uv: Vec<[f64; 2]> = xyz.iter().map(|p| [vec3::dot(*p, e1), vec3::dot(*p, e2)]).collect();
+    let min_area = tris.iter().map(|t| area(uv[t[0] as usize], uv[t[1] as usize], uv[t[2] as usize])).fold(f64::INFINITY, f64::min);
+    (min_area > 0.0).then_some(DiskMap { uv, min_area, shape: Shape::Plane })
+}
+
+/// The (u, v) of every vertex of a disk and the smallest signed triangle area.
+#[derive(Clone, Debug)]
+pub struct DiskMap {
+    /// (u, v) per vertex.
+    pub uv: Vec<[f64; 2]>,
+    /// Smallest signed (u, v) area over the triangles (positive: no flip).
+    pub min_area: f64,
+    /// The boundary shape.
+    pub shape: Shape,
+}
+
+/// Signed area of a (u, v) triangle.
+pub fn area(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+}
+
+/// Maps the disk (`tris` on `xyz`, boundary loop `boundary` in order with
+/// the interior on its left, `corner_at` the positions in `boundary` of the
+/// corners) into the plane.
+pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usize]) -> Result<DiskMap, String> {
+    let n = xyz.len();
+    let nb = boundary.len();
+    if nb < 3 {
+        return Err(format!("boundary loop of {nb} vertices"));
+    }
+    let mut on_b = vec![u32::MAX; n];
+    for (i, &v) in boundary.iter().enumerate() {
+        on_b[v as usize] = i as u32;
+    }
+    // arc length along the loop
+    let mut s = vec![0.0; nb + 1];
+    for i in 0..nb {
+        s[i + 1] = s[i] + vec3::dist(xyz[boundary[i] as usize], xyz[boundary[(i + 1) % nb] as usize]);
+    }
+    let perim = s[nb];
+    if !(perim > 0.0) {
+        return Err("boundary loop of zero length".into());
+    }
+    let mut uv = vec![[0.0; 2]; n];
+    let mut shape = Shape::Circle;
+    if corner_at.len() == 4 {
+        // sides: side k runs from corner_at[k] to corner_at[k+1]
+        let mut side_of = vec![[u8::MAX; 2]; n];
+        for k in 0..4 {
+            let (i0, i1) = (corner_at[k], corner_at[(k + 1) % 4]);
+            let mut i = i0;
+            loop {
+                let v = boundary[i] as usize;
+                if side_of[v][0] == u8::MAX {
+                    side_of[v][0] = k as u8;
+                } else {
+                    side_of[v][1] = k as u8;
+                }
+                if i == i1 {
+                    break;
+                }
+                i = (i + 1) % nb;
+            }
+        }
+        let shares = |a: usize, b: usize| side_of[a].iter().any(|&x| x != u8::MAX && side_of[b].contains(&x));
+        let mut chord = false;
+        'outer: for t in tris {
+            for k in 0..3 {
+                let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+                if on_b[a] != u32::MAX && on_b[b] != u32::MAX {
+                    let (ia, ib) = (on_b[a] as usize, on_b[b] as usize);
+                    let adjacent = (ia + 1) % nb == ib || (ib + 1) % nb == ia;
+                    if !adjacent && shares(a, b) {
+                        chord = true;
+                        break 'outer;
+                    }
+                }
+            }
+            // three boundary vertices on one side
+            if t.iter().all(|&v| on_b[v as usize] != u32::MAX) && (0..4u8).any(|k| t.iter().all(|&v| side_of[v as usize].contains(&k))) {
+                chord = true;
+                break;
+            }
+        }
+        if !chord {
+            let len = |k: usize| {
+                let (i0, i1) = (corner_at[k], corner_at[(k + 1) % 4]);
+                if i1 > i0 { s[i1] - s[i0] } else { perim - s[i0] + s[i1] }
+            };
+            let (w, h) = (0.5 * (len(0) + len(2)), 0.5 * (len(1) + len(3)));
+            if w > 0.0 && h > 0.0 {
+                let corners = [[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]];
+                for k in 0..4 {
+                    let (i0, i1) = (corner_at[k], corner_at[(k + 1) % 4]);
+                    let l = len(k);
+                    let (p, q) = (corners[k], corners[(k + 1) % 4]);
+                    let mut i = i0;
+                    let mut acc = 0.0;
+                    while i != i1 {
+                        let f = if l > 0.0 { acc / l } else { 0.0 };
+                        uv[boundary[i] as usize] = [p[0] + f * (q[0] - p[0]), p[1] + f * (q[1] - p[1])];
+                        acc += s[i + 1] - s[i];
+                        i = (i + 1) % nb;
+                    }
+                }
+                shape = Shape::Rectangle(w, h);
+            }
+        }
+    }
+    if shape == Shape::Circle {
+        let r = perim / std::f64::consts::TAU;
+        let off = corner_at.first().copied().unwrap_or(0);
+        for i in 0..nb {
+            let a = (s[i] - s[off]) / perim * std::f64::consts::TAU;
+            uv[boundary[i] as usize] = [r * a.cos(), r * a.sin()];
+        }
+    }
+    // interior unknowns
+    let mut idx = vec![u32::MAX; n];
+    let mut ni = 0u32;
+    for v in 0..n {
+        if on_b[v] == u32::MAX {
+            idx[v] = ni;
+            ni += 1;
+        }
+    }
+    let solve = |cot: bool, uv: &mut Vec<[f64; 2]>| -> Result<(), String> {
+        if ni == 0 {
+            return Ok(());
+        }
+        let mut trip: Vec<Triplet<usize, usize, f64>> = Vec::with_capacity(7 * ni as usize);
+        let mut diag = vec![0.0; ni as usize];
+        let mut rhs = Mat::<f64>::zeros(ni as usize, 2);
+        for t in tris {
+            for k in 0..3 {
+                let (a, b, c) = (t[k] as usize, t[(k + 1) % 3] as usize, t[(k + 2) % 3] as usize);
+                // half the cotangent of the angle at c, opposite edge ab
+                let w = if cot {
+                    let (u, v) = (vec3::sub(xyz[a], xyz[c]), vec3::sub(xyz[b], xyz[c]));
+                    let sn = vec3::norm(vec3::cross(u, v));
+                    (0.5 * vec3::dot(u, v) / sn.max(1e-300)).max(0.5 * MIN_WEIGHT)
+                } else {
+                    0.5
+                };
+                for (p, q) in [(a, b), (b, a)] {
+                    if idx[p] == u32::MAX {
+                        continue;
+                    }
+                    let i = idx[p] as usize;
+                    diag[i] += w;
+                    if idx[q] == u32::MAX {
+                        rhs[(i, 0)] += w * uv[q][0];
+                        rhs[(i, 1)] += w * uv[q][1];
+                    } else {
+                        trip.push(Triplet::new(i, idx[q] as usize, -w));
+                    }
+                }
+            }
+        }
+        for (i, d) in diag.iter().enumerate() {
+            trip.push(Triplet::new(i, i, *d));
+        }
+        let m = SparseColMat::<usize, f64>::try_new_from_triplets(ni as usize, ni as usize, &trip).map_err(|e| format!("sparse matrix: {e:?}"))?;
+        let llt = m.sp_cholesky(Side::Lower).map_err(|e| format!("Cholesky factorization failed: {e:?}"))?;
+        let x = llt.solve(&rhs);
+        for v in 0..n {
+            if idx[v] != u32::MAX {
+                uv[v] = [x[(idx[v] as usize, 0)], x[(idx[v] as usize, 1)]];
+            }
+        }
+        Ok(())
+    };
+    let min_area = |uv: &[[f64; 2]]| tris.iter().map(|t| area(uv[t[0] as usize], uv[t[1] as usize], uv[t[2] as usize])).fold(f64::INFINITY, f64::min);
+    solve(true, &mut uv)?;
+    let mut m = min_area(&uv);
+    if !(m > 0.0) {
+        solve(false, &mut uv)?;
+        m = min_area(&uv);
+    }
+    if !(m > 0.0) {
+        return Err(format!("the Tutte map has a flipped or flat triangle (min signed area {m:.3e})"));
+    }
+    Ok(DiskMap { uv, min_area: m, shape })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A triangulated square grid (k × k cells), its boundary counter-clockwise.
+    fn grid(k: usize) -> (Vec<Vec3>, Vec<[u32; 3]>, Vec<u32>) {
+        let id = |i: usize, j: usize| (j * (k + 1) + i) as u32;
+        let mut p = Vec::new();
+        for j in 0..=k {
+            for i in 0..=k {
+                p.push([i as f64, j as f64, ((i * j) as f64 * 0.3).sin()]);
+            }
+        }
+        let mut t = Vec::new();
+        for j in 0..k {
+            for i in 0..k {
+                t.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                t.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        let mut b = Vec::new();
+        for i in 0..k {
+            b.push(id(i, 0));
+        }
+        for j in 0..k {
+            b.push(id(k, j));
+        }
+        for i in (1..=k).rev() {
+            b.push(id(i, k));
+        }
+        for j in (1..=k).rev() {
+            b.push(id(0, j));
+        }
+        (p, t, b)
+    }
+
+    #[test]
+    fn square_maps_to_rectangle_and_circle_without_flips() {
+        let (p, t, b) = grid(12);
+        let m = tutte(&p, &t, &b, &[0, 12, 24, 36]).unwrap();
+        assert!(matches!(m.shape, Shape::Rectangle(..)));
+        assert!(m.min_area > 0.0);
+        let c = tutte(&p, &t, &b, &[0]).unwrap();
+        assert_eq!(c.shape, Shape::Circle);
+        assert!(c.min_area > 0.0);
+        // a boundary point lies on the circle
+        let r = (c.uv[b[5] as usize][0].powi(2) + c.uv[b[5] as usize][1].powi(2)).sqrt();
+        let perim: f64 = (0..b.len()).map(|i| vec3::dist(p[b[i] as usize], p[b[(i + 1) % b.len()] as usize])).sum();
+        assert!((r - perim / std::f64::consts::TAU).abs() < 1e-9);
+    }
+}
