@@ -56,6 +56,14 @@ pub trait Curve: Send + Sync + std::fmt::Debug {
     fn range(&self) -> (f64, f64);
     /// Closest point on the curve (within its range) to `p`: `(t, C(t))`.
     fn project(&self, p: Vec3, hint: Option<f64>) -> Option<(f64, Vec3)>;
+    /// For a piecewise-linear curve (a feature polyline of a triangle
+    /// mesh), its vertices' parameters in increasing order, so that the curve
+    /// mesher samples it at its vertices and sees each vertex's turn spread
+    /// over its segments instead of as a kink; `None` (the default) for a
+    /// smooth curve.
+    fn breakpoints(&self) -> Option<Vec<f64>> {
+        None
+    }
 }
 
 /// A curve in a surface's parameter plane, c(t) → (u, v). Pcurves share the

@@ -115,6 +115,20 @@ impl CurvePlan {
 fn sample(model: &Model, c: CurveId) -> (Vec<f64>, Vec<Vec3>) {
     let ce = &model.curves[c.idx()];
     let (t0, t1) = ce.range;
+    // a polyline is sampled at its vertices, where all of its turning
+    // happens (a vertex's turn over its segments is the curvature of the
+    // curve it stands for): no bisection toward a vertex's kink
+    if let Some(mut bp) = ce.geom.as_ref().and_then(|g| g.breakpoints()) {
+        bp.retain(|t| t.is_finite() && *t > t0 && *t < t1);
+        let mut ts = vec![t0];
+        for t in bp.into_iter().chain([t1]) {
+            if t > *ts.last().unwrap_or(&t0) {
+                ts.push(t);
+            }
+        }
+        let pts = ts.iter().map(|&t| ce.eval(model, t)).collect();
+        return (ts, pts);
+    }
     let min_len = 1e-9 * model.diagonal().max(1e-300);
     let mut ts: Vec<f64> = (0..=SAMPLES).map(|i| t0 + (t1 - t0) * i as f64 / SAMPLES as f64).collect();
     let mut pts: Vec<Vec3> = ts.iter().map(|&t| ce.eval(model, t)).collect();
@@ -446,6 +460,55 @@ mod tests {
         let s = primitives::sphere(1.0);
         let pole = discretize_curve(&s, &plan_curves(&s, 1.0), CurveId(0));
         assert!(pole.points.iter().all(|p| *p == s.corners[0].point));
+    }
+
+    /// A circle of radius 1 given as a 64-segment polyline that says so
+    /// (`Curve::breakpoints`): sampled at its vertices, each 5.6° turn is a
+    /// bend spread over its segments, so the count follows the size (about
+    /// 2π / 2h), not thousands of points piled at the vertices.
+    #[test]
+    fn a_polyline_is_sampled_at_its_vertices() {
+        use geometry::{Corner, CurveEntity};
+        use std::sync::Arc;
+        #[derive(Debug)]
+        struct Polygon(Vec<Vec3>);
+        impl geometry::Curve for Polygon {
+            fn eval(&self, t: f64) -> Vec3 {
+                let n = self.0.len() - 1;
+                let x = t.clamp(0.0, n as f64);
+                let i = (x.floor() as usize).min(n - 1);
+                vec3::lerp(self.0[i], self.0[i + 1], x - i as f64)
+            }
+            fn deriv(&self, t: f64) -> Vec3 {
+                let n = self.0.len() - 1;
+                let i = (t.clamp(0.0, n as f64).floor() as usize).min(n - 1);
+                vec3::sub(self.0[i + 1], self.0[i])
+            }
+            fn range(&self) -> (f64, f64) {
+                (0.0, (self.0.len() - 1) as f64)
+            }
+            fn project(&self, _p: Vec3, _hint: Option<f64>) -> Option<(f64, Vec3)> {
+                None
+            }
+            fn breakpoints(&self) -> Option<Vec<f64>> {
+                Some((0..self.0.len()).map(|i| i as f64).collect())
+            }
+        }
+        let pts: Vec<Vec3> = (0..=64).map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 64.0;
+            [a.cos(), a.sin(), 0.0]
+        }).collect();
+        let model = Model {
+            corners: vec![Corner { point: pts[0] }],
+            curves: vec![CurveEntity { geom: Some(Arc::new(Polygon(pts))), range: (0.0, 64.0), start: geometry::CornerId(0), end: geometry::CornerId(0), degenerate: false }],
+            faces: vec![],
+        };
+        for (h, want) in [(0.5, 6..=7), (0.1, 31..=32)] {
+            let n = plan_curves(&model, h).counts[0];
+            assert!(want.contains(&n), "h = {h}: {n} coarse segments");
+        }
+        // a radius far below the size: at most 90° per coarse segment
+        assert_eq!(plan_curves(&model, 50.0).counts[0], 4);
     }
 
     /// A thin ellipse (semi-axes 5 and 0.2, so a tip radius of 0.008), closed

@@ -16,6 +16,7 @@ use geometry::Face;
 
 use crate::disk_quads::{best_replacement, table, CavityVertex};
 use crate::face_triangulation::{LocalNode, NodeRef};
+use crate::smoothing::kernels::one_ring;
 use crate::split::{quad_quality, QuadPatch};
 
 /// Laplacian sweeps over the moved vertices after a replacement.
@@ -50,36 +51,6 @@ fn incidence(p: &QuadPatch) -> Vec<Vec<u32>> {
     at
 }
 
-/// The boundary ring of the star of `v` (its quads `star`), in the quads'
-/// own orientation; `None` when the star is not a disk around `v`.
-fn star_ring(p: &QuadPatch, v: u32, star: &[u32]) -> Option<Vec<u32>> {
-    let mut step = std::collections::HashMap::new();
-    for &qi in star {
-        let q = p.quads[qi as usize];
-        let k = q.iter().position(|&x| x == v)?;
-        let (a, b, c) = (q[(k + 1) % 4], q[(k + 2) % 4], q[(k + 3) % 4]);
-        if step.insert(a, (b, c)).is_some() {
-            return None;
-        }
-    }
-    let start = p.quads[star[0] as usize].iter().position(|&x| x == v).map(|k| p.quads[star[0] as usize][(k + 1) % 4])?;
-    let mut ring = Vec::with_capacity(2 * star.len());
-    let mut a = start;
-    for _ in 0..star.len() {
-        let &(b, c) = step.get(&a)?;
-        ring.push(a);
-        ring.push(b);
-        a = c;
-    }
-    if a != start {
-        return None;
-    }
-    let mut seen = ring.clone();
-    seen.sort_unstable();
-    seen.dedup();
-    (seen.len() == ring.len() && !ring.contains(&v)).then_some(ring)
-}
-
 /// Replaces the stars of very irregular interior vertices of `p` (see the
 /// module documentation). Deterministic: vertices are visited in index order.
 pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
@@ -94,7 +65,7 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
         if !is_defect(star.len()) {
             continue;
         }
-        let Some(ring) = star_ring(p, v, &star) else { continue };
+        let Some(ring) = one_ring(&p.quads, v, &star) else { continue };
         if ring.len() > crate::disk_quads::TABLE_MAX_BOUNDARY {
             continue;
         }
@@ -238,6 +209,10 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
         k += 1;
         alive[k - 1]
     });
+    // the new disks smoothed with the face's mesh (Winslow / angle-based, with rollback)
+    if report.replaced > 0 {
+        crate::smoothing::optimize(face, p, &crate::smoothing::OptimizeOptions::default());
+    }
     report
 }
 

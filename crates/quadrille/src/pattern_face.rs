@@ -261,7 +261,8 @@ pub fn mesh_face_pattern(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Resul
             if found.mirror != face.reversed { [l[0], l[3], l[2], l[1]] } else { l }
         })
         .collect();
-    let patch = QuadPatch { quad_tri: (0..quads.len() as u32).collect(), nodes, pos, quads };
+    let mut patch = QuadPatch { quad_tri: (0..quads.len() as u32).collect(), nodes, pos, quads };
+    crate::smoothing::optimize(face, &mut patch, &crate::smoothing::OptimizeOptions::default());
     let worst = patch.quads.iter().map(|q| quad_quality(face, &patch.nodes, &patch.pos, q)).fold(f64::INFINITY, f64::min);
     if !(worst >= MIN_PATTERN_SICN) {
         return Err(format!("pattern {} gives a quad of SICN {worst:.3}", pattern.name));

@@ -2,12 +2,19 @@
 //! a node moves to the mean (u, v) of its quad neighbours only when the worst
 //! quad around it does not get worse (SICN with CAD normals), so smoothing
 //! never creates or worsens an invalid quad.
+//!
+//! [`kernels`] holds the paper's 3D kernels (Winslow on regular nodes,
+//! angle-based on irregular ones) and their smoothing loop, [`optimize`].
 
 use geometry::vec3::Vec3;
 use geometry::Face;
 
 use crate::face_triangulation::NodeRef;
 use crate::split::{node_normal, quad_quality, quad_quality_with, QuadPatch};
+
+pub mod kernels;
+
+pub use kernels::{optimize, optimize_nodes, OptimizeOptions, OptimizeReport};
 
 /// Node → incident quads, and node → neighbours along quad edges (sorted, deduplicated).
 fn adjacency(p: &QuadPatch) -> (Vec<Vec<u32>>, Vec<Vec<u32>>) {

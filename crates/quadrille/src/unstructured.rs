@@ -3,7 +3,9 @@
 //! Delaunay triangulation ([`crate::frontal`]), greedy recombination into a
 //! quad-dominant mesh ([`crate::recombine`]), midpoint subdivision into
 //! all-quads on the CAD with snapping repair ([`crate::subdivide`]), then the
-//! baseline's smoothing and untangling with rollback ([`crate::smoothing`]).
+//! baseline's smoothing and untangling with rollback ([`crate::smoothing`]),
+//! and last the paper's Winslow / angle-based kernels
+//! ([`crate::smoothing::optimize`]), kept only if the face got better.
 //!
 //! The output is the baseline's [`QuadPatch`], so the pipeline assembles it
 //! like any other face. A face whose result is not valid (an inverted quad,
@@ -19,12 +21,15 @@ use crate::curve_mesh::CurveMesh;
 use crate::face_triangulation::{FaceTriangulation, NodeRef};
 use crate::frontal::{insert_frontal_points, FrontalOptions, FrontalStats};
 use crate::recombine::{recombine, MIN_SICN};
-use crate::smoothing::{smooth, untangle};
+use crate::smoothing::{optimize, smooth, untangle, OptimizeOptions};
 use crate::split::{quad_quality, QuadPatch};
 use crate::subdivide::{snap_repair, subdivide};
 
 /// Smoothing sweeps after subdivision.
 const SMOOTHING_SWEEPS: usize = 12;
+/// Sweeps of the Winslow / angle-based smoothing that ends the face (20:
+/// within 0.002 of the average SICN of 30 on the wing, 8 % faster).
+const FINAL_SWEEPS: usize = 20;
 /// Quads below this SICN get their interior nodes optimized.
 const UNTANGLE_BELOW: f64 = 0.1;
 /// Passes of that optimization.
@@ -135,6 +140,8 @@ pub fn mesh_face_unstructured(
     report.snapped = snap_repair(face, &mut patch, &origins, SNAP_PASSES);
     smooth(face, &mut patch, opts.smoothing_sweeps);
     untangle(face, &mut patch, UNTANGLE_BELOW, UNTANGLE_PASSES, UNTANGLE_MAX_NODES);
+    // the paper's kernels (Winslow, angle-based) on the valid mesh
+    optimize(face, &mut patch, &OptimizeOptions { max_sweeps: FINAL_SWEEPS, ..Default::default() });
     let bad = invalid_quads(face, &patch);
     if bad > 0 && crate::pipeline::debug_enabled() {
         let nt = qd.triangles.len() as u32;

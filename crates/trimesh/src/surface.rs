@@ -467,6 +467,9 @@ impl Curve for PolyCurve {
     fn range(&self) -> (f64, f64) {
         (0.0, self.length())
     }
+    fn breakpoints(&self) -> Option<Vec<f64>> {
+        Some(self.t.to_vec())
+    }
     fn project(&self, p: Vec3, _hint: Option<f64>) -> Option<(f64, Vec3)> {
         let mut best: Option<(f64, f64, Vec3)> = None;
         for i in 0..self.pts.len() - 1 {
