@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
-/// A "`label` [bar] done/total faces" bar on stderr, or nothing when quiet.
+/// A "`label [bar] done/total faces`" progress bar on stderr, or nothing when quiet.
 pub struct FaceProgress {
     bar: Option<ProgressBar>,
 }
