@@ -41,6 +41,14 @@ pub trait Surface: Send + Sync + std::fmt::Debug {
     fn uv_bounds(&self) -> Bounds2;
     /// Period in u and in v (`None` when not periodic).
     fn periods(&self) -> [Option<f64>; 2];
+
+    /// Length below which refining a triangulation for curvature gains
+    /// nothing: 0 for smooth (CAD) surfaces; for a piecewise-linear surface,
+    /// about its triangles' size (a crease between two input triangles turns
+    /// the normal by the same angle at every scale, so chasing it never ends).
+    fn resolution(&self) -> f64 {
+        0.0
+    }
     /// Closest point on the surface to `p`: `(uv, S(uv))`. `hint` is a
     /// starting guess. Returns `None` when the projection fails.
     fn project(&self, p: Vec3, hint: Option<[f64; 2]>) -> Option<([f64; 2], Vec3)>;

@@ -33,7 +33,8 @@ const CHORD_RATIO: f64 = 0.14;
 /// Triangles whose normals (centre vs vertices, ends of interior edges)
 /// differ by more than acos(this) are refined...
 const NORMAL_COS: f64 = 0.3;
-/// ...unless they are smaller than this fraction of the target size.
+/// ...unless they are smaller than this fraction of the target size (or than
+/// the surface's [`geometry::Surface::resolution`]).
 const MIN_CURVATURE_SIZE: f64 = 1e-3;
 /// Refinement rounds before giving up.
 const MAX_ROUNDS: usize = 200;
@@ -590,6 +591,8 @@ impl<'a> FaceTriangulation<'a> {
             }
             return None;
         }
+        // below this, refining for curvature gains nothing
+        let curvature_floor = (MIN_CURVATURE_SIZE * self.target).max(self.face.surface.resolution());
         // chord deviation of interior edges (and zero-length edges across a period)
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
@@ -602,20 +605,20 @@ impl<'a> FaceTriangulation<'a> {
             }
             let m = edge_mid_uv(na, nb);
             let dev = vec3::dist(self.eval(m), vec3::lerp(p[k], p[(k + 1) % 3], 0.5));
-            if l[k] < 1e-9 * self.target || (dev > CHORD_RATIO * l[k] && l[k] > 1e-3 * self.target) {
+            if l[k] < 1e-9 * self.target || (dev > CHORD_RATIO * l[k] && l[k] > curvature_floor) {
                 return Some((10.0 + dev / l[k].max(1e-300), m, g, 1e-3 * lmax.max(1e-300)));
             }
         }
         // orientation: counter-clockwise in (u, v) must map to the side of du × dv
         if let Some(nrm) = self.face.surface.normal(g) {
             let cr = vec3::cross(vec3::sub(p[1], p[0]), vec3::sub(p[2], p[0]));
-            if vec3::dot(cr, nrm) <= 0.0 && lmin > MIN_CURVATURE_SIZE * self.target {
+            if vec3::dot(cr, nrm) <= 0.0 && lmin > curvature_floor {
                 return Some((20.0, g, g, 1e-3 * lmax));
             }
         }
         // the surface turns a lot inside the triangle (a tight fillet, a
         // rounded trailing edge): the quads would not follow the CAD normal
-        if lmin > MIN_CURVATURE_SIZE * self.target {
+        if lmin > curvature_floor {
             // compare the centre with each vertex, and the ends of interior
             // edges (a coarse boundary edge may itself span a large angle)
             if let Some(nc) = self.face.surface.normal(g) {

@@ -21,9 +21,11 @@
 //! - the unstructured method ([`MeshMethod::Unstructured`]): [`background`]
 //!   (point location and field interpolation), [`frontal`] (frontal point
 //!   insertion), [`recombine`] (greedy triangle pairing), [`subdivide`]
-//!   (midpoint subdivision on the CAD), driven per face by [`unstructured`].
+//!   (midpoint subdivision on the CAD), driven per face by [`unstructured`],
+//!   whose topology is then improved by [`defects`] and [`cavity`].
 
 pub mod background;
+pub mod cavity;
 pub mod crossfield;
 pub mod curve_chords;
 pub mod curve_mesh;

@@ -120,7 +120,7 @@ fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, 
 /// Solves the uniform-weight Laplace equation for the interior (u, v) of a
 /// quad mesh with fixed boundary values (conjugate gradients, one solve per
 /// coordinate). `fixed[v]` marks boundary vertices.
-fn harmonic_uv(quads: &[[u32; 4]], uv: &mut [[f64; 2]], fixed: &[bool]) {
+pub(crate) fn harmonic_uv(quads: &[[u32; 4]], uv: &mut [[f64; 2]], fixed: &[bool]) {
     let n = uv.len();
     let mut nbrs: Vec<Vec<u32>> = vec![Vec::new(); n];
     for q in quads {

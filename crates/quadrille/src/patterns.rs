@@ -416,8 +416,15 @@ fn oriented(sides: &[u32], shift: usize, mirror: bool) -> Vec<u32> {
 /// every rotation and both directions, the one with the fewest irregular
 /// vertices, then the most balanced subdivision; `None` when none matches.
 pub fn match_pattern(sides: &[u32]) -> Option<PatternMatch> {
+    match_pattern_where(sides, |_| true)
+}
+
+/// [`match_pattern`] over the library patterns for which `keep` holds (the
+/// cavity remeshing asks for the grid only, the rectangles, or the
+/// triangle / pentagon with one irregular vertex).
+pub fn match_pattern_where(sides: &[u32], keep: impl Fn(&Pattern) -> bool) -> Option<PatternMatch> {
     let mut best: Option<((usize, f64), PatternMatch)> = None;
-    for (pi, p) in library().iter().enumerate().filter(|(_, p)| p.sides() == sides.len()) {
+    for (pi, p) in library().iter().enumerate().filter(|(_, p)| p.sides() == sides.len() && keep(p)) {
         for mirror in [false, true] {
             for shift in 0..sides.len() {
                 let n = oriented(sides, shift, mirror);

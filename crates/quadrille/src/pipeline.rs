@@ -25,6 +25,9 @@ use crate::split::{quad_quality, split_triangles, QuadPatch};
 pub const DEFAULT_DIVISIONS: f64 = 18.0;
 /// Rounds of "refine the curves around failed faces and mesh them again".
 const CURVE_ROUNDS: usize = 6;
+/// A face with more bad quads than this (or than 5 % of its quads) fails at
+/// once instead of asking for finer curves.
+const MAX_REFINABLE_BAD: usize = 16;
 /// Quads with a SICN below this get their interior nodes optimized.
 const UNTANGLE_BELOW: f64 = 0.1;
 /// Passes of that optimization.
@@ -180,6 +183,8 @@ pub struct MeshReport {
     /// Very irregular vertices found and replaced by disk quadrangulations
     /// ([`crate::defects`]), over all faces.
     pub defects: crate::defects::DefectReport,
+    /// Cavity remeshing ([`crate::cavity`]), summed over the faces it ran on.
+    pub cavities: crate::cavity::CavityReport,
 }
 
 /// [`mesh_model`] with a choice of method; also reports the faces that fell
@@ -214,7 +219,9 @@ pub fn mesh_model_with(model: &Model, opts: &MeshOptions, method: MeshMethod) ->
 fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Result<(QuadMesh, MeshReport), MeshError> {
     use crate::field_report::{model_fields, FieldOptions};
     use crate::unstructured::{mesh_face_unstructured, UnstructuredOptions};
-    use crate::defects::{remove_defects, DefectReport};
+    use crate::cavity::CavityReport;
+    use crate::defects::DefectReport;
+    use crate::unstructured::improve_face;
     use crate::pattern_face::mesh_face_pattern;
     // the size map, bounded so that faces, curves and the baseline fallback agree
     let sizing = crate::size_map::SizeMapOptions { min_size: Some(SIZE_MAP_MIN * h), max_size: Some(SIZE_MAP_MAX * h), ..Default::default() };
@@ -222,7 +229,7 @@ fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Res
     let uopts = UnstructuredOptions::default();
     let fallback: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());
     let patterns: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());
-    let defects: std::sync::Mutex<BTreeMap<u32, DefectReport>> = std::sync::Mutex::new(BTreeMap::new());
+    let defects: std::sync::Mutex<BTreeMap<u32, (DefectReport, CavityReport)>> = std::sync::Mutex::new(BTreeMap::new());
     let face_mesher = |fid: FaceId, cms: &[CurveMesh]| -> Result<QuadPatch, FaceFailure> {
         // a simple face is meshed by a pattern first (paper §6.1.2)
         let by_pattern = mesh_face_pattern(model, fid, cms);
@@ -247,8 +254,11 @@ fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Res
                 None => vec![h; topo_n],
             };
             let (mut p, _) = mesh_face_unstructured(model, fid, cms, &ff.field, &size, &uopts)?;
-            // very irregular vertices out (paper §6.3)
-            let r = remove_defects(&model.faces[fid.idx()], &mut p);
+            // very irregular vertices out (paper §6.3), then cavity remeshing (§6.2)
+            let r = improve_face(&model.faces[fid.idx()], &mut p, &ff.singularities.list, &uopts);
+            if debug_enabled() {
+                eprintln!("face {}: {} quads, {} singularities, defects {:?}, cavities {:?}", fid.0 + 1, p.quads.len(), ff.singularities.list.len(), r.0, r.1);
+            }
             defects.lock().unwrap_or_else(|e| e.into_inner()).insert(fid.0, r);
             Ok(p)
         })();
@@ -292,13 +302,16 @@ fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Res
     }
     let pt = patterns.into_inner().unwrap_or_else(|e| e.into_inner());
     let df = defects.into_inner().unwrap_or_else(|e| e.into_inner());
-    let total = df.iter().filter(|(f, _)| !fb.contains_key(f)).fold(DefectReport::default(), |a, (_, r)| DefectReport { found: a.found + r.found, replaced: a.replaced + r.replaced, undone: a.undone + r.undone });
+    let kept = || df.iter().filter(|(f, _)| !fb.contains_key(f));
+    let total = kept().fold(DefectReport::default(), |a, (_, (r, _))| DefectReport { found: a.found + r.found, replaced: a.replaced + r.replaced, undone: a.undone + r.undone });
+    let cavities = kept().fold(CavityReport::default(), |a, (_, (_, c))| a.add(c));
     Ok((
         mesh,
         MeshReport {
             fallback: fb.into_iter().map(|(f, r)| (FaceId(f), r)).collect(),
             patterns: pt.into_iter().map(|(f, n)| (FaceId(f), n)).collect(),
             defects: total,
+            cavities,
         },
     ))
 }
@@ -415,6 +428,11 @@ pub fn mesh_face(model: &Model, fid: FaceId, cms: &[CurveMesh], target: f64) -> 
         }
     }
     let reason = format!("{} quads stay inverted", bad.len());
+    // finer curves repair a few quads at the boundary; when many fold, the
+    // face's map is at fault and every round would only cost more time
+    if bad.len() > MAX_REFINABLE_BAD.max(patch.quads.len() / 20) {
+        return Err(FaceFailure::Fatal(format!("{reason} of {} (the face's (u, v) map is too distorted for its size)", patch.quads.len())));
+    }
     if curves.is_empty() {
         return Err(FaceFailure::Fatal(format!("{reason} inside the face")));
     }

@@ -6,6 +6,9 @@
 //! baseline's smoothing and untangling with rollback ([`crate::smoothing`]),
 //! and last the paper's Winslow / angle-based kernels
 //! ([`crate::smoothing::optimize`]), kept only if the face got better.
+//! [`improve_face`] then improves the topology: disk-quadrangulation defect
+//! removal ([`crate::defects`], paper §6.3) and cavity remeshing
+//! ([`crate::cavity`], paper §6.2; [`UnstructuredOptions::cavity`]).
 //!
 //! The output is the baseline's [`QuadPatch`], so the pipeline assembles it
 //! like any other face. A face whose result is not valid (an inverted quad,
@@ -16,8 +19,10 @@ use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
 use crate::background::Background;
+use crate::cavity::{remesh_cavities, CavityOptions, CavityReport};
 use crate::crossfield::CrossField;
 use crate::curve_mesh::CurveMesh;
+use crate::defects::{remove_defects, DefectReport};
 use crate::face_triangulation::{FaceTriangulation, NodeRef};
 use crate::frontal::{insert_frontal_points, FrontalOptions, FrontalStats};
 use crate::recombine::{recombine, MIN_SICN};
@@ -67,11 +72,13 @@ pub struct UnstructuredOptions {
     /// Longest augmenting path (in candidate quads) searched after the greedy
     /// recombination to pair leftover triangles; 0 for the greedy pairing only.
     pub augment_path: usize,
+    /// Cavity remeshing after the defect removal ([`improve_face`]); `None` switches it off.
+    pub cavity: Option<CavityOptions>,
 }
 
 impl Default for UnstructuredOptions {
     fn default() -> Self {
-        UnstructuredOptions { frontal: FrontalOptions::default(), min_sicn: MIN_SICN, smoothing_sweeps: SMOOTHING_SWEEPS, gradation: GRADATION, augment_path: AUGMENT_PATH }
+        UnstructuredOptions { frontal: FrontalOptions::default(), min_sicn: MIN_SICN, smoothing_sweeps: SMOOTHING_SWEEPS, gradation: GRADATION, augment_path: AUGMENT_PATH, cavity: Some(CavityOptions::default()) }
     }
 }
 
@@ -163,6 +170,21 @@ pub fn mesh_face_unstructured(
         return Err(format!("{bad} quads stay inverted"));
     }
     Ok((patch, report))
+}
+
+/// Improves the topology of one face's unstructured mesh `p`: very
+/// irregular vertices out by disk quadrangulations (paper §6.3), then, unless
+/// `opts.cavity` is `None`, cavity remeshing around the unnecessary irregular
+/// vertices, keeping the ones matched to the face's cross-field
+/// `singularities` (paper §6.2). Every change is kept only if the quads stay
+/// valid.
+pub fn improve_face(face: &geometry::Face, p: &mut QuadPatch, singularities: &[crate::singularities::Singularity], opts: &UnstructuredOptions) -> (DefectReport, CavityReport) {
+    let defects = remove_defects(face, p);
+    let cavities = match &opts.cavity {
+        Some(c) => remesh_cavities(face, p, singularities, c),
+        None => CavityReport::default(),
+    };
+    (defects, cavities)
 }
 
 /// `size` limited by the graded spacing of the boundary edges of `ft`: at
@@ -288,6 +310,39 @@ mod tests {
         }
         // infinite gradation: the size map itself
         assert_eq!(graded_sizes(&ft, &ff.field, &big, f64::INFINITY), big);
+    }
+
+    #[test]
+    fn cavity_remeshing_keeps_faces_valid_and_never_adds_irregular_vertices() {
+        let m = primitives::sphere(1.0);
+        let h = 0.12;
+        let fields = model_fields(&m, &FieldOptions { size: Size::Absolute(h), ..Default::default() }).unwrap();
+        let cms = discretize_all(&m, &plan_curves(&m, h));
+        let ff = fields.faces[0].outcome.as_ref().unwrap();
+        let size = ff.size.clone().unwrap();
+        let (p, _) = mesh_face_unstructured(&m, FaceId(0), &cms, &ff.field, &size, &UnstructuredOptions::default()).unwrap();
+        let irregular = |p: &QuadPatch| {
+            let mut val = vec![0usize; p.nodes.len()];
+            for q in &p.quads {
+                for &i in q {
+                    val[i as usize] += 1;
+                }
+            }
+            (0..p.nodes.len()).filter(|&i| p.nodes[i].node == NodeRef::Interior && val[i] > 0 && val[i] != 4).count()
+        };
+        let face = &m.faces[0];
+        let off = UnstructuredOptions { cavity: None, ..Default::default() };
+        let (mut without, mut with) = (p.clone(), p);
+        let (_, none) = improve_face(face, &mut without, &ff.singularities.list, &off);
+        assert_eq!(none, CavityReport::default());
+        let (_, r) = improve_face(face, &mut with, &ff.singularities.list, &UnstructuredOptions::default());
+        assert_eq!(invalid_quads(face, &with), 0);
+        assert_eq!(r.irregular_after, irregular(&with));
+        assert!(r.irregular_after <= r.irregular_before, "{r:?}");
+        assert!(irregular(&with) <= irregular(&without), "{} with cavities, {} without: {r:?}", irregular(&with), irregular(&without));
+        assert!(!r.capped, "{r:?}");
+        // the sphere's frontal mesh has removable irregular vertices
+        assert!(r.replaced.iter().sum::<usize>() > 0 && irregular(&with) < irregular(&without), "{r:?}");
     }
 
     #[test]

@@ -40,6 +40,11 @@ fn main() {
                 for w in &r.warnings {
                     println!("    warning: {w}");
                 }
+                if std::env::var_os("IMPORT_REPORT_FACES").is_some() {
+                    for (i, fr) in r.faces.iter().enumerate() {
+                        println!("    face {:>3}: {:>6} tris, {:?}, {} seams, scale spread {:.2}", i + 1, fr.triangles, fr.shape, fr.seams, fr.scale_spread);
+                    }
+                }
             }
             Err(e) => println!("{:<32} error: {e}", f.display()),
         }

@@ -36,6 +36,7 @@
 //! closed components), so no face is `reversed`; there are no degenerate
 //! curves.
 
+pub mod charts;
 pub mod error;
 pub mod features;
 pub mod parametrize;
@@ -93,6 +94,8 @@ pub struct FaceReport {
     pub shape: Shape,
     /// Seam curves cut into it.
     pub seams: usize,
+    /// [`parametrize::scale_spread`] of its map.
+    pub scale_spread: f64,
 }
 
 /// What the import did: counts, repairs and warnings, stage times.
@@ -108,6 +111,14 @@ pub struct ImportReport {
     pub dropped_degenerate: usize,
     /// Triangles flipped to make orientations consistent.
     pub flipped: usize,
+    /// Patches: the connected regions between feature curves (the model's
+    /// faces, except that a charted patch gives several).
+    pub patches: usize,
+    /// Patches split into charts (their single map was too distorted, or
+    /// they have handles), and the charts made of them.
+    pub charted_faces: usize,
+    /// Charts made (faces of the model that come from charted patches).
+    pub charts: usize,
     /// Feature edges dropped because they separate nothing.
     pub dangling_feature_edges: usize,
     /// Per face.
@@ -159,6 +170,122 @@ pub fn read_feature_edges(path: &Path) -> Result<Vec<[u32; 2]>, TrimeshError> {
         }
     }
     Ok(out)
+}
+
+/// Largest [`parametrize::scale_spread`] of a face's Tutte map; a patch
+/// whose map spreads more is split into charts ([`charts`]). A cylinder side
+/// on its rectangle is at 1.0; a sphere cut open along one seam onto a
+/// circle at 4.6, and its quads then come out poor (min SICN near 0), as do
+/// those of a rounded cube's one-face shell (4.2).
+pub const MAX_SCALE_SPREAD: f64 = 3.0;
+
+/// What seam cutting reads of the whole mesh.
+struct SeamContext<'a> {
+    points: &'a [Vec3],
+    tris: &'a [[u32; 3]],
+    topo: &'a topology::Topology,
+    adj: &'a patches::Adjacency,
+    patch_of: &'a [u32],
+}
+
+/// Cuts a patch with several boundary loops (or none: a closed patch) open
+/// along seams: shortest paths joining its loops (between corners when it can,
+/// so that a seam splits no curve), or, for a closed patch, one path between
+/// two far-apart vertices. Marks the seam edges in `seam` and `cut`, their ends
+/// in `corner`, recording every change in `changed_*`; returns the patch's
+/// triangles, or `None` when no seam could be found.
+#[allow(clippy::too_many_arguments)]
+fn cut_with_seams(
+    cp: &patches::CutPatch,
+    p: u32,
+    ctx: SeamContext<'_>,
+    seam: &mut [bool],
+    cut: &mut [bool],
+    corner: &mut [bool],
+    changed_edges: &mut Vec<u32>,
+    changed_corners: &mut Vec<u32>,
+) -> Option<Vec<u32>> {
+    let SeamContext { points, tris, topo, adj, patch_of } = ctx;
+    let mut on_boundary = std::collections::HashSet::new();
+    for lp in &cp.loops {
+        for &(c, _) in lp {
+            on_boundary.insert(cp.copy_vertex[c as usize]);
+        }
+    }
+    let mut inner = std::collections::HashSet::new();
+    let mut add_path = |path: &[u32], seam: &mut [bool], cut: &mut [bool], corner: &mut [bool], inner: &mut std::collections::HashSet<u32>| {
+        for &e in path {
+            if !cut[e as usize] {
+                changed_edges.push(e);
+            }
+            seam[e as usize] = true;
+            cut[e as usize] = true;
+            for v in topo.edges[e as usize] {
+                inner.insert(v);
+            }
+        }
+        // the path's end vertices: those of the first / last edge not shared with a neighbour edge
+        let end = |e: u32, other: u32| -> u32 {
+            let [a, b] = topo.edges[e as usize];
+            let [c, d] = topo.edges[other as usize];
+            if a == c || a == d { b } else { a }
+        };
+        let ends = if path.len() == 1 {
+            topo.edges[path[0] as usize]
+        } else {
+            [end(path[0], path[1]), end(path[path.len() - 1], path[path.len() - 2])]
+        };
+        for v in ends {
+            if !corner[v as usize] {
+                corner[v as usize] = true;
+                changed_corners.push(v);
+            }
+        }
+    };
+    if cp.loops.is_empty() {
+        // a closed face: one seam between two far-apart vertices
+        let s = tris[cp.tris[0] as usize][0];
+        let (a, _) = patches::bfs_far(topo, adj, patch_of, p, s);
+        let (b, prev) = patches::bfs_far(topo, adj, patch_of, p, a);
+        let mut path = Vec::new();
+        let mut v = b;
+        while let Some(&(u, e)) = prev.get(&v) {
+            if u == u32::MAX {
+                break;
+            }
+            path.push(e);
+            v = u;
+        }
+        if path.len() < 2 {
+            return None;
+        }
+        add_path(&path, seam, cut, corner, &mut inner);
+    } else {
+        let loop_verts: Vec<Vec<u32>> = cp.loops.iter().map(|lp| lp.iter().map(|&(c, _)| cp.copy_vertex[c as usize]).collect()).collect();
+        let mut joined = vec![0usize];
+        for i in 1..cp.loops.len() {
+            // first between corners (a seam then splits no curve), else
+            // between any loop vertices (the seam's end becomes a corner)
+            let mut found = None;
+            for any in [false, true] {
+                let pick = |j: usize| -> Vec<u32> {
+                    let cs: Vec<u32> = loop_verts[j].iter().copied().filter(|&v| any || corner[v as usize]).collect();
+                    if cs.is_empty() { loop_verts[j].clone() } else { cs }
+                };
+                let sources: Vec<u32> = joined.iter().flat_map(|&j| pick(j)).collect();
+                let targets: std::collections::HashSet<u32> = pick(i).into_iter().collect();
+                found = patches::shortest_path(points, topo, adj, patch_of, p, cut, &sources, &|v| targets.contains(&v), &|v| {
+                    !on_boundary.contains(&v) && !inner.contains(&v)
+                });
+                if found.is_some() {
+                    break;
+                }
+            }
+            add_path(&found?, seam, cut, corner, &mut inner);
+            joined.push(i);
+        }
+    }
+    Some(cp.tris.clone())
 }
 
 fn bbox(points: &[Vec3]) -> (Vec3, Vec3) {
@@ -245,6 +372,7 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
     if report.dangling_feature_edges > 0 {
         report.warnings.push(format!("{} feature edges inside a face (separating nothing) ignored", report.dangling_feature_edges));
     }
+    report.patches = npatch;
     let mut corner = features::corners(&points, &topo, &feature, opts.corner_angle.to_radians());
     let mut by_patch: Vec<Vec<u32>> = vec![Vec::new(); npatch];
     for (t, &p) in patch_of.iter().enumerate() {
@@ -256,6 +384,14 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
     let adj = patches::Adjacency::new(points.len(), &topo);
     let mut cuts = Vec::with_capacity(npatch);
     let pinch = |v: u32| invalid(format!("the surface pinches at vertex {:?} (a non-manifold vertex)", points[v as usize]));
+    // a Tutte map of a disk with the corners known so far, judged by its scale spread
+    let maps_well = |cp: &patches::CutPatch, corner: &[bool]| -> bool {
+        let xyz: Vec<Vec3> = cp.copy_vertex.iter().map(|&v| points[v as usize]).collect();
+        let boundary: Vec<u32> = cp.loops[0].iter().map(|&(c, _)| c).collect();
+        let corner_at: Vec<usize> = (0..boundary.len()).filter(|&i| corner[cp.copy_vertex[boundary[i] as usize] as usize]).collect();
+        parametrize::tutte(&xyz, &cp.copy_tris, &boundary, &corner_at)
+            .is_ok_and(|m| parametrize::scale_spread(&xyz, &cp.copy_tris, &m.uv) <= MAX_SCALE_SPREAD)
+    };
     for (p, list) in by_patch.into_iter().enumerate() {
         let cp = patches::cut_patch(&tris, &topo, list, &cut, &mut local).map_err(pinch)?;
         // a patch facing one direction is projected (holes stay holes, no seam)
@@ -266,118 +402,75 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
                 continue;
             }
         }
-        if cp.is_disk() {
+        if cp.is_disk() && maps_well(&cp, &corner) {
             cuts.push((cp, None));
             continue;
         }
         let at = cp.tris.first().map(|&t| points[tris[t as usize][0] as usize]).unwrap_or([0.0; 3]);
-        if cp.genus() > 0 {
-            return Err(invalid(format!(
-                "face {} (near {at:?}) has {} handle(s) (genus > 0): cutting such faces is not supported; add feature edges that cut it into disks (--feature-edges)",
-                p + 1,
-                cp.genus()
-            )));
-        }
-        let mut on_boundary = std::collections::HashSet::new();
-        for lp in &cp.loops {
-            for &(c, _) in lp {
-                on_boundary.insert(cp.copy_vertex[c as usize]);
-            }
-        }
-        let add_path = |path: &[u32], seam: &mut Vec<bool>, cut: &mut Vec<bool>, corner: &mut Vec<bool>, inner: &mut std::collections::HashSet<u32>| {
-            for &e in path {
-                seam[e as usize] = true;
-                cut[e as usize] = true;
-                for v in topo.edges[e as usize] {
-                    inner.insert(v);
+        if !cp.is_disk() && cp.genus() == 0 {
+            // seams; what they change is recorded to undo it when the cut
+            // patch still maps badly (it is then split into charts)
+            let mut changed_edges: Vec<u32> = Vec::new();
+            let mut changed_corners: Vec<u32> = Vec::new();
+            if let Some(cut_open) = cut_with_seams(
+                &cp,
+                p as u32,
+                SeamContext { points: &points, tris: &tris, topo: &topo, adj: &adj, patch_of: &patch_of },
+                &mut seam,
+                &mut cut,
+                &mut corner,
+                &mut changed_edges,
+                &mut changed_corners,
+            ) {
+                let cp2 = patches::cut_patch(&tris, &topo, cut_open, &cut, &mut local).map_err(pinch)?;
+                if cp2.is_disk() && maps_well(&cp2, &corner) {
+                    cuts.push((cp2, None));
+                    continue;
                 }
             }
-            let first = path[0];
-            let last = *path.last().unwrap_or(&first);
-            // the path's end vertices: those of the first / last edge not shared with a neighbour edge
-            let ends = |e: u32, other: Option<u32>| -> u32 {
-                let [a, b] = topo.edges[e as usize];
-                match other {
-                    Some(o) => {
-                        let [c, d] = topo.edges[o as usize];
-                        if a == c || a == d { b } else { a }
-                    }
-                    None => a,
-                }
-            };
-            if path.len() == 1 {
-                let [a, b] = topo.edges[first as usize];
-                corner[a as usize] = true;
-                corner[b as usize] = true;
-            } else {
-                corner[ends(first, Some(path[1])) as usize] = true;
-                corner[ends(last, Some(path[path.len() - 2])) as usize] = true;
+            for &e in &changed_edges {
+                seam[e as usize] = false;
+                cut[e as usize] = false;
             }
-        };
-        let mut inner = std::collections::HashSet::new();
-        if cp.loops.is_empty() {
-            // a closed face: one seam between two far-apart vertices
-            let s = tris[cp.tris[0] as usize][0];
-            let (a, _) = patches::bfs_far(&topo, &adj, &patch_of, p as u32, s);
-            let (b, prev) = patches::bfs_far(&topo, &adj, &patch_of, p as u32, a);
-            let mut path = Vec::new();
-            let mut v = b;
-            while let Some(&(u, e)) = prev.get(&v) {
-                if u == u32::MAX {
-                    break;
-                }
-                path.push(e);
-                v = u;
-            }
-            if path.len() < 2 {
-                return Err(invalid(format!("face {} (near {at:?}) is closed and too small to cut open", p + 1)));
-            }
-            add_path(&path, &mut seam, &mut cut, &mut corner, &mut inner);
-        } else {
-            let loop_verts: Vec<Vec<u32>> = cp.loops.iter().map(|lp| lp.iter().map(|&(c, _)| cp.copy_vertex[c as usize]).collect()).collect();
-            let allowed = |i: usize, corner: &[bool]| -> Vec<u32> {
-                let cs: Vec<u32> = loop_verts[i].iter().cloned().filter(|&v| corner[v as usize]).collect();
-                if cs.is_empty() { loop_verts[i].clone() } else { cs }
-            };
-            let mut joined = vec![0usize];
-            for i in 1..cp.loops.len() {
-                // first between corners (a seam then splits no curve), else
-                // between any loop vertices (the seam's end becomes a corner)
-                let mut found = None;
-                for any in [false, true] {
-                    let pick = |j: usize| if any { loop_verts[j].clone() } else { allowed(j, &corner) };
-                    let sources: Vec<u32> = joined.iter().flat_map(|&j| pick(j)).collect();
-                    let targets: std::collections::HashSet<u32> = pick(i).into_iter().collect();
-                    found = patches::shortest_path(
-                        &points,
-                        &topo,
-                        &adj,
-                        &patch_of,
-                        p as u32,
-                        &cut,
-                        &sources,
-                        &|v| targets.contains(&v),
-                        &|v| !on_boundary.contains(&v) && !inner.contains(&v),
-                    );
-                    if found.is_some() {
-                        break;
-                    }
-                }
-                let path = found.ok_or_else(|| invalid(format!("face {} (near {at:?}): no path inside the face joins its boundary loops 1 and {}", p + 1, i + 1)))?;
-                add_path(&path, &mut seam, &mut cut, &mut corner, &mut inner);
-                joined.push(i);
+            for &v in &changed_corners {
+                corner[v as usize] = false;
             }
         }
-        let cp = patches::cut_patch(&tris, &topo, cp.tris, &cut, &mut local).map_err(pinch)?;
-        if !cp.is_disk() {
-            return Err(invalid(format!(
-                "face {} (near {at:?}) is not a disk after cutting (Euler characteristic {}, {} boundary loops)",
-                p + 1,
-                cp.euler,
-                cp.loops.len()
-            )));
+        // charts: disks within a normal cone, their borders become curves
+        let (label, ncharts) = charts::split_into_charts(&points, &tris, &topo, &normals, &cp.tris, &cut);
+        report.charted_faces += 1;
+        report.charts += ncharts;
+        let mut members: Vec<Vec<u32>> = vec![Vec::new(); ncharts];
+        for (i, &t) in cp.tris.iter().enumerate() {
+            members[label[i] as usize].push(t);
+            local[t as usize] = label[i];
         }
-        cuts.push((cp, None));
+        for &t in &cp.tris {
+            for &e in &topo.tri_edges[t as usize] {
+                let [t0, t1] = topo.edge_tris[e as usize];
+                let o = if t0 == t { t1 } else { t0 };
+                if o != u32::MAX && local[o as usize] != u32::MAX && local[o as usize] != local[t as usize] {
+                    cut[e as usize] = true;
+                }
+            }
+        }
+        for &t in &cp.tris {
+            local[t as usize] = u32::MAX;
+        }
+        for list in members {
+            let cc = patches::cut_patch(&tris, &topo, list, &cut, &mut local).map_err(pinch)?;
+            if !cc.is_disk() {
+                return Err(invalid(format!(
+                    "face {} (near {at:?}): a chart is not a disk (Euler characteristic {}, {} boundary loops)",
+                    p + 1,
+                    cc.euler,
+                    cc.loops.len()
+                )));
+            }
+            let xyz: Vec<Vec3> = cc.copy_vertex.iter().map(|&v| points[v as usize]).collect();
+            let map = parametrize::project_plane(&xyz, &cc.copy_tris);
+            cuts.push((cc, map));
+        }
     }
     let (chains, edge_chain) = patches::chain_curves(points.len(), &topo, &cut, &seam, &mut corner);
     let t3 = Instant::now();
@@ -461,8 +554,9 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
             let c = uses[k].curve;
             uses[k].seam = uses.iter().filter(|u| u.curve == c).count() == 2;
         }
+        let scale_spread = parametrize::scale_spread(&xyz, &cp.copy_tris, &map.uv);
         let surf = surface::TriSurface::new(xyz, map.uv, cp.copy_tris.clone());
-        report.faces.push(FaceReport { triangles: cp.tris.len(), min_uv_area: map.min_area, shape: map.shape, seams: nseam });
+        report.faces.push(FaceReport { triangles: cp.tris.len(), min_uv_area: map.min_area, shape: map.shape, seams: nseam, scale_spread });
         let uv_bounds = geometry::Surface::uv_bounds(&surf);
         let mut face_loops = vec![Loop { uses, outer: true }];
         face_loops.extend(loops.into_iter().skip(1).map(|(_, uses)| Loop { uses, outer: false }));

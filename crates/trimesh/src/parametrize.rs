@@ -247,6 +247,40 @@ pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usi
     Ok(DiskMap { uv, min_area: m, shape })
 }
 
+/// How unevenly a map scales lengths: the ratio of the 95th to the 5th
+/// percentile (by 3D area) of the per-triangle length scale
+/// sqrt(3D area / uv area). 1 for an isometry, up to a few for a cylinder
+/// or sphere cap on its rectangle or circle; a disk with many holes cut
+/// open and pressed onto a circle reaches hundreds: the mesher's uv
+/// triangulation then cannot follow the 3D size and its quads fold.
+pub fn scale_spread(xyz: &[Vec3], tris: &[[u32; 3]], uv: &[[f64; 2]]) -> f64 {
+    let mut s: Vec<(f64, f64)> = tris
+        .iter()
+        .filter_map(|t| {
+            let [a, b, c] = t.map(|v| xyz[v as usize]);
+            let a3 = 0.5 * vec3::norm(vec3::cross(vec3::sub(b, a), vec3::sub(c, a)));
+            let a2 = area(uv[t[0] as usize], uv[t[1] as usize], uv[t[2] as usize]);
+            (a3 > 0.0 && a2 > 0.0).then(|| ((a3 / a2).sqrt(), a3))
+        })
+        .collect();
+    if s.is_empty() {
+        return f64::INFINITY;
+    }
+    s.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let total: f64 = s.iter().map(|x| x.1).sum();
+    let at = |q: f64| {
+        let mut acc = 0.0;
+        for x in &s {
+            acc += x.1;
+            if acc >= q * total {
+                return x.0;
+            }
+        }
+        s[s.len() - 1].0
+    };
+    at(0.95) / at(0.05)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -237,6 +237,8 @@ pub struct TriSurface {
     tris: Vec<[u32; 3]>,
     normals: Vec<Vec3>,
     bounds: Bounds2,
+    /// Half the median edge length: [`Surface::resolution`].
+    resolution: f64,
     grid2: OnceLock<Grid>,
     grid3: OnceLock<Grid>,
 }
@@ -259,7 +261,14 @@ impl TriSurface {
             bounds.vmin = bounds.vmin.min(p[1]);
             bounds.vmax = bounds.vmax.max(p[1]);
         }
-        TriSurface { xyz, uv, tris, normals, bounds, grid2: OnceLock::new(), grid3: OnceLock::new() }
+        let mut lengths: Vec<f64> = tris.iter().flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3]))).map(|(a, b)| vec3::dist(xyz[a as usize], xyz[b as usize])).collect();
+        let resolution = if lengths.is_empty() {
+            0.0
+        } else {
+            let mid = lengths.len() / 2;
+            0.5 * *lengths.select_nth_unstable_by(mid, f64::total_cmp).1
+        };
+        TriSurface { xyz, uv, tris, normals, bounds, resolution, grid2: OnceLock::new(), grid3: OnceLock::new() }
     }
 
     /// Number of triangles.
@@ -395,6 +404,10 @@ impl Surface for TriSurface {
 
     fn periods(&self) -> [Option<f64>; 2] {
         [None, None]
+    }
+
+    fn resolution(&self) -> f64 {
+        self.resolution
     }
 
     fn project(&self, p: Vec3, _hint: Option<[f64; 2]>) -> Option<([f64; 2], Vec3)> {

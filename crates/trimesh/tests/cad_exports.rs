@@ -80,8 +80,9 @@ fn cad_models_give_their_sharp_edged_faces() {
         let soup = triangles_of(&cad_model, factor);
         let imp = trimesh::build(soup, &trimesh::Options::default(), Path::new(name)).unwrap();
         let min_area = imp.report.faces.iter().map(|f| f.min_uv_area).fold(f64::INFINITY, f64::min);
-        table.push(format!("{name}: CAD faces {} → sharp-edged groups {expected}; imported faces {} curves {} min uv area {min_area:.2e}", cad_model.faces.len(), imp.model.faces.len(), imp.model.curves.len()));
-        assert_eq!(imp.model.faces.len(), expected, "{}", table.join("\n"));
+        table.push(format!("{name}: CAD faces {} → sharp-edged groups {expected}; imported patches {} (faces {}, {} patches split into charts) curves {} min uv area {min_area:.2e}", cad_model.faces.len(), imp.report.patches, imp.model.faces.len(), imp.report.charted_faces, imp.model.curves.len()));
+        assert_eq!(imp.report.patches, expected, "{}", table.join("\n"));
+        assert_eq!(imp.model.faces.len(), imp.report.patches - imp.report.charted_faces + imp.report.charts);
         assert!(min_area > 0.0);
         // every imported face lies on the CAD: its corners are CAD points
         for c in &imp.model.corners {
@@ -96,7 +97,7 @@ fn cad_models_give_their_sharp_edged_faces() {
 /// watertight, each curve a chain of mesh edges, nodes on the input.
 fn mesh_and_check(imp: &trimesh::Import, what: &str) -> MeshStats {
     let model = &imp.model;
-    let m = quadrille::mesh_model(model, &MeshOptions { size: Size::Factor(1.0), threads: Some(1), progress: None }).unwrap();
+    let m = quadrille::mesh_model(model, &MeshOptions { size: Size::Factor(1.0), threads: Some(1), progress: None }).unwrap_or_else(|e| panic!("{what}: {e}"));
     let s = MeshStats::compute(&m, Some(model));
     assert!(s.quads > 0 && s.triangles == 0, "{what}: {} quads {} triangles", s.quads, s.triangles);
     assert_eq!(s.inverted_quads, 0, "{what}");
@@ -155,14 +156,20 @@ fn imported_planar_face_with_holes_keeps_them_as_loops() {
 /// curve meshes follow the size instead of piling up at the vertices.
 #[test]
 fn curved_imports_mesh_end_to_end() {
-    // (s12o_cube_rounded_1 imports as one closed smooth face cut by seams,
-    // whose map is too distorted for the baseline mesher yet: not here)
-    for (name, factor) in [("s15o_cylinder.stp", 0.5), ("s14o_cube_corner_sub_sphere.stp", 0.5)] {
+    // (model, Euler characteristic of its surface): a cylinder, a cube with
+    // a spherical corner, a rounded cube (one closed smooth face: split into
+    // charts), a sphere (charts). (s16o_torus imports, its handle split into
+    // charts, but some of its charts do not mesh yet: see the notes.)
+    for (name, factor, euler) in [
+        ("s15o_cylinder.stp", 0.5, 2),
+        ("s14o_cube_corner_sub_sphere.stp", 0.5, 2),
+        ("s12o_cube_rounded_1.stp", 0.5, 2),
+        ("s17o_sphere.stp", 0.5, 2),
+    ] {
         let cad_model = occt::load(&cad(name)).unwrap();
         let imp = trimesh::build(triangles_of(&cad_model, factor), &trimesh::Options::default(), Path::new(name)).unwrap();
         let s = mesh_and_check(&imp, name);
-        assert_eq!(s.euler_characteristic, 2, "{name}: a closed solid");
-        // about as many quads as the CAD model gives at the same size (not thousands more)
+        assert_eq!(s.euler_characteristic, euler, "{name}: a closed surface");
         let cad_quads = quadrille::mesh_model(&cad_model, &MeshOptions { size: Size::Factor(1.0), threads: Some(1), progress: None }).unwrap().quads.len();
         assert!(s.quads < 3 * cad_quads, "{name}: {} quads from the import, {cad_quads} from the CAD", s.quads);
     }

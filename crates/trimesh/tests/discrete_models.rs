@@ -230,13 +230,23 @@ fn cylinder_gives_two_discs_and_a_side_with_a_seam() {
 }
 
 #[test]
-fn closed_sphere_is_cut_open_along_one_seam() {
+fn closed_sphere_is_split_into_disk_charts() {
+    // cut open along one seam, a sphere's Tutte map spreads lengths too much
+    // (scale spread above the bound): it is split into charts instead
     let imp = import(&sphere_mesh(24, 12), &Options::default()).unwrap();
     let m = &imp.model;
-    assert_eq!((m.faces.len(), m.curves.len(), m.corners.len()), (1, 1, 2));
-    let uses = &m.faces[0].loops[0].uses;
-    assert_eq!(uses.len(), 2);
-    assert!(uses[0].seam && uses[1].seam && uses[0].forward != uses[1].forward);
+    assert_eq!(imp.report.charted_faces, 1);
+    assert_eq!(imp.report.charts, m.faces.len());
+    // normal cones of ±50° cover the sphere with at least 6 charts
+    assert!((6..=20).contains(&m.faces.len()), "{} charts", m.faces.len());
+    // closed: every curve is shared by two faces, no seam
+    assert!(m.curve_faces().iter().all(|f| f.len() == 2));
+    assert!(m.faces.iter().all(|f| f.loops.len() == 1 && f.loops[0].uses.iter().all(|u| !u.seam)));
+    // Euler: V − E + F = 2 on the chart layout
+    assert_eq!(m.corners.len() as i64 - m.curves.len() as i64 + m.faces.len() as i64, 2);
+    for r in &imp.report.faces {
+        assert!(r.scale_spread <= trimesh::MAX_SCALE_SPREAD, "{r:?}");
+    }
     check_model(&imp);
 }
 
@@ -244,7 +254,9 @@ fn closed_sphere_is_cut_open_along_one_seam() {
 fn feature_angle_and_user_edges_are_honoured() {
     // a box with 120° between its faces would be smooth at 60°: here a cube at 95°
     let imp = import(&box_mesh(2), &Options { feature_angle: 95.0, ..Default::default() }).unwrap();
-    assert_eq!(imp.model.faces.len(), 1, "no edge is sharper than 95°: one closed face");
+    assert_eq!(imp.report.patches, 1, "no edge is sharper than 95°: one closed patch");
+    // no single map flattens a cube's surface: charts, one per flat side
+    assert_eq!((imp.report.charted_faces, imp.model.faces.len()), (1, 6));
     check_model(&imp);
     // an open flat sheet, split in two by user feature edges along its middle column
     let mut sheet = (Vec::new(), Vec::new());
@@ -263,9 +275,17 @@ fn feature_angle_and_user_edges_are_honoured() {
 }
 
 #[test]
-fn torus_is_reported_not_cut() {
-    let e = import(&torus_mesh(48, 24), &Options::default()).err().expect("a torus face has a handle").to_string();
-    assert!(e.contains("genus") && e.contains("face 1"), "{e}");
+fn torus_is_split_into_disk_charts() {
+    // a face with a handle cannot be cut into one disk by seams between
+    // boundary loops: it is split into charts, each a disk
+    let imp = import(&torus_mesh(48, 24), &Options::default()).unwrap();
+    let m = &imp.model;
+    assert_eq!(imp.report.charted_faces, 1);
+    assert!(m.faces.len() >= 4, "{} charts", m.faces.len());
+    assert!(m.faces.iter().all(|f| f.loops.len() == 1));
+    // Euler characteristic of the torus: V − E + F = 0 on the chart layout
+    assert_eq!(m.corners.len() as i64 - m.curves.len() as i64 + m.faces.len() as i64, 0);
+    check_model(&imp);
 }
 
 #[test]
