@@ -108,7 +108,7 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     // sphere: 2k(l-1) triangles with l = k/2
     let k = ((n as f64).sqrt() * 1.0).round() as usize;
-    run("sphere (closed, cut by a seam)", sphere(k, k / 2));
+    run("sphere (closed: seam map too distorted, split into charts)", sphere(k, k / 2));
     // cylinder: 2kh side + 2·k(2r-1) caps
     let k = ((n as f64 / 4.0).sqrt()).round() as usize;
     run("cylinder (3 faces, side cut by a seam)", cylinder(k, k, k / 2));

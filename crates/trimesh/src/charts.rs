@@ -39,10 +39,7 @@ pub const MIN_CHART_TRIANGLES: usize = 8;
 /// number of charts. `blocked[e]` edges (feature curves) are never crossed.
 pub fn split_into_charts(points: &[Vec3], mesh_tris: &[[u32; 3]], topo: &Topology, normals: &[Vec3], tris: &[u32], blocked: &[bool]) -> (Vec<u32>, usize) {
     let n = tris.len();
-    let mut local = std::collections::HashMap::with_capacity(n);
-    for (i, &t) in tris.iter().enumerate() {
-        local.insert(t, i as u32);
-    }
+    let local = LocalIndex::new(mesh_tris.len(), tris);
     let centroid = |t: u32| {
         let [a, b, c] = mesh_tris[t as usize].map(|v| points[v as usize]);
         vec3::scale(vec3::add(vec3::add(a, b), c), 1.0 / 3.0)
@@ -63,7 +60,7 @@ pub fn split_into_charts(points: &[Vec3], mesh_tris: &[[u32; 3]], topo: &Topolog
     let cos = CHART_CONE_DEG.to_radians().cos();
     let mut chart = vec![u32::MAX; n];
     // vertex → (chart stamp, triangles of that chart using it)
-    let mut vert_use: std::collections::HashMap<u32, (u32, u32)> = std::collections::HashMap::new();
+    let mut vert_use: Vec<(u32, u32)> = vec![(u32::MAX, 0); points.len()];
     let mut nchart = 0u32;
     for seed in 0..n {
         if chart[seed] != u32::MAX {
@@ -85,7 +82,7 @@ pub fn split_into_charts(points: &[Vec3], mesh_tris: &[[u32; 3]], topo: &Topolog
             }
             chart[i] = c;
             for v in mesh_tris[tris[i] as usize] {
-                let e = vert_use.entry(v).or_insert((c, 0));
+                let e = &mut vert_use[v as usize];
                 if e.0 != c {
                     *e = (c, 0);
                 }
@@ -123,17 +120,31 @@ fn smooth_borders(
     topo: &Topology,
     tris: &[u32],
     normals: &[Vec3],
-    local: &std::collections::HashMap<u32, u32>,
+    local: &LocalIndex,
     blocked: &[bool],
     seed_normal: &[Vec3],
     chart: &mut [u32],
 ) {
-    let mut vert_tris: std::collections::HashMap<u32, Vec<u32>> = std::collections::HashMap::new();
-    for (i, &t) in tris.iter().enumerate() {
+    // vertex → local triangles using it (compressed rows)
+    let nv = mesh_tris.iter().flatten().map(|&v| v as usize + 1).max().unwrap_or(0);
+    let mut start = vec![0u32; nv + 1];
+    for &t in tris {
         for v in mesh_tris[t as usize] {
-            vert_tris.entry(v).or_default().push(i as u32);
+            start[v as usize + 1] += 1;
         }
     }
+    for v in 0..nv {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut items = vec![0u32; start[nv] as usize];
+    for (i, &t) in tris.iter().enumerate() {
+        for v in mesh_tris[t as usize] {
+            items[fill[v as usize] as usize] = i as u32;
+            fill[v as usize] += 1;
+        }
+    }
+    let vert_tris = |v: u32| &items[start[v as usize] as usize..start[v as usize + 1] as usize];
     let cos = CHART_CONE_DEG.to_radians().cos();
     for _ in 0..BORDER_PASSES {
         let mut moved = 0;
@@ -160,7 +171,7 @@ fn smooth_borders(
                 }
                 // vertex shared by edges k+1 and k+2: vertex k+2
                 let v = mesh_tris[t][(k + 2) % 3];
-                let others_in_a = vert_tris[&v].iter().filter(|&&j| j as usize != i && chart[j as usize] == a).count();
+                let others_in_a = vert_tris(v).iter().filter(|&&j| j as usize != i && chart[j as usize] == a).count();
                 if others_in_a == 0 && vec3::dot(normals[t], seed_normal[b as usize]) >= cos {
                     chart[i] = b;
                     moved += 1;
@@ -179,14 +190,14 @@ fn keeps_disk(
     mesh_tris: &[[u32; 3]],
     topo: &Topology,
     tris: &[u32],
-    local: &std::collections::HashMap<u32, u32>,
+    local: &LocalIndex,
     chart: &[u32],
-    vert_use: &std::collections::HashMap<u32, (u32, u32)>,
+    vert_use: &[(u32, u32)],
     c: u32,
     i: usize,
 ) -> bool {
     let t = tris[i] as usize;
-    let in_chart = |v: u32| vert_use.get(&v).is_some_and(|&(s, k)| s == c && k > 0);
+    let in_chart = |v: u32| vert_use[v as usize].0 == c && vert_use[v as usize].1 > 0;
     let mut shared = 0;
     let mut shared_edge = [u32::MAX; 2];
     for (k, &e) in topo.tri_edges[t].iter().enumerate() {
@@ -214,7 +225,7 @@ fn merge_small(
     mesh_tris: &[[u32; 3]],
     topo: &Topology,
     tris: &[u32],
-    local: &std::collections::HashMap<u32, u32>,
+    local: &LocalIndex,
     blocked: &[bool],
     chart: &mut [u32],
     nchart: usize,
@@ -301,6 +312,22 @@ pub fn is_disk(mesh_tris: &[[u32; 3]], topo: &Topology, tris: &[u32]) -> bool {
     // one loop and genus 0)
     let euler = verts.len() as i64 - edges.len() as i64 + tris.len() as i64;
     euler == 1
+}
+
+/// Position of each global triangle in the patch's list (`u32::MAX` outside).
+struct LocalIndex(Vec<u32>);
+
+impl LocalIndex {
+    fn new(ntris: usize, tris: &[u32]) -> Self {
+        let mut v = vec![u32::MAX; ntris];
+        for (i, &t) in tris.iter().enumerate() {
+            v[t as usize] = i as u32;
+        }
+        LocalIndex(v)
+    }
+    fn get(&self, t: &u32) -> Option<&u32> {
+        self.0.get(*t as usize).filter(|&&i| i != u32::MAX)
+    }
 }
 
 /// An `f64` ordered for the heap (no NaN reaches it: distances).

@@ -237,7 +237,9 @@ pub struct TriSurface {
     tris: Vec<[u32; 3]>,
     normals: Vec<Vec3>,
     bounds: Bounds2,
-    /// Half the median edge length: [`Surface::resolution`].
+    /// Twice the median edge length: [`Surface::resolution`]. Below a few
+    /// input triangles, a uv triangle's chord and normal deviations measure
+    /// the facets' creases, not curvature that more points would follow.
     resolution: f64,
     grid2: OnceLock<Grid>,
     grid3: OnceLock<Grid>,
@@ -266,7 +268,7 @@ impl TriSurface {
             0.0
         } else {
             let mid = lengths.len() / 2;
-            0.5 * *lengths.select_nth_unstable_by(mid, f64::total_cmp).1
+            2.0 * *lengths.select_nth_unstable_by(mid, f64::total_cmp).1
         };
         TriSurface { xyz, uv, tris, normals, bounds, resolution, grid2: OnceLock::new(), grid3: OnceLock::new() }
     }
