@@ -27,6 +27,16 @@ fn main() {
         }
     };
     let model = imp.model;
+    if let Some(f) = std::env::var("FACE_DUMP").ok().and_then(|s| s.parse::<usize>().ok()) {
+        // the (u, v) polylines of face f's loops (1-based), one "loop" line then "u v" lines
+        for li in 0..model.faces[f - 1].loops.len() {
+            println!("loop {li}");
+            for p in model.loop_uv_polyline(FaceId(f as u32 - 1), li, 8) {
+                println!("{} {}", p[0], p[1]);
+            }
+        }
+        return;
+    }
     let h = quadrille::default_size(&model) * factor;
     let plan = plan_curves(&model, h);
     let cms = discretize_all(&model, &plan);

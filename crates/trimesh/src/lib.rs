@@ -179,6 +179,13 @@ pub fn read_feature_edges(path: &Path) -> Result<Vec<[u32; 2]>, TrimeshError> {
 /// those of a rounded cube's one-face shell (4.2).
 pub const MAX_SCALE_SPREAD: f64 = 3.0;
 
+/// True when a flip-free map of a cut patch is one-to-one: its boundary
+/// loops stay simple and apart in (u, v).
+fn one_to_one(map: &parametrize::DiskMap, cp: &patches::CutPatch) -> bool {
+    let loops: Vec<Vec<u32>> = cp.loops.iter().map(|lp| lp.iter().map(|&(c, _)| c).collect()).collect();
+    parametrize::loops_are_simple(&map.uv, &loops)
+}
+
 /// What seam cutting reads of the whole mesh.
 struct SeamContext<'a> {
     points: &'a [Vec3],
@@ -397,7 +404,7 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
         // a patch facing one direction is projected (holes stay holes, no seam)
         let xyz: Vec<Vec3> = cp.copy_vertex.iter().map(|&v| points[v as usize]).collect();
         if !cp.loops.is_empty() {
-            if let Some(map) = parametrize::project_plane(&xyz, &cp.copy_tris) {
+            if let Some(map) = parametrize::project_plane(&xyz, &cp.copy_tris).filter(|m| one_to_one(m, &cp)) {
                 cuts.push((cp, Some(map)));
                 continue;
             }
@@ -468,7 +475,7 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
                 )));
             }
             let xyz: Vec<Vec3> = cc.copy_vertex.iter().map(|&v| points[v as usize]).collect();
-            let map = parametrize::project_plane(&xyz, &cc.copy_tris);
+            let map = parametrize::project_plane(&xyz, &cc.copy_tris).filter(|m| one_to_one(m, &cc));
             cuts.push((cc, map));
         }
     }

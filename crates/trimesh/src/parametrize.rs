@@ -247,6 +247,52 @@ pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usi
     Ok(DiskMap { uv, min_area: m, shape })
 }
 
+/// True when the (u, v) images of the boundary loops (each a cycle of
+/// vertex indices into `uv`) are simple and do not cross each other. A
+/// projection without flipped triangles is one-to-one exactly when this
+/// holds; a patch that bends back over itself (a U-shaped band) projects
+/// without flips yet overlaps, and its boundary then crosses itself.
+pub fn loops_are_simple(uv: &[[f64; 2]], loops: &[Vec<u32>]) -> bool {
+    // segments (a, b) with their loop position, swept in order of min u
+    let mut segs: Vec<([f64; 2], [f64; 2], [u32; 2])> = Vec::new();
+    for lp in loops {
+        let n = lp.len();
+        for i in 0..n {
+            let (a, b) = (lp[i], lp[(i + 1) % n]);
+            segs.push((uv[a as usize], uv[b as usize], [a, b]));
+        }
+    }
+    segs.sort_by(|x, y| x.0[0].min(x.1[0]).total_cmp(&y.0[0].min(y.1[0])));
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    for i in 0..segs.len() {
+        let (a, b, ab) = segs[i];
+        let amax = a[0].max(b[0]);
+        for &(c, d, cd) in &segs[i + 1..] {
+            if c[0].min(d[0]) > amax {
+                break;
+            }
+            if ab.iter().any(|v| cd.contains(v)) {
+                continue; // segments sharing an end (neighbours, loops meeting at a corner)
+            }
+            let (d1, d2) = (cross(a, b, c), cross(a, b, d));
+            let (d3, d4) = (cross(c, d, a), cross(c, d, b));
+            if d1 * d2 <= 0.0 && d3 * d4 <= 0.0 && (d1 != 0.0 || d2 != 0.0 || d3 != 0.0 || d4 != 0.0) {
+                return false;
+            }
+            if d1 == 0.0 && d2 == 0.0 {
+                // collinear: overlapping extents (along the line's main axis) cross
+                let k = usize::from((b[1] - a[1]).abs() > (b[0] - a[0]).abs());
+                let (lo1, hi1) = (a[k].min(b[k]), a[k].max(b[k]));
+                let (lo2, hi2) = (c[k].min(d[k]), c[k].max(d[k]));
+                if lo1 <= hi2 && lo2 <= hi1 {
+                    return false;
+                }
+            }
+        }
+    }
+    true
+}
+
 /// How unevenly a map scales lengths: the ratio of the 95th to the 5th
 /// percentile (by 3D area) of the per-triangle length scale
 /// sqrt(3D area / uv area). 1 for an isometry, up to a few for a cylinder
@@ -315,6 +361,23 @@ mod tests {
             b.push(id(0, j));
         }
         (p, t, b)
+    }
+
+    #[test]
+    fn crossing_loops_are_found() {
+        let uv = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0], [0.5, 0.5], [1.5, 0.5], [1.0, 1.5], [1.0, -1.0]];
+        // a square with a triangle hole inside: simple
+        assert!(loops_are_simple(&uv, &[vec![0, 1, 2, 3], vec![4, 6, 5]]));
+        // a hole poking out through the bottom side
+        assert!(!loops_are_simple(&uv, &[vec![0, 1, 2, 3], vec![4, 6, 7]]));
+        // a bow tie
+        assert!(!loops_are_simple(&uv, &[vec![0, 2, 1, 3]]));
+        // collinear sides apart on one line are no crossing: a U shape
+        let u = [[0.0, 0.0], [3.0, 0.0], [3.0, 2.0], [2.0, 2.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        assert!(loops_are_simple(&u, &[(0..8).collect()]));
+        // and a U whose arms overlap along a line crosses
+        let v = [[0.0, 0.0], [3.0, 0.0], [3.0, 1.0], [0.5, 1.0], [0.5, 2.0], [2.0, 2.0], [2.0, 1.0], [0.0, 1.0]];
+        assert!(!loops_are_simple(&v, &[(0..8).collect()]));
     }
 
     #[test]
