@@ -27,6 +27,11 @@ use crate::topology::Topology;
 /// within it of the seed's: below the 72° a plane projection tolerates.
 pub const CHART_CONE_DEG: f64 = 50.0;
 
+/// Smallest cone a chart is split with again (a chart that neither projects
+/// one-to-one nor has a good Tutte map is split with half its cone, down to
+/// this).
+pub const MIN_CHART_CONE_DEG: f64 = 10.0;
+
 /// Passes of border smoothing (ears moved to the neighbour chart).
 pub const BORDER_PASSES: usize = 8;
 
@@ -37,7 +42,9 @@ pub const MIN_CHART_TRIANGLES: usize = 8;
 /// Labels the triangles `tris` (global ids, one patch) with charts;
 /// returns the chart of each triangle of `tris` (in its order) and the
 /// number of charts. `blocked[e]` edges (feature curves) are never crossed.
-pub fn split_into_charts(points: &[Vec3], mesh_tris: &[[u32; 3]], topo: &Topology, normals: &[Vec3], tris: &[u32], blocked: &[bool]) -> (Vec<u32>, usize) {
+/// `cone_deg` bounds the angle between a chart triangle's normal and its
+/// seed's ([`CHART_CONE_DEG`] at first).
+pub fn split_into_charts(points: &[Vec3], mesh_tris: &[[u32; 3]], topo: &Topology, normals: &[Vec3], tris: &[u32], blocked: &[bool], cone_deg: f64) -> (Vec<u32>, usize) {
     let n = tris.len();
     let local = LocalIndex::new(mesh_tris.len(), tris);
     let centroid = |t: u32| {
@@ -57,7 +64,7 @@ pub fn split_into_charts(points: &[Vec3], mesh_tris: &[[u32; 3]], topo: &Topolog
             })
             .collect()
     };
-    let cos = CHART_CONE_DEG.to_radians().cos();
+    let cos = cone_deg.to_radians().cos();
     let mut chart = vec![u32::MAX; n];
     // vertex → (chart stamp, triangles of that chart using it)
     let mut vert_use: Vec<(u32, u32)> = vec![(u32::MAX, 0); points.len()];
@@ -105,7 +112,7 @@ pub fn split_into_charts(points: &[Vec3], mesh_tris: &[[u32; 3]], topo: &Topolog
         }
         first.iter().map(|&i| normals[tris[i as usize] as usize]).collect()
     };
-    smooth_borders(mesh_tris, topo, tris, normals, &local, blocked, &seeds_normal, &mut chart);
+    smooth_borders(mesh_tris, topo, tris, normals, &local, blocked, &seeds_normal, cos, &mut chart);
     merge_small(mesh_tris, topo, tris, &local, blocked, &mut chart, nchart as usize)
 }
 
@@ -123,6 +130,7 @@ fn smooth_borders(
     local: &LocalIndex,
     blocked: &[bool],
     seed_normal: &[Vec3],
+    cos: f64,
     chart: &mut [u32],
 ) {
     // vertex → local triangles using it (compressed rows)
@@ -145,7 +153,6 @@ fn smooth_borders(
         }
     }
     let vert_tris = |v: u32| &items[start[v as usize] as usize..start[v as usize + 1] as usize];
-    let cos = CHART_CONE_DEG.to_radians().cos();
     for _ in 0..BORDER_PASSES {
         let mut moved = 0;
         for i in 0..tris.len() {
@@ -371,7 +378,7 @@ mod tests {
         let normals = crate::features::tri_normals(&p, &t);
         let all: Vec<u32> = (0..t.len() as u32).collect();
         let blocked = vec![false; topo.edges.len()];
-        let (label, n) = split_into_charts(&p, &t, &topo, &normals, &all, &blocked);
+        let (label, n) = split_into_charts(&p, &t, &topo, &normals, &all, &blocked, CHART_CONE_DEG);
         // 360° of normals in cones of ±50°: at least 4 charts
         assert!(n >= 4, "{n} charts");
         assert!(n <= 8, "{n} charts");

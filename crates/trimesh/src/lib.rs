@@ -443,40 +443,49 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
                 corner[v as usize] = false;
             }
         }
-        // charts: disks within a normal cone, their borders become curves
-        let (label, ncharts) = charts::split_into_charts(&points, &tris, &topo, &normals, &cp.tris, &cut);
+        // charts: disks within a normal cone, their borders become curves; a
+        // chart that neither projects one-to-one nor maps well by Tutte is
+        // split again with half the cone
         report.charted_faces += 1;
-        report.charts += ncharts;
-        let mut members: Vec<Vec<u32>> = vec![Vec::new(); ncharts];
-        for (i, &t) in cp.tris.iter().enumerate() {
-            members[label[i] as usize].push(t);
-            local[t as usize] = label[i];
-        }
-        for &t in &cp.tris {
-            for &e in &topo.tri_edges[t as usize] {
-                let [t0, t1] = topo.edge_tris[e as usize];
-                let o = if t0 == t { t1 } else { t0 };
-                if o != u32::MAX && local[o as usize] != u32::MAX && local[o as usize] != local[t as usize] {
-                    cut[e as usize] = true;
+        let mut pending = vec![(cp.tris.clone(), charts::CHART_CONE_DEG)];
+        while let Some((region, cone)) = pending.pop() {
+            let (label, ncharts) = charts::split_into_charts(&points, &tris, &topo, &normals, &region, &cut, cone);
+            let mut members: Vec<Vec<u32>> = vec![Vec::new(); ncharts];
+            for (i, &t) in region.iter().enumerate() {
+                members[label[i] as usize].push(t);
+                local[t as usize] = label[i];
+            }
+            for &t in &region {
+                for &e in &topo.tri_edges[t as usize] {
+                    let [t0, t1] = topo.edge_tris[e as usize];
+                    let o = if t0 == t { t1 } else { t0 };
+                    if o != u32::MAX && local[o as usize] != u32::MAX && local[o as usize] != local[t as usize] {
+                        cut[e as usize] = true;
+                    }
                 }
             }
-        }
-        for &t in &cp.tris {
-            local[t as usize] = u32::MAX;
-        }
-        for list in members {
-            let cc = patches::cut_patch(&tris, &topo, list, &cut, &mut local).map_err(pinch)?;
-            if !cc.is_disk() {
-                return Err(invalid(format!(
-                    "face {} (near {at:?}): a chart is not a disk (Euler characteristic {}, {} boundary loops)",
-                    p + 1,
-                    cc.euler,
-                    cc.loops.len()
-                )));
+            for &t in &region {
+                local[t as usize] = u32::MAX;
             }
-            let xyz: Vec<Vec3> = cc.copy_vertex.iter().map(|&v| points[v as usize]).collect();
-            let map = parametrize::project_plane(&xyz, &cc.copy_tris).filter(|m| one_to_one(m, &cc));
-            cuts.push((cc, map));
+            for list in members {
+                let cc = patches::cut_patch(&tris, &topo, list, &cut, &mut local).map_err(pinch)?;
+                if !cc.is_disk() {
+                    return Err(invalid(format!(
+                        "face {} (near {at:?}): a chart is not a disk (Euler characteristic {}, {} boundary loops)",
+                        p + 1,
+                        cc.euler,
+                        cc.loops.len()
+                    )));
+                }
+                let xyz: Vec<Vec3> = cc.copy_vertex.iter().map(|&v| points[v as usize]).collect();
+                let map = parametrize::project_plane(&xyz, &cc.copy_tris).filter(|m| one_to_one(m, &cc));
+                if map.is_none() && cone > charts::MIN_CHART_CONE_DEG && cc.tris.len() > charts::MIN_CHART_TRIANGLES && !maps_well(&cc, &corner) {
+                    pending.push((cc.tris, 0.5 * cone));
+                    continue;
+                }
+                report.charts += 1;
+                cuts.push((cc, map));
+            }
         }
     }
     let (chains, edge_chain) = patches::chain_curves(points.len(), &topo, &cut, &seam, &mut corner);
