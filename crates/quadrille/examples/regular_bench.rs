@@ -2,6 +2,12 @@
 //! split), then `regularize_mesh`; prints one Markdown row per model.
 //!
 //! Usage: `cargo run --release -p quadrille --example regular_bench -- [--pictures DIR] FILE...`
+//!
+//! Environment: `QR_ORDERS`, `QR_ORDER_BUDGET`, `QR_QUAD_RATIO` (0: no quad
+//! target, r > 0: r × input), `QR_DEPTH`, `QR_BUDGET`, `QR_TRANSLATION`,
+//! `QR_PAIR_*` override the options; `QR_VERBOSE` prints per-face reports,
+//! `QR_DIAG` / `QR_DIAG_BEFORE` where the irregular vertices sit after / before,
+//! `QR_FACES=DIR` one flat (u, v) picture per face.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -41,6 +47,10 @@ fn main() {
         };
         let t_mesh = t0.elapsed().as_secs_f64();
         let s0 = MeshStats::compute(&mesh, Some(&model));
+        if std::env::var("QR_DIAG_BEFORE").is_ok() {
+            eprintln!("  before regularization:");
+            diagnose(&model, &mesh);
+        }
         if let Some(dir) = &pictures {
             let _ = std::fs::create_dir_all(dir);
             let title = format!("{name}: triangle split (before)");
@@ -55,10 +65,16 @@ fn main() {
         let ropts = RegularizeOptions { max_sequence: env("QR_DEPTH", d.max_sequence), search_budget: env("QR_BUDGET", d.search_budget),
             translation_steps: env("QR_TRANSLATION", d.translation_steps),
             sweep_orders: env("QR_ORDERS", d.sweep_orders),
+            order_budget: env("QR_ORDER_BUDGET", d.order_budget),
             pair_radius: env("QR_PAIR_RADIUS", d.pair_radius),
             pair_depth: env("QR_PAIR_DEPTH", d.pair_depth),
             pair_beam: env("QR_PAIR_BEAM", d.pair_beam),
             pair_budget: env("QR_PAIR_BUDGET", d.pair_budget),
+            quad_target: match std::env::var("QR_QUAD_RATIO").ok().and_then(|v| v.parse::<f64>().ok()) {
+                Some(r) if r > 0.0 => quadrille::regularize::QuadTarget::Ratio(r),
+                Some(_) => quadrille::regularize::QuadTarget::Off,
+                None => d.quad_target,
+            },
             ..d
         };
         let rep = match regularize_mesh(&model, &mut mesh, &ropts) {
@@ -118,6 +134,9 @@ fn main() {
                 eprintln!("  worst quad {q} (face {}): SICN {s:.3}, nodes {classes:?}", mesh.quad_face[q].0 + 1);
             }
             diagnose(&model, &mesh);
+        }
+        if let Ok(dir) = std::env::var("QR_FACES") {
+            face_pictures(&model, &mesh, Path::new(&dir), &name);
         }
         for (f, why) in &rep.skipped {
             eprintln!("{name}: face {} skipped: {why}", f.0 + 1);
@@ -232,4 +251,38 @@ fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
         eprintln!("  {c:5}  {k}");
     }
     eprintln!("  irregular {irr} of {nv} face-local vertices ({:.1} %); sum of |index sum| over faces {floor} ({:.1} %)", 100.0 * irr as f64 / nv.max(1) as f64, 100.0 * floor as f64 / nv.max(1) as f64);
+}
+
+/// Writes one picture per face (`QR_FACES=DIR`): the quads flat in (u, v),
+/// irregular vertices as dots (blue: fewer edges than ideal, red: one more,
+/// magenta: two or more more).
+fn face_pictures(model: &geometry::Model, mesh: &mesh::QuadMesh, dir: &Path, name: &str) {
+    use mesh::render::{Overlay, OverlayPoint, RenderOptions};
+    use quadrille::face_quads::extract::{extract_face, quads_by_face};
+    let _ = std::fs::create_dir_all(dir);
+    for (fid, qids) in quads_by_face(mesh) {
+        let Ok(fq) = extract_face(model, mesh, fid, &qids) else { continue };
+        let mut m = mesh::QuadMesh::default();
+        for v in &fq.verts {
+            m.nodes.push([v.uv[0], v.uv[1], 0.0]);
+            m.node_class.push(mesh::NodeClass::Curve(geometry::CurveId(0), None));
+        }
+        for q in fq.live_quads() {
+            m.quads.push(fq.quads[q as usize]);
+            m.quad_face.push(fid);
+        }
+        let mut ov = Overlay::default();
+        for v in 0..fq.verts.len() as u32 {
+            if !fq.is_irregular(v) {
+                continue;
+            }
+            let x = &fq.verts[v as usize];
+            let d = fq.valence(v) as i64 - x.ideal as i64;
+            let color = if d < 0 { [30, 80, 255] } else if d == 1 { [230, 20, 20] } else { [220, 0, 220] };
+            ov.points.push(OverlayPoint { position: [x.uv[0], x.uv[1], 0.0], color });
+        }
+        let title = format!("{name} face {}: {} irregular", fid.0 + 1, fq.irregular_count());
+        let o = RenderOptions { eye_dir: [0.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], title: Some(&title), overlay: Some(&ov), show_irregular: false, ..Default::default() };
+        let _ = mesh::render::render_png(&m, &o, &dir.join(format!("{name}_f{}.png", fid.0 + 1)));
+    }
 }

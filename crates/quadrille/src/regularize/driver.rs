@@ -89,8 +89,16 @@ pub struct Regularizer<'a> {
     /// (default: no more than before, which lets an edit move an invalid quad
     /// of the input around).
     pub strict: bool,
-    /// Sweep the quads in decreasing id order.
-    pub reverse: bool,
+    /// Visiting order of quads and vertices: 0 increasing ids, 1 decreasing,
+    /// k ≥ 2 a fixed pseudo-random permutation seeded by k (each order ends
+    /// the greedy search in a different local minimum).
+    pub order: u32,
+    /// Quad count the face should approach (0: no preference): among
+    /// operations with the same valence score, those moving the count toward
+    /// it win, and valence-neutral ones that do are accepted.
+    pub target_quads: usize,
+    /// +1 while above [`Regularizer::target_quads`], −1 below, 0 at it or off.
+    quad_dir: i64,
     singles_in_search: bool,
     /// Count of accepted edits; `stamp[v]` is the count when `v` last changed.
     epoch: u64,
@@ -102,20 +110,58 @@ pub struct Regularizer<'a> {
 }
 
 /// A sequence found by the pair search: (score change, length) and the operations.
-type Found = (((i64, i64), usize), Vec<Op>);
+type Found = ((Score, usize), Vec<Op>);
+
+/// Score change of an operation sequence: (irregular vertices, Σ|valence −
+/// ideal|, quads away from [`Regularizer::target_quads`]), compared
+/// lexicographically; negative is better.
+type Score = (i64, i64, i64);
 
 /// Topological applications allowed per sequence search at one quad.
 const SEARCH_BUDGET: usize = 600;
 
-fn better(a: (i64, i64)) -> bool {
-    a.0 < 0 || (a.0 == 0 && a.1 < 0)
+/// The ids `0..n` in the visiting order `order` (see [`Regularizer::order`]).
+pub fn visiting_order(n: u32, order: u32) -> Vec<u32> {
+    let mut ids: Vec<u32> = (0..n).collect();
+    match order {
+        0 => {}
+        1 => ids.reverse(),
+        k => {
+            // splitmix64 of (id, seed): a permutation that depends only on k
+            let key = |i: u32| {
+                let mut z = (i as u64) ^ ((k as u64) << 32);
+                z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+                z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+                z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+                z ^ (z >> 31)
+            };
+            ids.sort_by_key(|&i| key(i));
+        }
+    }
+    ids
+}
+
+fn better(a: Score) -> bool {
+    a < (0, 0, 0)
 }
 
 impl<'a> Regularizer<'a> {
     /// Prepares the state (computes the invalid flags of every quad).
     pub fn new(face: &'a Face, fq: &'a mut FaceQuads) -> Self {
         let invalid = (0..fq.quads.len() as u32).map(|q| fq.quad_alive[q as usize] && !quad_valid(fq, face, q, AngleWindow::BASE)).collect();
-        Regularizer { face, fq, invalid, counts: OpCounts::default(), compositions: true, tries: 4, max_ops: 3, budget: SEARCH_BUDGET, translation_steps: 8, pair_radius: 2, pair_depth: 4, pair_beam: 5, pair_budget: 600, strict: false, reverse: false, singles_in_search: false, epoch: 1, stamp: Vec::new(), pair_failed: Vec::new(), quad_failed: Vec::new() }
+        Regularizer { face, fq, invalid, counts: OpCounts::default(), compositions: true, tries: 4, max_ops: 3, budget: SEARCH_BUDGET, translation_steps: 8, pair_radius: 2, pair_depth: 4, pair_beam: 5, pair_budget: 600, strict: false, order: 0, target_quads: 0, quad_dir: 0, singles_in_search: false, epoch: 1, stamp: Vec::new(), pair_failed: Vec::new(), quad_failed: Vec::new() }
+    }
+
+    fn update_quad_dir(&mut self) {
+        let q = self.fq.num_quads();
+        self.quad_dir = if self.target_quads == 0 || q == self.target_quads { 0 } else if q > self.target_quads { 1 } else { -1 };
+    }
+
+    /// Score change of one operation ([`Score`]).
+    fn delta(&self, eff: &super::ops::Effect) -> Score {
+        let d = score_delta(self.fq, eff);
+        let dq = if eff.removed.is_some() { -1 } else if eff.created.is_some() { 1 } else { 0 };
+        (d.0, d.1, dq * self.quad_dir)
     }
 
     /// Number of live quads currently invalid for the base window.
@@ -206,10 +252,11 @@ impl<'a> Regularizer<'a> {
             return false;
         }
         let cands = candidates_at(self.fq, q);
-        let mut single: Vec<((i64, i64), usize, Op)> = Vec::new();
+        self.update_quad_dir();
+        let mut single: Vec<(Score, usize, Op)> = Vec::new();
         for (i, &op) in cands.iter().enumerate() {
             let Some(eff) = effect(self.fq, op) else { continue };
-            let d = score_delta(self.fq, &eff);
+            let d = self.delta(&eff);
             if better(d) {
                 single.push((d, i, op));
             }
@@ -232,7 +279,7 @@ impl<'a> Regularizer<'a> {
         for len in 2..=self.max_ops {
             let mut found = Vec::new();
             let mut budget = self.budget;
-            self.extend(&cands, &mut Vec::new(), (0, 0), &[], len, &mut found, &mut budget);
+            self.extend(&cands, &mut Vec::new(), (0, 0, 0), &[], len, &mut found, &mut budget);
             found.sort();
             found.dedup_by(|a, b| a.1 == b.1);
             for (_, ops) in found.iter().take(self.tries) {
@@ -251,7 +298,7 @@ impl<'a> Regularizer<'a> {
     /// at most one irregular vertex. Sequences of ≥ 2 operations that lower the
     /// score are collected in `found`. Topology only (rolled back after).
     #[allow(clippy::too_many_arguments)]
-    fn extend(&mut self, start: &[Op], path: &mut Vec<Op>, acc: (i64, i64), seeds: &[u32], len: usize, found: &mut Vec<((i64, i64), Vec<Op>)>, budget: &mut usize) {
+    fn extend(&mut self, start: &[Op], path: &mut Vec<Op>, acc: Score, seeds: &[u32], len: usize, found: &mut Vec<(Score, Vec<Op>)>, budget: &mut usize) {
         let cands: Vec<Op> = if path.is_empty() {
             start.to_vec()
         } else {
@@ -262,8 +309,8 @@ impl<'a> Regularizer<'a> {
             if !path.is_empty() && !eff.changes.iter().any(|c| c.1 != c.2 && seeds.binary_search(&c.0).is_ok()) {
                 continue;
             }
-            let d1 = score_delta(self.fq, &eff);
-            let d = (acc.0 + d1.0, acc.1 + d1.1);
+            let d1 = self.delta(&eff);
+            let d = (acc.0 + d1.0, acc.1 + d1.1, acc.2 + d1.2);
             if better(d) {
                 if !path.is_empty() || self.singles_in_search {
                     let mut ops = path.clone();
@@ -302,21 +349,17 @@ impl<'a> Regularizer<'a> {
             }
             let mut moved = false;
             if self.translation_steps > 0 {
-                let mut v = 0u32;
-                while (v as usize) < self.fq.verts.len() {
+                for v in visiting_order(self.fq.verts.len() as u32, self.order) {
                     if self.translate_at(v) {
                         moved = true;
                     }
-                    v += 1;
                 }
             }
             if !moved && self.pair_radius > 0 {
-                let mut v = 0u32;
-                while (v as usize) < self.fq.verts.len() {
+                for v in visiting_order(self.fq.verts.len() as u32, self.order) {
                     if self.cancel_pair_at(v) {
                         moved = true;
                     }
-                    v += 1;
                 }
             }
             if !moved {
@@ -412,7 +455,8 @@ impl<'a> Regularizer<'a> {
         };
         let mut found = Vec::new();
         let mut budget = self.pair_budget;
-        self.pair_extend(&corridor, &mut Vec::new(), (0, 0), &[], &mut found, &mut budget);
+        self.update_quad_dir();
+        self.pair_extend(&corridor, &mut Vec::new(), (0, 0, 0), &[], &mut found, &mut budget);
         found.sort();
         found.dedup_by(|a, b| a.1 == b.1);
         for (_, ops) in found.iter().take(self.tries) {
@@ -449,22 +493,22 @@ impl<'a> Regularizer<'a> {
     /// of one of them; sequences that lower the score go to `found` with their
     /// score change and length. Topology only (rolled back after).
     #[allow(clippy::too_many_arguments)]
-    fn pair_extend(&mut self, corridor: &[u32], path: &mut Vec<Op>, acc: (i64, i64), changed: &[u32], found: &mut Vec<Found>, budget: &mut usize) {
+    fn pair_extend(&mut self, corridor: &[u32], path: &mut Vec<Op>, acc: Score, changed: &[u32], found: &mut Vec<Found>, budget: &mut usize) {
         let mut active: Vec<u32> = corridor.iter().chain(changed).copied().filter(|&x| self.fq.verts[x as usize].alive).collect();
         active.sort_unstable();
         active.dedup();
         let mut cands: Vec<Op> = self.fq.quads_around(&active).into_iter().flat_map(|q| candidates_at(self.fq, q)).collect();
         cands.sort_unstable();
         cands.dedup();
-        let mut expand: Vec<((i64, i64), Op, Vec<u32>)> = Vec::new();
+        let mut expand: Vec<(Score, Op, Vec<u32>)> = Vec::new();
         for op in cands {
             let Some(eff) = effect(self.fq, op) else { continue };
             let touches = eff.changes.iter().any(|c| c.1 != c.2 && active.binary_search(&c.0).is_ok()) || eff.removed.is_some_and(|r| active.binary_search(&r.0).is_ok());
             if !touches {
                 continue;
             }
-            let d1 = score_delta(self.fq, &eff);
-            let d = (acc.0 + d1.0, acc.1 + d1.1);
+            let d1 = self.delta(&eff);
+            let d = (acc.0 + d1.0, acc.1 + d1.1, acc.2 + d1.2);
             if better(d) {
                 let mut ops = path.clone();
                 ops.push(op);
@@ -499,8 +543,7 @@ impl<'a> Regularizer<'a> {
             self.counts.sweeps += 1;
             let mut changed = false;
             let n = self.fq.quads.len() as u32;
-            for i in 0..n {
-                let q = if self.reverse { n - 1 - i } else { i };
+            for q in visiting_order(n, self.order) {
                 if (q as usize) < self.fq.quads.len() && self.visit(q) {
                     changed = true;
                 }
@@ -629,7 +672,7 @@ impl<'a> Regularizer<'a> {
             let mut found = Vec::new();
             let mut budget = self.budget;
             self.singles_in_search = true;
-            self.extend(&start, &mut Vec::new(), (0, 0), &moving, 2, &mut found, &mut budget);
+            self.extend(&start, &mut Vec::new(), (0, 0, 0), &moving, 2, &mut found, &mut budget);
             self.singles_in_search = false;
             found.sort();
             found.dedup_by(|a, b| a.1 == b.1);

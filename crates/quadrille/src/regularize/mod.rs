@@ -17,6 +17,17 @@
 //! Faces are regularized independently (their boundary nodes never move, so
 //! the mesh stays watertight), in parallel, with an output that does not depend
 //! on the thread count.
+//!
+//! Beyond the paper, two things decide most of what is left:
+//! - the **quad count** ([`QuadTarget`]): the split's quads are about 1.5 times
+//!   denser than squares of the boundary's edge length; a greedy search that
+//!   keeps that density must end rows inside the face, each ending at an
+//!   irregular vertex (a 3 beside a boundary vertex with an extra edge), so
+//!   ties of the valence score go to operations that move the count toward
+//!   the boundary's density;
+//! - the **visiting order**: the greedy search ends in a local minimum that
+//!   depends on it; each face is run in several orders (half of them without
+//!   the count preference) and keeps the best result.
 
 pub mod driver;
 pub mod ops;
@@ -66,14 +77,26 @@ pub struct RegularizeOptions {
     pub pair_beam: usize,
     /// Pair search: topological trial applications per searched pair.
     pub pair_budget: usize,
-    /// Sweep orders tried per face (1: increasing quad ids; 2: also
-    /// decreasing, keeping the better result). The greedy sweeps end in
-    /// different local minima; the second order costs a second topological phase.
+    /// Visiting orders tried per face (1: increasing quad ids; 2: also
+    /// decreasing; more: seeded pseudo-random permutations), keeping the best
+    /// result. The greedy sweeps end in different local minima; each order
+    /// costs one more topological phase. Orders beyond the second run only on
+    /// faces whose first result is valid and still irregular, and only while
+    /// orders × input quads stays within [`RegularizeOptions::order_budget`].
     pub sweep_orders: usize,
+    /// Bound on (visiting orders × input quads) per face: large faces get
+    /// fewer orders (never fewer than 2).
+    pub order_budget: usize,
     /// Keep an operation only when the quads around it end up all valid
     /// (default: no more invalid than before). [`regularize_mesh`] reruns a
     /// face in this mode when its result has more inverted quads than its input.
     pub strict_validity: bool,
+    /// Quad count each face should approach ([`QuadTarget`]). Ties of the
+    /// valence score go to operations that move the count toward it, and
+    /// valence-neutral collapses (splits) that do are accepted. See
+    /// [`driver::Regularizer::target_quads`]. Odd visiting orders run
+    /// without it, so a face keeps the better of both behaviours.
+    pub quad_target: QuadTarget,
     /// Run Algorithm 2 after the topological phase.
     pub redistribute: bool,
     /// Worker threads (`None`: rayon's global pool). The output does not depend on it.
@@ -96,10 +119,133 @@ impl Default for RegularizeOptions {
             pair_beam: 5,
             pair_budget: 600,
             strict_validity: false,
-            sweep_orders: 2,
+            sweep_orders: 16,
+            order_budget: 12_000,
+            quad_target: QuadTarget::BoundarySpacing,
             redistribute: true,
             threads: None,
         }
+    }
+}
+
+/// The quad count a face should approach during regularization.
+///
+/// The split makes quads about 1.5 times smaller in area than squares with the
+/// boundary's edge length (a triangle of side h gives 3 quads of area ≈ 0.14 h²,
+/// while the split boundary edges are h / 2 long, squares of 0.25 h²). A
+/// regular mesh needs an interior density that matches its boundary spacing:
+/// where the interior is denser, rows must end inside the face, each ending an
+/// irregular vertex (in practice a 3 beside a boundary vertex with an extra
+/// edge). Steering the count toward the boundary's density removes that cause.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum QuadTarget {
+    /// No preference (the count follows the valence score alone).
+    Off,
+    /// A fraction of the face's input quad count (the authors' code uses 2/3).
+    Ratio(f64),
+    /// On a face whose single boundary loop has 4 corners (vertices whose
+    /// ideal valence is 2), the grid `n1 × n2` its sides allow (`n1`, `n2`:
+    /// the larger edge counts of the opposite sides, as the authors' code);
+    /// elsewhere the face's area over the square of its mean boundary edge
+    /// length, clamped to [0.4, 1.2] times the input count.
+    BoundarySpacing,
+}
+
+impl QuadTarget {
+    /// The target count for `fq` (0 when off).
+    pub fn quads_for(&self, fq: &FaceQuads) -> usize {
+        let q0 = fq.num_quads() as f64;
+        let t = match *self {
+            QuadTarget::Off => return 0,
+            QuadTarget::Ratio(r) => r * q0,
+            QuadTarget::BoundarySpacing => {
+                if let Some(n) = four_sided_grid(fq) {
+                    return n;
+                }
+                let (area, mean) = (face_area(fq), mean_boundary_edge(fq));
+                if !(area > 0.0 && mean > 0.0) {
+                    return 0;
+                }
+                (area / (mean * mean)).clamp(0.4 * q0, 1.2 * q0)
+            }
+        };
+        if t.is_finite() && t > 0.0 {
+            t.round() as usize
+        } else {
+            0
+        }
+    }
+}
+
+/// `n1 × n2` for a face with one boundary loop and 4 corners (ideal valence
+/// 2); `None` otherwise.
+fn four_sided_grid(fq: &FaceQuads) -> Option<usize> {
+    let mut directed = std::collections::HashSet::new();
+    for q in fq.live_quads() {
+        let r = fq.quads[q as usize];
+        for i in 0..4 {
+            directed.insert((r[i], r[(i + 1) % 4]));
+        }
+    }
+    let mut next = std::collections::HashMap::new();
+    for &(a, b) in &directed {
+        if !directed.contains(&(b, a)) && next.insert(a, b).is_some() {
+            return None; // a vertex where the boundary touches itself
+        }
+    }
+    let start = *next.keys().min()?;
+    let mut lp = vec![start];
+    let mut v = next[&start];
+    while v != start {
+        if lp.len() > next.len() {
+            return None;
+        }
+        lp.push(v);
+        v = *next.get(&v)?;
+    }
+    if lp.len() != next.len() {
+        return None; // several loops
+    }
+    let corners: Vec<usize> = (0..lp.len()).filter(|&i| fq.verts[lp[i] as usize].ideal == 2).collect();
+    if corners.len() != 4 {
+        return None;
+    }
+    let side = |k: usize| (corners[(k + 1) % 4] + lp.len() - corners[k]) % lp.len();
+    Some(side(0).max(side(2)) * side(1).max(side(3)))
+}
+
+/// 3D area of the live quads (each as two triangles).
+fn face_area(fq: &FaceQuads) -> f64 {
+    use geometry::vec3::{cross, norm, sub};
+    fq.live_quads()
+        .map(|q| {
+            let p = fq.quads[q as usize].map(|v| fq.verts[v as usize].xyz);
+            0.5 * norm(cross(sub(p[2], p[0]), sub(p[3], p[1])))
+        })
+        .sum()
+}
+
+/// Mean 3D length of the boundary edges (edges of a single live quad), summed
+/// in a fixed order (the result must not depend on hashing).
+fn mean_boundary_edge(fq: &FaceQuads) -> f64 {
+    let mut directed = std::collections::BTreeSet::new();
+    for q in fq.live_quads() {
+        let r = fq.quads[q as usize];
+        for i in 0..4 {
+            directed.insert((r[i], r[(i + 1) % 4]));
+        }
+    }
+    let (mut sum, mut n) = (0.0, 0usize);
+    for &(a, b) in &directed {
+        if !directed.contains(&(b, a)) {
+            sum += geometry::vec3::dist(fq.verts[a as usize].xyz, fq.verts[b as usize].xyz);
+            n += 1;
+        }
+    }
+    if n == 0 {
+        0.0
+    } else {
+        sum / n as f64
     }
 }
 
@@ -184,17 +330,39 @@ pub enum RegularizeError {
 pub fn regularize_face(face: &Face, fid: FaceId, fq: &mut FaceQuads, opts: &RegularizeOptions) -> FaceReport {
     let before = (fq.num_quads(), fq.num_verts(), fq.irregular_count());
     // the topological phase once per sweep order; the result with the fewest
-    // invalid, then irregular, vertices is kept (ties: the first)
-    let orders = opts.sweep_orders.clamp(1, 2);
+    // invalid quads, then irregular vertices, is kept (ties: the first)
+    let orders = opts.sweep_orders.min((opts.order_budget / fq.num_quads().max(1)).max(2)).max(1);
     let input = if orders > 1 { Some(fq.clone()) } else { None };
-    let (invalid_before, ops, invalid_mid) = topological_phase(face, fq, opts, false);
+    // odd orders run without the quad-count preference: each face keeps the
+    // better of the two behaviours
+    let target = opts.quad_target.quads_for(fq);
+    // a result with more quads inverted against the CAD normals than the input
+    // is never preferred (regularize_mesh would revert the whole face)
+    let inverted0 = if orders > 1 { validity::inverted_count(fq, face) } else { 0 };
+    let key = |fq: &FaceQuads, invalid: usize| {
+        let worse = orders > 1 && validity::inverted_count(fq, face) > inverted0;
+        (worse, invalid, fq.irregular_count(), interior_irregular(fq))
+    };
+    let (invalid_before, ops, invalid_mid) = topological_phase(face, fq, opts, 0, target);
     let (mut ops, mut invalid_mid) = (ops, invalid_mid);
-    if let Some(mut other) = input {
-        let (_, ops2, invalid2) = topological_phase(face, &mut other, opts, true);
-        if (invalid2, other.irregular_count()) < (invalid_mid, fq.irregular_count()) {
-            *fq = other;
-            ops = ops2;
-            invalid_mid = invalid2;
+    let mut best = key(fq, invalid_mid);
+    if let Some(input) = input {
+        for order in 1..orders as u32 {
+            // orders beyond the second only where the first ended valid (a face
+            // with quads left invalid is the slow case: repairs at every trial)
+            // and irregular
+            if order >= 2 && (invalid_mid > 0 || (fq.irregular_count() == 0 && !best.0)) {
+                break;
+            }
+            let mut other = input.clone();
+            let (_, ops2, invalid2) = topological_phase(face, &mut other, opts, order, if order % 2 == 1 { 0 } else { target });
+            let k = key(&other, invalid2);
+            if k < best {
+                *fq = other;
+                ops = ops2;
+                invalid_mid = invalid2;
+                best = k;
+            }
         }
     }
     let window = if opts.redistribute && invalid_mid == 0 {
@@ -216,10 +384,16 @@ pub fn regularize_face(face: &Face, fid: FaceId, fq: &mut FaceQuads, opts: &Regu
     }
 }
 
+/// Movable (face-interior) vertices whose valence is not 4.
+fn interior_irregular(fq: &FaceQuads) -> usize {
+    (0..fq.verts.len() as u32).filter(|&v| !fq.verts[v as usize].fixed && fq.is_irregular(v)).count()
+}
+
 /// Initial repair and the operation loop of one face ([`driver::Regularizer::run`]),
-/// sweeping the quads in decreasing id order when `reverse`. Returns the
+/// visiting quads and vertices in `order` ([`driver::Regularizer::order`]),
+/// steering the quad count toward `target` (0: off). Returns the
 /// invalid quads before, the operation counts and the invalid quads after.
-fn topological_phase(face: &Face, fq: &mut FaceQuads, opts: &RegularizeOptions, reverse: bool) -> (usize, OpCounts, usize) {
+fn topological_phase(face: &Face, fq: &mut FaceQuads, opts: &RegularizeOptions, order: u32, target: usize) -> (usize, OpCounts, usize) {
     let mut r = driver::Regularizer::new(face, fq);
     r.compositions = opts.compositions;
     r.max_ops = opts.max_sequence;
@@ -230,7 +404,8 @@ fn topological_phase(face: &Face, fq: &mut FaceQuads, opts: &RegularizeOptions, 
     r.pair_depth = opts.pair_depth;
     r.pair_beam = opts.pair_beam;
     r.pair_budget = opts.pair_budget;
-    r.reverse = reverse;
+    r.order = order;
+    r.target_quads = target;
     let invalid_before = r.invalid_count();
     r.initial_repair();
     r.run(opts.max_sweeps);

@@ -107,3 +107,27 @@ pub fn worst_movable_vertex(fq: &FaceQuads, face: &Face, q: u32, w: AngleWindow)
     }
     best.map(|b| b.1)
 }
+
+/// Number of live quads of `fq` with a corner SICN < 0 against the oriented
+/// CAD normals at their corners ([`Face::corner_normal`], limit normals at
+/// poles): what the mesh statistics count as inverted. The projected check
+/// of [`quad_valid`] uses one normal per quad, so on a curved face a large
+/// quad can pass it while a corner folds against the surface there.
+pub fn inverted_count(fq: &FaceQuads, face: &Face) -> usize {
+    fq.live_quads()
+        .filter(|&q| {
+            let p = fq.quad_xyz(q);
+            let c = fq.quad_uv_centre(q);
+            let own = vec3::normalize(cross(sub(p[2], p[0]), sub(p[3], p[1]))).unwrap_or([0.0, 0.0, 1.0]);
+            let n = fq.quads[q as usize].map(|v| {
+                let x = &fq.verts[v as usize];
+                let at = match x.pole {
+                    Some(seg) => geometry::CornerUv::Pole(seg),
+                    None => geometry::CornerUv::Point(x.uv),
+                };
+                face.corner_normal(at, c).unwrap_or(own)
+            });
+            mesh::quality::corner_sicn(&p, &n).iter().any(|&s| s < 0.0)
+        })
+        .count()
+}
