@@ -3,7 +3,7 @@
 //!
 //! Usage: `cargo run --release -p quadrille --example regular_bench -- [--pictures DIR] FILE...`
 //!
-//! Environment: `QR_ORDERS`, `QR_ORDER_BUDGET`, `QR_QUAD_RATIO` (0: no quad
+//! Environment: `QR_ORDERS`, `QR_ORDER_BUDGET`, `QR_ORDER_PATIENCE`, `QR_QUAD_RATIO` (0: no quad
 //! target, r > 0: r × input), `QR_DEPTH`, `QR_BUDGET`, `QR_TRANSLATION`,
 //! `QR_PAIR_*` override the options; `QR_VERBOSE` prints per-face reports,
 //! `QR_DIAG` / `QR_DIAG_BEFORE` where the irregular vertices sit after / before,
@@ -66,6 +66,7 @@ fn main() {
             translation_steps: env("QR_TRANSLATION", d.translation_steps),
             sweep_orders: env("QR_ORDERS", d.sweep_orders),
             order_budget: env("QR_ORDER_BUDGET", d.order_budget),
+            order_patience: env("QR_ORDER_PATIENCE", d.order_patience),
             pair_radius: env("QR_PAIR_RADIUS", d.pair_radius),
             pair_depth: env("QR_PAIR_DEPTH", d.pair_depth),
             pair_beam: env("QR_PAIR_BEAM", d.pair_beam),

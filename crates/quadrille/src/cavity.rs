@@ -1074,16 +1074,7 @@ pub fn remesh_cavities(face: &Face, p: &mut QuadPatch, singularities: &[Singular
     report.work = w.units;
     let alive = std::mem::take(&mut w.alive);
     drop(w);
-    let mut k = 0;
-    p.quads.retain(|_| {
-        k += 1;
-        alive[k - 1]
-    });
-    let mut k = 0;
-    p.quad_tri.retain(|_| {
-        k += 1;
-        alive[k - 1]
-    });
+    crate::defects::drop_dead_quads(p, &alive);
     if report.replaced.iter().sum::<usize>() > 0 {
         crate::smoothing::optimize(face, p, &crate::smoothing::OptimizeOptions::default());
     }

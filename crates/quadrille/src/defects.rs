@@ -199,6 +199,18 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
         report.undone += 1;
     }
     // drop the replaced quads, keeping the order of the others
+    drop_dead_quads(p, &alive);
+    // the new disks smoothed with the face's mesh (Winslow / angle-based, with rollback)
+    if report.replaced > 0 {
+        crate::smoothing::optimize(face, p, &crate::smoothing::OptimizeOptions::default());
+    }
+    report
+}
+
+
+/// Drops the quads (and their source triangles) whose `alive` flag is false,
+/// keeping the order of the others: the last step of a local replacement.
+pub(crate) fn drop_dead_quads(p: &mut QuadPatch, alive: &[bool]) {
     let mut k = 0;
     p.quads.retain(|_| {
         k += 1;
@@ -209,11 +221,6 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
         k += 1;
         alive[k - 1]
     });
-    // the new disks smoothed with the face's mesh (Winslow / angle-based, with rollback)
-    if report.replaced > 0 {
-        crate::smoothing::optimize(face, p, &crate::smoothing::OptimizeOptions::default());
-    }
-    report
 }
 
 #[cfg(test)]

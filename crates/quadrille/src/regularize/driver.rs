@@ -35,7 +35,7 @@ use geometry::Face;
 use crate::face_quads::FaceQuads;
 
 use super::ops::{apply, apply_topology, candidates_at, effect_valences as effect, score_delta, Op};
-use super::reposition::repair;
+use super::reposition::{repair, repair_rounds, REPAIR_ITERATIONS};
 use super::validity::{quad_valid, AngleWindow};
 
 /// Counters of one regularization run.
@@ -93,6 +93,13 @@ pub struct Regularizer<'a> {
     /// k ≥ 2 a fixed pseudo-random permutation seeded by k (each order ends
     /// the greedy search in a different local minimum).
     pub order: u32,
+    /// Rounds of the repair loop after each operation
+    /// ([`super::reposition::repair_rounds`]; default
+    /// [`REPAIR_ITERATIONS`]). [`Regularizer::initial_repair`] lowers it to
+    /// [`STUCK_REPAIR_ROUNDS`] when quads of the input stay invalid: every
+    /// operation near such a quad would otherwise spend all rounds moving
+    /// vertices around it, on a region that grows each round.
+    pub repair_rounds: usize,
     /// Quad count the face should approach (0: no preference): among
     /// operations with the same valence score, those moving the count toward
     /// it win, and valence-neutral ones that do are accepted.
@@ -116,6 +123,10 @@ type Found = ((Score, usize), Vec<Op>);
 /// ideal|, quads away from [`Regularizer::target_quads`]), compared
 /// lexicographically; negative is better.
 type Score = (i64, i64, i64);
+
+/// Repair rounds per operation on a face whose input keeps invalid quads
+/// after [`Regularizer::initial_repair`] (see [`Regularizer::repair_rounds`]).
+pub const STUCK_REPAIR_ROUNDS: usize = 4;
 
 /// Topological applications allowed per sequence search at one quad.
 const SEARCH_BUDGET: usize = 600;
@@ -149,7 +160,7 @@ impl<'a> Regularizer<'a> {
     /// Prepares the state (computes the invalid flags of every quad).
     pub fn new(face: &'a Face, fq: &'a mut FaceQuads) -> Self {
         let invalid = (0..fq.quads.len() as u32).map(|q| fq.quad_alive[q as usize] && !quad_valid(fq, face, q, AngleWindow::BASE)).collect();
-        Regularizer { face, fq, invalid, counts: OpCounts::default(), compositions: true, tries: 4, max_ops: 3, budget: SEARCH_BUDGET, translation_steps: 8, pair_radius: 2, pair_depth: 4, pair_beam: 5, pair_budget: 600, strict: false, order: 0, target_quads: 0, quad_dir: 0, singles_in_search: false, epoch: 1, stamp: Vec::new(), pair_failed: Vec::new(), quad_failed: Vec::new() }
+        Regularizer { face, fq, invalid, counts: OpCounts::default(), compositions: true, tries: 4, max_ops: 3, budget: SEARCH_BUDGET, translation_steps: 8, pair_radius: 2, pair_depth: 4, pair_beam: 5, pair_budget: 600, strict: false, order: 0, repair_rounds: REPAIR_ITERATIONS, target_quads: 0, quad_dir: 0, singles_in_search: false, epoch: 1, stamp: Vec::new(), pair_failed: Vec::new(), quad_failed: Vec::new() }
     }
 
     fn update_quad_dir(&mut self) {
@@ -170,7 +181,8 @@ impl<'a> Regularizer<'a> {
     }
 
     /// Repairs the invalid quads of the input where repositioning can (each
-    /// kept only when its region does not get worse).
+    /// kept only when its region does not get worse). When some stay invalid,
+    /// later operations get [`STUCK_REPAIR_ROUNDS`] repair rounds.
     pub fn initial_repair(&mut self) {
         let bad: Vec<u32> = self.fq.live_quads().filter(|&q| self.invalid[q as usize]).collect();
         for q in bad {
@@ -184,6 +196,9 @@ impl<'a> Regularizer<'a> {
                 self.fq.rollback(cp);
             }
             self.fq.commit();
+        }
+        if self.invalid_count() > 0 {
+            self.repair_rounds = self.repair_rounds.min(STUCK_REPAIR_ROUNDS);
         }
     }
 
@@ -230,7 +245,7 @@ impl<'a> Regularizer<'a> {
                 self.fq.rollback(cp);
                 return false;
             };
-            repair(self.fq, self.face, &region, AngleWindow::BASE);
+            repair_rounds(self.fq, self.face, &region, AngleWindow::BASE, self.repair_rounds);
         }
         if self.settle(cp) {
             self.fq.commit();
@@ -586,7 +601,7 @@ impl<'a> Regularizer<'a> {
     fn apply_repaired(&mut self, op: Op) -> bool {
         match apply(self.fq, self.face, op) {
             Some(region) => {
-                repair(self.fq, self.face, &region, AngleWindow::BASE);
+                repair_rounds(self.fq, self.face, &region, AngleWindow::BASE, self.repair_rounds);
                 true
             }
             None => false,

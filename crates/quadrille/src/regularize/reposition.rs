@@ -57,8 +57,14 @@ pub fn reposition(fq: &mut FaceQuads, face: &Face, v: u32) -> bool {
 /// Returns true when the quads around the region and around every moved
 /// vertex are all valid.
 pub fn repair(fq: &mut FaceQuads, face: &Face, region: &[u32], w: AngleWindow) -> bool {
+    repair_rounds(fq, face, region, w, REPAIR_ITERATIONS)
+}
+
+/// [`repair`] with at most `rounds` rounds (each round also grows the region
+/// by the links of the vertices it moved).
+pub fn repair_rounds(fq: &mut FaceQuads, face: &Face, region: &[u32], w: AngleWindow, rounds: usize) -> bool {
     let mut verts: Vec<u32> = region.iter().copied().filter(|&v| fq.verts[v as usize].alive).collect();
-    for _ in 0..REPAIR_ITERATIONS {
+    for _ in 0..rounds {
         verts.sort_unstable();
         verts.dedup();
         let quads = fq.quads_around(&verts);

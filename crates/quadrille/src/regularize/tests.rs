@@ -559,3 +559,29 @@ fn steering_the_quad_count_to_the_boundary_density_leaves_fewer_irregular_vertic
         assert!(3 * on <= 2 * off, "n = {n}: irregular {off} without the target, {on} with it");
     }
 }
+
+#[test]
+fn a_face_whose_input_stays_invalid_gets_fewer_repair_rounds() {
+    use super::driver::STUCK_REPAIR_ROUNDS;
+    use super::reposition::{repair_rounds, REPAIR_ITERATIONS};
+    let m = plane(4.0);
+    let face = &m.faces[0];
+    // a dart whose corners are all fixed: nothing can repair it
+    let mut dart = planar(&[[0.0, 0.0], [1.0, 0.0], [0.3, 0.3], [0.0, 1.0]], vec![[0, 1, 2, 3]]);
+    let mut r = Regularizer::new(face, &mut dart);
+    assert_eq!(r.repair_rounds, REPAIR_ITERATIONS);
+    r.initial_repair();
+    assert_eq!(r.invalid_count(), 1);
+    assert_eq!(r.repair_rounds, STUCK_REPAIR_ROUNDS);
+    // a valid grid keeps the full repair loop
+    let mut g = grid(3);
+    let mut r = Regularizer::new(face, &mut g);
+    r.initial_repair();
+    assert_eq!((r.invalid_count(), r.repair_rounds), (0, REPAIR_ITERATIONS));
+    // zero rounds move nothing and report the region's validity
+    let mut dart = planar(&[[0.0, 0.0], [1.0, 0.0], [0.3, 0.3], [0.0, 1.0]], vec![[0, 1, 2, 3]]);
+    dart.verts[2].fixed = false;
+    let before = dart.verts.clone();
+    assert!(!repair_rounds(&mut dart, face, &[2], AngleWindow::BASE, 0));
+    assert_eq!(dart.verts, before);
+}
