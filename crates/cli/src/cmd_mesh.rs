@@ -9,8 +9,37 @@ use crate::files;
 use crate::progress::FaceProgress;
 use crate::{MeshArgs, Method};
 
+/// The topology stages the arguments ask for, or why the combination is refused.
+fn stages(args: &MeshArgs) -> Result<quadrille::Stages> {
+    let off: Vec<&str> = [(args.no_patterns, "--no-patterns"), (args.no_defects, "--no-defects"), (args.no_cavities, "--no-cavities")]
+        .iter()
+        .filter(|(on, _)| *on)
+        .map(|(_, name)| *name)
+        .collect();
+    match args.method {
+        Method::QuasiStructured => Ok(quadrille::Stages { patterns: !args.no_patterns, defects: !args.no_defects, cavities: !args.no_cavities }),
+        _ if !off.is_empty() => bail!(
+            "{} only applies to --method quasi-structured (the default); --method {} has no such step",
+            off.join(", "),
+            method_name(args.method)
+        ),
+        _ => Ok(quadrille::Stages::NONE),
+    }
+}
+
+/// The command-line name of a method.
+fn method_name(m: Method) -> &'static str {
+    match m {
+        Method::QuasiStructured => "quasi-structured",
+        Method::Unstructured => "unstructured",
+        Method::Baseline => "baseline",
+        Method::Regular => "regular",
+    }
+}
+
 pub fn run(args: &MeshArgs) -> Result<()> {
     // Everything that can be checked before meshing is checked first.
+    let stages = stages(args)?;
     let format = files::check_output(&args.output, &["msh", "vtu", "obj"])?;
     if let Some(png) = &args.png {
         files::check_output(png, &["png"])?;
@@ -25,24 +54,17 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let opts = MeshOptions { size, threads: args.threads, progress };
     let t1 = Instant::now();
     let method = match args.method {
-        Method::Unstructured => quadrille::MeshMethod::Unstructured,
+        Method::QuasiStructured | Method::Unstructured => quadrille::MeshMethod::Unstructured,
         Method::Baseline | Method::Regular => quadrille::MeshMethod::Baseline,
     };
-    let (mut m, report) = quadrille::mesh_model_with(&model, &opts, method).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
+    let (mut m, report) = quadrille::mesh_model_stages(&model, &opts, method, stages).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
     bar.finish();
     if !args.quiet {
         for (f, reason) in &report.fallback {
-            eprintln!("face {}: unstructured meshing failed ({reason}); meshed with the baseline", f.0 + 1);
+            eprintln!("face {}: {} meshing failed ({reason}); meshed with the baseline", f.0 + 1, method_name(args.method));
         }
-        if let Method::Unstructured = args.method {
-            let d = &report.defects;
-            eprintln!(
-                "{} of {} faces meshed by a pattern; {} of {} very irregular vertices replaced by disk quadrangulations",
-                report.patterns.len(),
-                model.faces.len(),
-                d.replaced,
-                d.found
-            );
+        if args.method == Method::QuasiStructured {
+            eprintln!("{}", topology_summary(&report, model.faces.len(), stages));
         }
     }
     let t_mesh = t1.elapsed().as_secs_f64();
@@ -72,10 +94,8 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     }
     let t_write = t3.elapsed().as_secs_f64();
     if args.timings {
-        eprintln!(
-            "timings:{{\"load\":{t_load:.4},\"mesh\":{t_mesh:.4},\"improve\":{t_improve:.4},\"write\":{t_write:.4},\"total\":{:.4}}}",
-            t_load + t_mesh + t_improve
-        );
+        let threads = args.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+        eprint!("{}", timings_text(&report.times, threads, [t_load, t_mesh, t_improve, t_write]));
     }
     if !args.quiet {
         let inverted = sicn.iter().filter(|&&s| s < 0.0).count();
@@ -94,4 +114,90 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The summary line of the topology steps: faces by pattern, defects, cavities
+/// (a step switched off says so).
+fn topology_summary(report: &quadrille::MeshReport, faces: usize, stages: quadrille::Stages) -> String {
+    let patterns = if stages.patterns {
+        format!("{} of {faces} faces meshed by a pattern", report.patterns.len())
+    } else {
+        "patterns off".to_string()
+    };
+    let d = &report.defects;
+    let defects = if stages.defects {
+        format!("defects: {} of {} very irregular vertices replaced by disk quadrangulations", d.replaced, d.found)
+    } else {
+        "defects off".to_string()
+    };
+    let c = &report.cavities;
+    let cavities = if stages.cavities {
+        format!(
+            "cavities: {} remeshed (steps 1-4: {}), {} undone; irregular vertices {} -> {}, {} kept as singularities{}",
+            c.replaced.iter().sum::<usize>(),
+            c.replaced.map(|n| n.to_string()).join("/"),
+            c.rejected,
+            c.irregular_before,
+            c.irregular_after,
+            c.singular,
+            if c.capped { " (work cap reached)" } else { "" }
+        )
+    } else {
+        "cavities off".to_string()
+    };
+    format!("{patterns}; {defects}; {cavities}")
+}
+
+/// The `--timings` report: one line per stage (seconds), then the same as one
+/// `timings:` JSON line (`total` = load + meshing + improvement, writing excluded).
+/// `cli` holds the times measured by the command: load, meshing, regularization, writing.
+fn timings_text(t: &quadrille::StageTimes, threads: usize, cli: [f64; 4]) -> String {
+    let [load, mesh, regularize, write] = cli;
+    let s = |d: std::time::Duration| d.as_secs_f64();
+    let rows: [(&str, &str, f64); 15] = [
+        ("load", "load", load),
+        ("fields", "cross fields and size map", s(t.fields)),
+        ("curves", "curve planning and discretization", s(t.curves)),
+        ("faces", "faces (wall time)", s(t.faces)),
+        ("patterns", "  patterns", s(t.patterns)),
+        ("frontal", "  frontal+recombination+subdivision", s(t.frontal)),
+        ("smoothing", "  smoothing", s(t.smoothing)),
+        ("defects", "  defects", s(t.defects)),
+        ("cavities", "  cavities", s(t.cavities)),
+        ("fallback", "  fallback (baseline)", s(t.fallback)),
+        ("assembly", "assembly", s(t.assembly)),
+        ("mesh", "meshing (wall time)", mesh),
+        ("regularize", "regularize", regularize),
+        ("write", "writing", write),
+        ("total", "total (load + meshing + regularize)", load + mesh + regularize),
+    ];
+    let mut out = format!(
+        "timings in seconds ({threads} thread{}; the indented per-face stages are sums over faces, which run in parallel):\n",
+        if threads == 1 { "" } else { "s" }
+    );
+    for (_, label, v) in &rows {
+        out.push_str(&format!("  {label:<37} {v:>9.4}\n"));
+    }
+    let json: Vec<String> = rows.iter().map(|(key, _, v)| format!("\"{key}\":{v:.4}")).collect();
+    out.push_str(&format!("timings:{{{}}}\n", json.join(",")));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn timings_list_every_stage_and_parse_as_json() {
+        let t = quadrille::StageTimes { frontal: std::time::Duration::from_millis(250), ..Default::default() };
+        let text = timings_text(&t, 2, [0.5, 1.0, 0.0, 0.25]);
+        for stage in ["load", "cross fields", "curve planning", "patterns", "frontal+recombination+subdivision", "smoothing", "defects", "cavities", "fallback", "assembly", "writing", "total"] {
+            assert!(text.contains(stage), "{stage} missing: {text}");
+        }
+        assert!(text.contains("2 threads") && text.contains("sums over faces"), "{text}");
+        let json = text.lines().find_map(|l| l.strip_prefix("timings:")).expect("a timings: line");
+        assert!(json.contains("\"frontal\":0.2500"), "{json}");
+        // load + meshing + regularize, writing excluded
+        assert!(json.contains("\"total\":1.5000"), "{json}");
+    }
 }

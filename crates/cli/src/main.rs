@@ -24,6 +24,7 @@ Examples:
   quadrille info part.step
   quadrille mesh part.step -o part.msh --png part.png
   quadrille mesh part.step -o part.msh --size-factor 0.5 --threads 2
+  quadrille mesh part.step -o part.msh --no-cavities --timings
   quadrille stats part.msh --cad part.step
   quadrille stats other_mesher.msh --json
   quadrille render part.msh -o part.png --sicn
@@ -43,7 +44,7 @@ enum Command {
     #[command(after_help = "Example:\n  quadrille info part.step --json")]
     Info(InfoArgs),
     /// Mesh a CAD model (STEP, IGES, BREP) with quads and write MSH, VTU or OBJ.
-    #[command(after_help = "Examples:\n  quadrille mesh part.step -o part.msh\n  quadrille mesh part.step -o part.vtu --size 2.5 --png part.png")]
+    #[command(after_help = "Examples:\n  quadrille mesh part.step -o part.msh\n  quadrille mesh part.step -o part.vtu --size 2.5 --png part.png\n  quadrille mesh part.step -o part.msh --method unstructured --timings\n  quadrille mesh part.step -o part.msh --no-patterns --no-cavities")]
     Mesh(MeshArgs),
     /// Quality statistics of a mesh (MSH 4.1 or 2.2): SICN, valences, irregular vertices, open edges.
     #[command(after_help = "Examples:\n  quadrille stats part.msh\n  quadrille stats part.msh --cad part.step --json")]
@@ -119,26 +120,39 @@ pub struct MeshArgs {
     /// No progress bar and no summary.
     #[arg(short, long)]
     quiet: bool,
-    /// Meshing method: `baseline` (triangulate and split), `regular`
-    /// (baseline, then topological regularization) or `unstructured`
-    /// (cross-field-guided frontal triangulation, recombination, subdivision).
-    #[arg(long, value_enum, default_value_t = Method::Baseline)]
+    /// Meshing method (see the list below).
+    #[arg(long, value_enum, default_value_t = Method::QuasiStructured)]
     method: Method,
-    /// Print the time of each stage (load, mesh, improve, write) as JSON on stderr.
+    /// quasi-structured: do not mesh simple faces directly by a pattern.
+    #[arg(long)]
+    no_patterns: bool,
+    /// quasi-structured: do not replace very irregular vertices (valence 2 or ≥ 6) by disk quadrangulations.
+    #[arg(long)]
+    no_defects: bool,
+    /// quasi-structured: no cavity remeshing around unneeded irregular vertices.
+    #[arg(long)]
+    no_cavities: bool,
+    /// Print the time of each stage on stderr (a table, then one `timings:` JSON line).
     #[arg(long)]
     timings: bool,
 }
 
 /// The meshing methods of `quadrille mesh`.
-#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
-    /// Triangulate each face in uv and split every triangle into three quads.
+    /// The default: cross field and size map; simple faces meshed by a pattern;
+    /// the others by frontal points along the cross field, recombination and
+    /// subdivision; then very irregular vertices and cavities remeshed
+    /// (--no-patterns, --no-defects, --no-cavities switch steps off).
+    QuasiStructured,
+    /// The quasi-structured method without its topology steps (no patterns,
+    /// no defect removal, no cavity remeshing).
+    Unstructured,
+    /// Triangulate each face in uv and split every triangle into three quads
+    /// (always valid, about half the vertices irregular).
     Baseline,
     /// The baseline, then swaps, collapses and splits towards regular vertices.
     Regular,
-    /// Frontal points along the cross field, triangle recombination and
-    /// midpoint subdivision (faces where it fails use the baseline).
-    Unstructured,
 }
 
 /// Arguments of `quadrille stats`.

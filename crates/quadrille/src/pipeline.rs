@@ -11,6 +11,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use geometry::{CornerId, CurveId, FaceId, Model, ModelError};
 use mesh::{NodeClass, QuadMesh};
@@ -166,9 +167,100 @@ pub enum MeshMethod {
     #[default]
     Baseline,
     /// Frontal points along the cross field, recombination and midpoint
-    /// subdivision ([`crate::unstructured`]); a face where it fails is meshed
-    /// with the baseline (listed in [`MeshReport::fallback`]).
+    /// subdivision ([`crate::unstructured`]), then the topology stages of
+    /// [`Stages`] (all of them in [`mesh_model_with`]: the quasi-structured
+    /// method); a face where it fails is meshed with the baseline (listed in
+    /// [`MeshReport::fallback`]).
     Unstructured,
+}
+
+/// Which topology stages (paper §6) [`MeshMethod::Unstructured`] runs after
+/// the §5 mesh of each face; all of them by default ([`Stages::ALL`], the
+/// quasi-structured method), none for the plain unstructured mesh ([`Stages::NONE`]).
+///
+/// ```
+/// use quadrille::pipeline::Stages;
+/// let no_cavities = Stages { cavities: false, ..Stages::ALL };
+/// assert!(no_cavities.patterns && no_cavities.defects && !no_cavities.cavities);
+/// assert_eq!(Stages::default(), Stages::ALL);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Stages {
+    /// Simple faces meshed directly by a pattern ([`crate::pattern_face`], §6.1.2).
+    pub patterns: bool,
+    /// Very irregular vertices replaced by disk quadrangulations ([`crate::defects`], §6.3).
+    pub defects: bool,
+    /// Cavity remeshing ([`crate::cavity`], §6.2).
+    pub cavities: bool,
+}
+
+impl Stages {
+    /// Every stage: the quasi-structured method.
+    pub const ALL: Stages = Stages { patterns: true, defects: true, cavities: true };
+    /// No stage: the unstructured mesh of §5 alone.
+    pub const NONE: Stages = Stages { patterns: false, defects: false, cavities: false };
+}
+
+impl Default for Stages {
+    fn default() -> Self {
+        Stages::ALL
+    }
+}
+
+/// Time spent in each stage of [`mesh_model_with`]. The per-face stages
+/// (`patterns` to `fallback`) are sums over faces (and over the attempts of a
+/// face whose curves were refined); faces run in parallel, so with several
+/// threads these sums exceed the wall time [`StageTimes::faces`].
+///
+/// Timings never change the mesh, and they never take part in equality:
+/// `a == b` holds for any two `StageTimes`, so reports of identical runs
+/// compare equal.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StageTimes {
+    /// Cross fields, singularities and size map of every face (unstructured method).
+    pub fields: Duration,
+    /// Curve planning (quantization against the size map) and discretization.
+    pub curves: Duration,
+    /// Wall time of the per-face phase (all faces, all threads).
+    pub faces: Duration,
+    /// Pattern meshing of simple faces, successful or not (sum over faces).
+    pub patterns: Duration,
+    /// Frontal insertion, recombination and midpoint subdivision (sum over faces).
+    pub frontal: Duration,
+    /// Smoothing and untangling after subdivision (sum over faces).
+    pub smoothing: Duration,
+    /// Defect removal by disk quadrangulations (sum over faces).
+    pub defects: Duration,
+    /// Cavity remeshing (sum over faces).
+    pub cavities: Duration,
+    /// Baseline meshing: the faces that fell back to it, or every face of
+    /// [`MeshMethod::Baseline`] (sum over faces).
+    pub fallback: Duration,
+    /// Assembly of the global mesh and the final SICN check.
+    pub assembly: Duration,
+    /// Wall time of the whole call.
+    pub total: Duration,
+}
+
+impl PartialEq for StageTimes {
+    /// Always true: timings are not part of a result's identity.
+    fn eq(&self, _: &StageTimes) -> bool {
+        true
+    }
+}
+
+impl Eq for StageTimes {}
+
+impl StageTimes {
+    /// Adds the per-face stage times of `o` (patterns to fallback) to `self`.
+    pub fn add_face(&mut self, o: &StageTimes) {
+        self.patterns += o.patterns;
+        self.frontal += o.frontal;
+        self.smoothing += o.smoothing;
+        self.defects += o.defects;
+        self.cavities += o.cavities;
+        self.fallback += o.fallback;
+    }
 }
 
 /// What [`mesh_model_with`] reports besides the mesh.
@@ -185,23 +277,59 @@ pub struct MeshReport {
     pub defects: crate::defects::DefectReport,
     /// Cavity remeshing ([`crate::cavity`]), summed over the faces it ran on.
     pub cavities: crate::cavity::CavityReport,
+    /// Time of each stage (not part of equality; see [`StageTimes`]).
+    pub times: StageTimes,
 }
 
 /// [`mesh_model`] with a choice of method; also reports the faces that fell
 /// back to the baseline. Output is identical for any `threads`.
+/// [`MeshMethod::Unstructured`] runs every topology stage ([`Stages::ALL`]).
 pub fn mesh_model_with(model: &Model, opts: &MeshOptions, method: MeshMethod) -> Result<(QuadMesh, MeshReport), MeshError> {
+    mesh_model_stages(model, opts, method, Stages::ALL)
+}
+
+/// [`mesh_model_with`] with a choice of the topology stages that
+/// [`MeshMethod::Unstructured`] runs (the baseline ignores `stages`).
+///
+/// ```
+/// use quadrille::pipeline::{mesh_model_stages, MeshMethod, MeshOptions, Stages};
+/// let model = geometry::primitives::square(1.0);
+/// let opts = MeshOptions { threads: Some(1), ..Default::default() };
+/// let (mesh, report) = mesh_model_stages(&model, &opts, MeshMethod::Unstructured, Stages::NONE).unwrap();
+/// assert!(!mesh.quads.is_empty());
+/// // no stage ran: no face by a pattern, no cavity
+/// assert!(report.patterns.is_empty() && report.cavities.replaced == [0; 4]);
+/// ```
+pub fn mesh_model_stages(model: &Model, opts: &MeshOptions, method: MeshMethod, stages: Stages) -> Result<(QuadMesh, MeshReport), MeshError> {
+    let started = Instant::now();
     model.validate()?;
     if model.faces.is_empty() {
         return Err(MeshError::NoFaces);
     }
     let h = resolve_size(model, opts.size)?;
     let go = || match method {
-        MeshMethod::Baseline => run(model, plan_curves(model, h), opts.progress.as_ref(), &|fid, cms| mesh_face(model, fid, cms, 2.0 * h))
-            .and_then(|(cms, results)| assemble(model, &cms, &results))
-            .map(|m| (m, MeshReport::default())),
-        MeshMethod::Unstructured => run_unstructured(model, h, opts.progress.as_ref()),
+        MeshMethod::Baseline => {
+            let mut times = StageTimes::default();
+            let fallback = std::sync::Mutex::new(Duration::ZERO);
+            let t = Instant::now();
+            let plan = plan_curves(model, h);
+            times.curves += t.elapsed();
+            let timed_face = |fid, cms: &[CurveMesh]| {
+                let t = Instant::now();
+                let r = mesh_face(model, fid, cms, 2.0 * h);
+                *fallback.lock().unwrap_or_else(|e| e.into_inner()) += t.elapsed();
+                r
+            };
+            let (cms, results) = run(model, plan, opts.progress.as_ref(), &timed_face, &mut times)?;
+            times.fallback = fallback.into_inner().unwrap_or_else(|e| e.into_inner());
+            let t = Instant::now();
+            let m = assemble(model, &cms, &results)?;
+            times.assembly = t.elapsed();
+            Ok((m, MeshReport { times, ..Default::default() }))
+        }
+        MeshMethod::Unstructured => run_unstructured(model, h, opts.progress.as_ref(), stages),
     };
-    match opts.threads {
+    let mut out = match opts.threads {
         Some(n) => {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(n.max(1))
@@ -210,29 +338,45 @@ pub fn mesh_model_with(model: &Model, opts: &MeshOptions, method: MeshMethod) ->
             pool.install(go)
         }
         None => go(),
-    }
+    }?;
+    out.1.times.total = started.elapsed();
+    Ok(out)
 }
 
 /// The unstructured method: the cross field and size map of every face
 /// first, then [`run`] with [`crate::unstructured::mesh_face_unstructured`]
 /// per face, the baseline where it fails.
-fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Result<(QuadMesh, MeshReport), MeshError> {
+fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>, stages: Stages) -> Result<(QuadMesh, MeshReport), MeshError> {
     use crate::field_report::{model_fields, FieldOptions};
     use crate::unstructured::{mesh_face_unstructured, UnstructuredOptions};
     use crate::cavity::CavityReport;
     use crate::defects::DefectReport;
-    use crate::unstructured::improve_face;
+    use crate::unstructured::improve_face_timed;
     use crate::pattern_face::mesh_face_pattern;
+    let mut times = StageTimes::default();
     // the size map, bounded so that faces, curves and the baseline fallback agree
+    let t = Instant::now();
     let sizing = crate::size_map::SizeMapOptions { min_size: Some(SIZE_MAP_MIN * h), max_size: Some(SIZE_MAP_MAX * h), ..Default::default() };
     let fields = model_fields(model, &FieldOptions { size: Size::Absolute(h), sizing, ..Default::default() })?;
-    let uopts = UnstructuredOptions::default();
+    times.fields = t.elapsed();
+    let mut uopts = UnstructuredOptions { defects: stages.defects, ..Default::default() };
+    if !stages.cavities {
+        uopts.cavity = None;
+    }
+    let face_times: std::sync::Mutex<StageTimes> = std::sync::Mutex::new(StageTimes::default());
     let fallback: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());
     let patterns: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());
     let defects: std::sync::Mutex<BTreeMap<u32, (DefectReport, CavityReport)>> = std::sync::Mutex::new(BTreeMap::new());
-    let face_mesher = |fid: FaceId, cms: &[CurveMesh]| -> Result<QuadPatch, FaceFailure> {
+    let mesh_one_face = |fid: FaceId, cms: &[CurveMesh], ft: &mut StageTimes| -> Result<QuadPatch, FaceFailure> {
         // a simple face is meshed by a pattern first (paper §6.1.2)
-        let by_pattern = mesh_face_pattern(model, fid, cms);
+        let by_pattern = if stages.patterns {
+            let t = Instant::now();
+            let r = mesh_face_pattern(model, fid, cms);
+            ft.patterns += t.elapsed();
+            r
+        } else {
+            Err("patterns are off".into())
+        };
         {
             let mut pt = patterns.lock().unwrap_or_else(|e| e.into_inner());
             match &by_pattern {
@@ -253,9 +397,11 @@ fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Res
                 Some(s) => s.clone(),
                 None => vec![h; topo_n],
             };
-            let (mut p, _) = mesh_face_unstructured(model, fid, cms, &ff.field, &size, &uopts)?;
+            let (mut p, fr) = mesh_face_unstructured(model, fid, cms, &ff.field, &size, &uopts)?;
+            ft.frontal += fr.times.frontal;
+            ft.smoothing += fr.times.smoothing;
             // very irregular vertices out (paper §6.3), then cavity remeshing (§6.2)
-            let r = improve_face(&model.faces[fid.idx()], &mut p, &ff.singularities.list, &uopts);
+            let r = improve_face_timed(&model.faces[fid.idx()], &mut p, &ff.singularities.list, &uopts, ft);
             if debug_enabled() {
                 eprintln!("face {}: {} quads, {} singularities, defects {:?}, cavities {:?}", fid.0 + 1, p.quads.len(), ff.singularities.list.len(), r.0, r.1);
             }
@@ -271,13 +417,27 @@ fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Res
             Err(reason) => {
                 fb.insert(fid.0, reason);
                 drop(fb);
-                mesh_face(model, fid, cms, 2.0 * h)
+                let t = Instant::now();
+                let r = mesh_face(model, fid, cms, 2.0 * h);
+                ft.fallback += t.elapsed();
+                r
             }
         }
     };
+    let face_mesher = |fid: FaceId, cms: &[CurveMesh]| -> Result<QuadPatch, FaceFailure> {
+        let mut ft = StageTimes::default();
+        let r = mesh_one_face(fid, cms, &mut ft);
+        face_times.lock().unwrap_or_else(|e| e.into_inner()).add_face(&ft);
+        r
+    };
     // curves quantized against the size map (paper §4.3)
-    let (cms, mut results) = run(model, fields.curve_plan(model), progress, &face_mesher)?;
+    let t = Instant::now();
+    let plan = fields.curve_plan(model);
+    times.curves += t.elapsed();
+    let (cms, mut results) = run(model, plan, progress, &face_mesher, &mut times)?;
+    times.add_face(&face_times.into_inner().unwrap_or_else(|e| e.into_inner()));
     let mut fb = fallback.into_inner().unwrap_or_else(|e| e.into_inner());
+    let t = Instant::now();
     let mut mesh = assemble(model, &cms, &results)?;
     // the final judge is the mesh statistics' SICN on the assembled mesh:
     // a face with a quad it finds inverted is meshed again with the baseline
@@ -289,9 +449,13 @@ fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Res
             again.insert(f);
         }
     }
+    times.assembly += t.elapsed();
     if !again.is_empty() {
+        let t = Instant::now();
         let redo: Vec<(usize, Result<QuadPatch, FaceFailure>)> =
             again.iter().copied().collect::<Vec<_>>().into_par_iter().map(|f| (f, mesh_face(model, FaceId(f as u32), &cms, 2.0 * h))).collect();
+        times.fallback += t.elapsed();
+        let t = Instant::now();
         for (f, r) in redo {
             if let Ok(p) = r {
                 results[f] = Some(p);
@@ -299,6 +463,7 @@ fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Res
             }
         }
         mesh = assemble(model, &cms, &results)?;
+        times.assembly += t.elapsed();
     }
     let pt = patterns.into_inner().unwrap_or_else(|e| e.into_inner());
     let df = defects.into_inner().unwrap_or_else(|e| e.into_inner());
@@ -312,6 +477,7 @@ fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>) -> Res
             patterns: pt.into_iter().map(|(f, n)| (FaceId(f), n)).collect(),
             defects: total,
             cavities,
+            times,
         },
     ))
 }
@@ -321,7 +487,8 @@ type FaceMesher<'a> = dyn Fn(FaceId, &[CurveMesh]) -> Result<QuadPatch, FaceFail
 
 /// Meshes every face with `mesher`, refining the curves around faces that
 /// ask for it; returns the final curve meshes and the face patches.
-fn run(model: &Model, mut plan: CurvePlan, progress: Option<&ProgressFn>, mesher: &FaceMesher<'_>) -> Result<(Vec<CurveMesh>, Vec<Option<QuadPatch>>), MeshError> {
+/// Adds the curve discretization to `times.curves` and the per-face phase to `times.faces`.
+fn run(model: &Model, mut plan: CurvePlan, progress: Option<&ProgressFn>, mesher: &FaceMesher<'_>, times: &mut StageTimes) -> Result<(Vec<CurveMesh>, Vec<Option<QuadPatch>>), MeshError> {
     let nf = model.faces.len();
     let curve_faces = model.curve_faces();
     let mut results: Vec<Option<QuadPatch>> = vec![None; nf];
@@ -330,7 +497,10 @@ fn run(model: &Model, mut plan: CurvePlan, progress: Option<&ProgressFn>, mesher
     let mut cms: Vec<CurveMesh>;
     let mut round = 0;
     loop {
+        let t = Instant::now();
         cms = discretize_all(model, &plan);
+        times.curves += t.elapsed();
+        let t = Instant::now();
         let out: Vec<(usize, Result<QuadPatch, FaceFailure>)> = pending
             .par_iter()
             .map(|&f| {
@@ -344,6 +514,7 @@ fn run(model: &Model, mut plan: CurvePlan, progress: Option<&ProgressFn>, mesher
                 (f, r)
             })
             .collect();
+        times.faces += t.elapsed();
         let mut refine: BTreeSet<CurveId> = BTreeSet::new();
         let mut failed: BTreeMap<usize, String> = BTreeMap::new();
         for (f, r) in out {
@@ -572,6 +743,41 @@ mod tests {
         let faces: Vec<u32> = mesh.node_class.iter().filter_map(|c| if let NodeClass::Face(f, _) = c { Some(f.0) } else { None }).collect();
         assert!(faces.windows(2).all(|w| w[0] <= w[1]));
         assert_eq!(mesh.corner_nodes, vec![(0, CornerId(0)), (1, CornerId(1))]);
+    }
+
+    #[test]
+    fn stages_switch_steps_off_and_stage_times_are_reported() {
+        let opts = MeshOptions { size: Size::Absolute(0.12), threads: Some(1), progress: None };
+        let sphere = primitives::sphere(1.0);
+        let (with, all) = mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages::ALL).unwrap();
+        assert!(all.cavities.replaced.iter().sum::<usize>() > 0, "{:?}", all.cavities);
+        assert!(all.times.fields > Duration::ZERO && all.times.frontal > Duration::ZERO && all.times.cavities > Duration::ZERO, "{:?}", all.times);
+        assert!(all.times.total >= all.times.fields + all.times.faces, "{:?}", all.times);
+        let (without, off) = mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages { cavities: false, ..Stages::ALL }).unwrap();
+        assert_eq!(off.cavities, crate::cavity::CavityReport::default());
+        assert_eq!(off.times.cavities, Duration::ZERO);
+        assert_eq!(off.defects, all.defects, "defects run before cavities");
+        assert_ne!(with.quads, without.quads);
+        let (_, none) = mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages::NONE).unwrap();
+        assert_eq!(none.defects, crate::defects::DefectReport::default());
+        // a square is meshed by a pattern unless patterns are off
+        let square = primitives::square(1.0);
+        let (_, p) = mesh_model_stages(&square, &opts, MeshMethod::Unstructured, Stages::ALL).unwrap();
+        assert_eq!(p.patterns.len(), 1, "{:?}", p.patterns);
+        let (_, q) = mesh_model_stages(&square, &opts, MeshMethod::Unstructured, Stages { patterns: false, ..Stages::ALL }).unwrap();
+        assert!(q.patterns.is_empty() && q.times.patterns == Duration::ZERO && q.times.frontal > Duration::ZERO, "{q:?}");
+        // the baseline's faces are all timed as baseline meshing
+        let (_, b) = mesh_model_stages(&square, &opts, MeshMethod::Baseline, Stages::ALL).unwrap();
+        assert!(b.times.fallback > Duration::ZERO && b.times.frontal == Duration::ZERO, "{:?}", b.times);
+    }
+
+    #[test]
+    fn stage_times_never_take_part_in_equality() {
+        let a = StageTimes { total: Duration::from_secs(3), ..Default::default() };
+        assert_eq!(a, StageTimes::default());
+        let r = MeshReport { times: a, ..Default::default() };
+        assert_eq!(r, MeshReport::default());
+        assert_ne!(MeshReport { patterns: vec![(FaceId(0), "x".into())], ..r.clone() }, r);
     }
 
     #[test]

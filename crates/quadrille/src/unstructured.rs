@@ -29,6 +29,8 @@ use crate::recombine::{recombine, MIN_SICN};
 use crate::smoothing::{optimize, smooth, untangle, OptimizeOptions};
 use crate::split::{quad_quality, QuadPatch};
 use crate::subdivide::{snap_repair, subdivide};
+use crate::pipeline::StageTimes;
+use std::time::Instant;
 
 /// Smoothing sweeps after subdivision.
 const SMOOTHING_SWEEPS: usize = 12;
@@ -72,13 +74,15 @@ pub struct UnstructuredOptions {
     /// Longest augmenting path (in candidate quads) searched after the greedy
     /// recombination to pair leftover triangles; 0 for the greedy pairing only.
     pub augment_path: usize,
+    /// Defect removal by disk quadrangulations ([`improve_face`]); `false` switches it off.
+    pub defects: bool,
     /// Cavity remeshing after the defect removal ([`improve_face`]); `None` switches it off.
     pub cavity: Option<CavityOptions>,
 }
 
 impl Default for UnstructuredOptions {
     fn default() -> Self {
-        UnstructuredOptions { frontal: FrontalOptions::default(), min_sicn: MIN_SICN, smoothing_sweeps: SMOOTHING_SWEEPS, gradation: GRADATION, augment_path: AUGMENT_PATH, cavity: Some(CavityOptions::default()) }
+        UnstructuredOptions { frontal: FrontalOptions::default(), min_sicn: MIN_SICN, smoothing_sweeps: SMOOTHING_SWEEPS, gradation: GRADATION, augment_path: AUGMENT_PATH, defects: true, cavity: Some(CavityOptions::default()) }
     }
 }
 
@@ -95,6 +99,9 @@ pub struct FaceReport {
     pub leftover: usize,
     /// Nodes moved by the snapping repair.
     pub snapped: usize,
+    /// Time of the stages: [`StageTimes::frontal`] (insertion, recombination,
+    /// subdivision) and [`StageTimes::smoothing`]; never part of equality.
+    pub times: StageTimes,
 }
 
 /// Meshes face `fid` against the curve meshes `cms` (their coarse points at
@@ -114,6 +121,7 @@ pub fn mesh_face_unstructured(
     Background::new(field, size).map_err(|e| e.to_string())?;
     let max_size = size.iter().cloned().fold(0.0, f64::max);
     let mut report = FaceReport::default();
+    let started = Instant::now();
     let mut ft = FaceTriangulation::new(model, fid, cms, REFINE_SLACK * opts.frontal.factor * max_size).map_err(|e| format!("boundary: {e:?}"))?;
     let graded = graded_sizes(&ft, field, size, opts.gradation);
     let bg = Background::new(field, &graded).map_err(|e| e.to_string())?;
@@ -145,10 +153,13 @@ pub fn mesh_face_unstructured(
     report.leftover = qd.triangles.len();
     let (mut patch, origins) = subdivide(face, &ft.nodes, &ft.pos, &qd.quads, &qd.triangles, &ft.boundary_mid);
     report.snapped = snap_repair(face, &mut patch, &origins, SNAP_PASSES);
+    report.times.frontal = started.elapsed();
+    let smoothing = Instant::now();
     smooth(face, &mut patch, opts.smoothing_sweeps);
     untangle(face, &mut patch, UNTANGLE_BELOW, UNTANGLE_PASSES, UNTANGLE_MAX_NODES);
     // the paper's kernels (Winslow, angle-based) on the valid mesh
     optimize(face, &mut patch, &OptimizeOptions { max_sweeps: FINAL_SWEEPS, ..Default::default() });
+    report.times.smoothing = smoothing.elapsed();
     let bad = invalid_quads(face, &patch);
     if bad > 0 && crate::pipeline::debug_enabled() {
         let nt = qd.triangles.len() as u32;
@@ -172,18 +183,37 @@ pub fn mesh_face_unstructured(
     Ok((patch, report))
 }
 
-/// Improves the topology of one face's unstructured mesh `p`: very
-/// irregular vertices out by disk quadrangulations (paper §6.3), then, unless
-/// `opts.cavity` is `None`, cavity remeshing around the unnecessary irregular
-/// vertices, keeping the ones matched to the face's cross-field
-/// `singularities` (paper §6.2). Every change is kept only if the quads stay
-/// valid.
+/// Improves the topology of one face's unstructured mesh `p`: unless
+/// `opts.defects` is `false`, very irregular vertices out by disk
+/// quadrangulations (paper §6.3), then, unless `opts.cavity` is `None`,
+/// cavity remeshing around the unnecessary irregular vertices, keeping the
+/// ones matched to the face's cross-field `singularities` (paper §6.2). Every
+/// change is kept only if the quads stay valid.
 pub fn improve_face(face: &geometry::Face, p: &mut QuadPatch, singularities: &[crate::singularities::Singularity], opts: &UnstructuredOptions) -> (DefectReport, CavityReport) {
-    let defects = remove_defects(face, p);
-    let cavities = match &opts.cavity {
-        Some(c) => remesh_cavities(face, p, singularities, c),
-        None => CavityReport::default(),
-    };
+    improve_face_timed(face, p, singularities, opts, &mut StageTimes::default())
+}
+
+/// [`improve_face`], adding the time of its two stages to
+/// [`StageTimes::defects`] and [`StageTimes::cavities`] of `times`.
+pub fn improve_face_timed(
+    face: &geometry::Face,
+    p: &mut QuadPatch,
+    singularities: &[crate::singularities::Singularity],
+    opts: &UnstructuredOptions,
+    times: &mut StageTimes,
+) -> (DefectReport, CavityReport) {
+    let mut defects = DefectReport::default();
+    if opts.defects {
+        let started = Instant::now();
+        defects = remove_defects(face, p);
+        times.defects += started.elapsed();
+    }
+    let mut cavities = CavityReport::default();
+    if let Some(c) = &opts.cavity {
+        let started = Instant::now();
+        cavities = remesh_cavities(face, p, singularities, c);
+        times.cavities += started.elapsed();
+    }
     (defects, cavities)
 }
 
