@@ -164,6 +164,9 @@ pub struct StatsArgs {
     /// the distance of the nodes to the CAD is reported.
     #[arg(long)]
     cad: Option<PathBuf>,
+    /// How a triangle-mesh `--cad` model is read (the same options as `mesh`).
+    #[command(flatten)]
+    import: ImportArgs,
     /// Print JSON instead of text.
     #[arg(long)]
     json: bool,
@@ -183,6 +186,9 @@ pub struct RenderArgs {
     /// CAD model, for SICN with CAD normals.
     #[arg(long)]
     cad: Option<PathBuf>,
+    /// How a triangle-mesh `--cad` model is read (the same options as `mesh`).
+    #[command(flatten)]
+    import: ImportArgs,
     /// Picture width in pixels.
     #[arg(long, default_value_t = 1600)]
     width: u32,
@@ -308,7 +314,8 @@ fn main() -> ExitCode {
         Command::Info(a) => Some(&a.import),
         Command::Mesh(a) => Some(&a.import),
         Command::Field(a) => Some(&a.import),
-        _ => None,
+        Command::Stats(a) => Some(&a.import),
+        Command::Render(a) => Some(&a.import),
     };
     if let Some(Err(e)) = import.map(files::set_trimesh_options) {
         eprintln!("error: {}", error_chain(&e));

@@ -62,6 +62,19 @@ fn info_and_mesh_work_on_an_stl_box() {
     let info: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
     assert!(info["faces"].as_u64().unwrap() >= 2, "{info}");
     assert_eq!(info["boundary_curves"].as_u64(), Some(0));
+    // stats and render read a triangle-mesh --cad with the same options as
+    // mesh (the mesh's faces must be the model's: at 60° the box keeps its 6
+    // faces, and the nodes lie on them)
+    let r = quadrille(&["stats", out.to_str().unwrap(), "--cad", stl.to_str().unwrap(), "--feature-angle", "60", "--json"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+    assert!(s["cad_distance"]["max_relative"].as_f64().unwrap() < 1e-9, "{s}");
+    let png = dir.path().join("box.png");
+    let r = quadrille(&["render", out.to_str().unwrap(), "-o", png.to_str().unwrap(), "--cad", stl.to_str().unwrap(), "--sicn", "--feature-angle", "60"]);
+    assert!(r.status.success() && png.exists(), "{}", String::from_utf8_lossy(&r.stderr));
+    let r = quadrille(&["stats", out.to_str().unwrap(), "--cad", stl.to_str().unwrap(), "--feature-angle", "400"]);
+    assert!(!r.status.success());
+    assert!(String::from_utf8_lossy(&r.stderr).contains("feature angle"), "{}", String::from_utf8_lossy(&r.stderr));
 }
 
 #[test]
