@@ -3,7 +3,8 @@
 //!
 //! For every face: the curves are discretized once ([`plan_curves`],
 //! [`discretize_all`]) at the *background* size `h_bg = h / refine` (`h` the
-//! quad size, [`FieldOptions::refine`] = [`BACKGROUND_REFINE`] by default);
+//! quad size, [`FieldOptions::refine`] = [`BACKGROUND_REFINE`] by default, and
+//! at least the default size / [`MAX_BACKGROUND_DIVISIONS`]);
 //! the face is triangulated with the baseline's [`FaceTriangulation`] (target
 //! `2 h_bg`, refined); [`FaceMesh::from_face_triangulation`] turns it into
 //! cross-field input; [`compute_cross_field`] solves for the field,
@@ -35,6 +36,13 @@ use crate::singularities::{extract_singularities, Singularities};
 /// Default ratio between the quad size and the background triangle size
 /// (the background triangulation has edges of about a quarter of the quad size).
 pub const BACKGROUND_REFINE: f64 = 8.0;
+
+/// The background size never goes below the default quad size (1/18 of the
+/// diagonal) divided by this: the fields are smooth, and a background that
+/// follows a fine quad size costs time that grows much faster than the
+/// output (at `--size-factor 0.0625`, 96 % of the run went to fields on a
+/// background of diagonal / 2304).
+pub const MAX_BACKGROUND_DIVISIONS: f64 = 32.0;
 
 /// Options of [`model_fields`].
 #[derive(Clone)]
@@ -272,7 +280,7 @@ pub fn model_fields(model: &Model, opts: &FieldOptions) -> Result<ModelFields, M
     if !(opts.refine.is_finite() && opts.refine > 0.0) {
         return Err(MeshError::InvalidSize(opts.refine));
     }
-    let h_bg = h / opts.refine;
+    let h_bg = (h / opts.refine).max(crate::pipeline::default_size(model) / MAX_BACKGROUND_DIVISIONS);
     let cms = discretize_all(model, &plan_curves(model, h_bg));
     let nf = model.faces.len();
     let done = AtomicUsize::new(0);
@@ -321,6 +329,20 @@ impl ModelFields {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn background_size_stops_at_a_fraction_of_the_default_size() {
+        // square of side 2: diagonal 2√2, default size 2√2 / 18
+        let model = geometry::primitives::square(2.0);
+        let default = crate::pipeline::default_size(&model);
+        // a coarse quad size: h / 8
+        let f = model_fields(&model, &FieldOptions { size: Size::Absolute(0.5), size_map: false, ..Default::default() }).unwrap();
+        assert!((f.background_size - 0.5 / BACKGROUND_REFINE).abs() < 1e-12);
+        // a quad size 16 × finer than the default: the background stops at default / 32
+        let f = model_fields(&model, &FieldOptions { size: Size::Factor(1.0 / 16.0), size_map: false, ..Default::default() }).unwrap();
+        assert!((f.background_size - default / MAX_BACKGROUND_DIVISIONS).abs() < 1e-12, "{}", f.background_size);
+        assert!(f.faces[0].outcome.is_ok());
+    }
 
     #[test]
     fn square_model_has_a_regular_field_and_a_uniform_size() {
