@@ -45,7 +45,9 @@ fn main() {
             include.display()
         );
     }
-    let lib_dir = env::var_os("OCCT_LIB_DIR").map(PathBuf::from).unwrap_or_else(default_lib_dir);
+    let lib_dir = env::var_os("OCCT_LIB_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(default_lib_dir);
     if !lib_dir.join("libTKernel.so").exists() {
         panic!(
             "\n\nOpenCASCADE libraries (libTKernel.so …) not found in {}.\n\
@@ -74,7 +76,12 @@ fn main() {
 
 /// The multiarch library directory of the Debian packages, else /usr/lib.
 fn default_lib_dir() -> PathBuf {
-    for d in ["/usr/lib/x86_64-linux-gnu", "/usr/lib/aarch64-linux-gnu", "/usr/lib64", "/usr/lib"] {
+    for d in [
+        "/usr/lib/x86_64-linux-gnu",
+        "/usr/lib/aarch64-linux-gnu",
+        "/usr/lib64",
+        "/usr/lib",
+    ] {
         if Path::new(d).join("libTKernel.so").exists() {
             return PathBuf::from(d);
         }

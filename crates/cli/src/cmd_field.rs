@@ -87,10 +87,12 @@ struct ReportJson {
 
 /// Smallest and largest of `values`; `None` when empty.
 fn range(values: impl IntoIterator<Item = f64>) -> Option<[f64; 2]> {
-    values.into_iter().fold(None, |r, x| Some(match r {
-        None => [x, x],
-        Some([a, b]) => [a.min(x), b.max(x)],
-    }))
+    values.into_iter().fold(None, |r, x| {
+        Some(match r {
+            None => [x, x],
+            Some([a, b]) => [a.min(x), b.max(x)],
+        })
+    })
 }
 
 fn report(args: &FieldArgs, model: &geometry::Model, fields: &ModelFields) -> ReportJson {
@@ -131,7 +133,13 @@ fn report(args: &FieldArgs, model: &geometry::Model, fields: &ModelFields) -> Re
             },
         })
         .collect();
-    let count = |k: i32| faces.iter().flat_map(|f| &f.singularities).filter(|s| s.index == k).count();
+    let count = |k: i32| {
+        faces
+            .iter()
+            .flat_map(|f| &f.singularities)
+            .filter(|s| s.index == k)
+            .count()
+    };
     let totals = TotalsJson {
         faces: fields.faces.len(),
         faces_euler_ok: fields.faces_euler_ok(),
@@ -142,17 +150,35 @@ fn report(args: &FieldArgs, model: &geometry::Model, fields: &ModelFields) -> Re
         singularities_minus: count(-1),
     };
     let plan = fields.curve_plan(model);
-    let profiles = fields.size_map.as_ref().map(|m| m.curve_sizes(model, &fields.curves)).unwrap_or_default();
+    let profiles = fields
+        .size_map
+        .as_ref()
+        .map(|m| m.curve_sizes(model, &fields.curves))
+        .unwrap_or_default();
     let curves = (0..model.curves.len())
         .map(|c| CurveJson {
             curve: c + 1,
             ideal_edges: 2.0 * plan.ideal(geometry::CurveId(c as u32)),
             edges: 2 * plan.counts[c],
-            size_range: profiles.get(c).and_then(|p| p.as_ref()).and_then(|p| range(p.iter().map(|x| x[1]))),
+            size_range: profiles
+                .get(c)
+                .and_then(|p| p.as_ref())
+                .and_then(|p| range(p.iter().map(|x| x[1]))),
         })
         .collect();
-    let size_range = fields.size_map.as_ref().and_then(|m| range(m.size.iter().copied()));
-    ReportJson { file: args.model.display().to_string(), size: fields.size, background_size: fields.background_size, faces, curves, size_range, totals }
+    let size_range = fields
+        .size_map
+        .as_ref()
+        .and_then(|m| range(m.size.iter().copied()));
+    ReportJson {
+        file: args.model.display().to_string(),
+        size: fields.size,
+        background_size: fields.background_size,
+        faces,
+        curves,
+        size_range,
+        totals,
+    }
 }
 
 /// Runs `quadrille field`: checks the outputs, computes the fields, writes
@@ -176,30 +202,58 @@ pub fn run(args: &FieldArgs) -> Result<()> {
         max_size: args.max_size,
         entity_sizes: args.entity_sizes.clone(),
     };
-    let opts = FieldOptions { size, progress, sizing, ..Default::default() };
-    let fields = model_fields(&model, &opts).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()));
+    let opts = FieldOptions {
+        size,
+        progress,
+        sizing,
+        ..Default::default()
+    };
+    let fields =
+        model_fields(&model, &opts).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()));
     bar.finish();
     let fields = fields?;
     let field_mesh = fields.to_field_mesh(&model);
     if field_mesh.triangles.is_empty() {
-        let why = fields.faces.iter().find_map(|f| f.outcome.as_ref().err()).map(|e| e.to_string()).unwrap_or_default();
-        bail!("{}: no face could be given a cross field ({why})", args.model.display());
+        let why = fields
+            .faces
+            .iter()
+            .find_map(|f| f.outcome.as_ref().err())
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        bail!(
+            "{}: no face could be given a cross field ({why})",
+            args.model.display()
+        );
     }
 
     mesh::vtu::write_field_vtu(&field_mesh, &args.output)?;
-    let name = args.model.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = args
+        .model
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let mut written = vec![args.output.clone()];
     let mut pictures = || -> Result<(), mesh::render::RenderError> {
         if let Some(png) = &args.png {
-            let title = format!("{name}: cross field, Eq. (2) holds on {}/{} faces", fields.faces_euler_ok(), fields.faces.len());
-            let ropts = mesh::render::RenderOptions { title: Some(&title), ..Default::default() };
+            let title = format!(
+                "{name}: cross field, Eq. (2) holds on {}/{} faces",
+                fields.faces_euler_ok(),
+                fields.faces.len()
+            );
+            let ropts = mesh::render::RenderOptions {
+                title: Some(&title),
+                ..Default::default()
+            };
             let spacing = model.diagonal() / GLYPHS_PER_DIAGONAL;
             mesh::field::render_field_png(&field_mesh, spacing, &ropts, png)?;
             written.push(png.clone());
         }
         if let Some(png) = &args.size_png {
             let title = format!("{name}: size map (quad size {:.4})", fields.size);
-            let ropts = mesh::render::RenderOptions { title: Some(&title), ..Default::default() };
+            let ropts = mesh::render::RenderOptions {
+                title: Some(&title),
+                ..Default::default()
+            };
             mesh::field::render_size_png(&field_mesh, &ropts, png)?;
         }
         Ok(())

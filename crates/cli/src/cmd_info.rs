@@ -40,7 +40,12 @@ struct ModelInfo {
 pub fn run(args: &InfoArgs) -> Result<()> {
     let model = files::load_model(&args.model)?;
     let curve_faces = model.curve_faces();
-    let seam_curve = |c: usize| model.faces.iter().any(|f| f.curve_uses().any(|u| u.seam && u.curve.idx() == c));
+    let seam_curve = |c: usize| {
+        model
+            .faces
+            .iter()
+            .any(|f| f.curve_uses().any(|u| u.seam && u.curve.idx() == c))
+    };
     let (lo, hi) = model.bounding_box();
     let info = ModelInfo {
         file: args.model.display().to_string(),
@@ -80,7 +85,10 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         return Ok(());
     }
     println!("{}", info.file);
-    println!("  faces {}   curves {}   corners {}", info.faces, info.curves, info.corners);
+    println!(
+        "  faces {}   curves {}   corners {}",
+        info.faces, info.curves, info.corners
+    );
     println!(
         "  seam curves {}   degenerate curves {}   boundary curves {}   non-manifold curves {}",
         info.seam_curves, info.degenerate_curves, info.boundary_curves, info.non_manifold_curves
@@ -89,7 +97,14 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         "  bounding box [{:.4}, {:.4}, {:.4}] – [{:.4}, {:.4}, {:.4}]   diagonal {:.6}",
         lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], info.diagonal
     );
-    println!("  {}", if info.boundary_curves == 0 { "closed (watertight B-rep)" } else { "open (has boundary curves)" });
+    println!(
+        "  {}",
+        if info.boundary_curves == 0 {
+            "closed (watertight B-rep)"
+        } else {
+            "open (has boundary curves)"
+        }
+    );
     println!("  face  loops  uses  seams  periodic  reversed");
     for f in &info.face_list {
         let per = match (f.u_periodic, f.v_periodic) {
@@ -98,7 +113,10 @@ pub fn run(args: &InfoArgs) -> Result<()> {
             (false, true) => "v",
             _ => "-",
         };
-        println!("  {:>4}  {:>5}  {:>4}  {:>5}  {:>8}  {:>8}", f.id, f.loops, f.curve_uses, f.seams, per, f.reversed);
+        println!(
+            "  {:>4}  {:>5}  {:>4}  {:>5}  {:>8}  {:>8}",
+            f.id, f.loops, f.curve_uses, f.seams, per, f.reversed
+        );
     }
     Ok(())
 }

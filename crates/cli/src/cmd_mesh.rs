@@ -11,11 +11,15 @@ use crate::{MeshArgs, Method};
 
 /// The topology stages the arguments ask for, or why the combination is refused.
 fn stages(args: &MeshArgs) -> Result<quadrille::Stages> {
-    let off: Vec<&str> = [(args.no_patterns, "--no-patterns"), (args.no_defects, "--no-defects"), (args.no_cavities, "--no-cavities")]
-        .iter()
-        .filter(|(on, _)| *on)
-        .map(|(_, name)| *name)
-        .collect();
+    let off: Vec<&str> = [
+        (args.no_patterns, "--no-patterns"),
+        (args.no_defects, "--no-defects"),
+        (args.no_cavities, "--no-cavities"),
+    ]
+    .iter()
+    .filter(|(on, _)| *on)
+    .map(|(_, name)| *name)
+    .collect();
     match args.method {
         Method::QuasiStructured => Ok(quadrille::Stages { patterns: !args.no_patterns, defects: !args.no_defects, cavities: !args.no_cavities }),
         _ if !off.is_empty() => bail!(
@@ -51,17 +55,26 @@ pub fn run(args: &MeshArgs) -> Result<()> {
 
     let bar = FaceProgress::new(args.quiet, model.faces.len(), "meshing");
     let progress = bar.callback();
-    let opts = MeshOptions { size, threads: args.threads, progress };
+    let opts = MeshOptions {
+        size,
+        threads: args.threads,
+        progress,
+    };
     let t1 = Instant::now();
     let method = match args.method {
         Method::QuasiStructured | Method::Unstructured => quadrille::MeshMethod::Unstructured,
         Method::Baseline | Method::Regular => quadrille::MeshMethod::Baseline,
     };
-    let (mut m, report) = quadrille::mesh_model_stages(&model, &opts, method, stages).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
+    let (mut m, report) = quadrille::mesh_model_stages(&model, &opts, method, stages)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
     bar.finish();
     if !args.quiet {
         for (f, reason) in &report.fallback {
-            eprintln!("face {}: {} meshing failed ({reason}); meshed with the baseline", f.0 + 1, method_name(args.method));
+            eprintln!(
+                "face {}: {} meshing failed ({reason}); meshed with the baseline",
+                f.0 + 1,
+                method_name(args.method)
+            );
         }
         if args.method == Method::QuasiStructured {
             eprintln!("{}", topology_summary(&report, model.faces.len(), stages));
@@ -70,7 +83,10 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let t_mesh = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
     if let Method::Regular = args.method {
-        let ropts = quadrille::regularize::RegularizeOptions { threads: args.threads, ..Default::default() };
+        let ropts = quadrille::regularize::RegularizeOptions {
+            threads: args.threads,
+            ..Default::default()
+        };
         quadrille::regularize::regularize_mesh(&model, &mut m, &ropts)
             .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
     }
@@ -80,22 +96,40 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let sicn = mesh::stats::quad_sicn_values(&m, Some(&model));
     match format.as_str() {
         "msh" => {
-            let enc = if args.binary { mesh::msh::MshEncoding::Binary } else { mesh::msh::MshEncoding::Ascii };
+            let enc = if args.binary {
+                mesh::msh::MshEncoding::Binary
+            } else {
+                mesh::msh::MshEncoding::Ascii
+            };
             mesh::msh::write_msh(&args.output, &m, Some(&model), enc)?
         }
         "vtu" => mesh::vtu::write_vtu(&m, Some(&sicn), &args.output)?,
         "obj" => mesh::obj::write_obj(&m, &args.output)?,
-        other => bail!("{}: unknown output extension '.{other}'", args.output.display()),
+        other => bail!(
+            "{}: unknown output extension '.{other}'",
+            args.output.display()
+        ),
     }
     if let Some(png) = &args.png {
-        let title = args.model.file_name().map(|n| n.to_string_lossy().into_owned());
-        let ropts = mesh::render::RenderOptions { title: title.as_deref(), ..Default::default() };
+        let title = args
+            .model
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned());
+        let ropts = mesh::render::RenderOptions {
+            title: title.as_deref(),
+            ..Default::default()
+        };
         mesh::render::render_png(&m, &ropts, png)?;
     }
     let t_write = t3.elapsed().as_secs_f64();
     if args.timings {
-        let threads = args.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-        eprint!("{}", timings_text(&report.times, threads, [t_load, t_mesh, t_improve, t_write]));
+        let threads = args
+            .threads
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+        eprint!(
+            "{}",
+            timings_text(&report.times, threads, [t_load, t_mesh, t_improve, t_write])
+        );
     }
     if !args.quiet {
         let inverted = sicn.iter().filter(|&&s| s < 0.0).count();
@@ -118,15 +152,25 @@ pub fn run(args: &MeshArgs) -> Result<()> {
 
 /// The summary line of the topology steps: faces by pattern, defects, cavities
 /// (a step switched off says so).
-fn topology_summary(report: &quadrille::MeshReport, faces: usize, stages: quadrille::Stages) -> String {
+fn topology_summary(
+    report: &quadrille::MeshReport,
+    faces: usize,
+    stages: quadrille::Stages,
+) -> String {
     let patterns = if stages.patterns {
-        format!("{} of {faces} faces meshed by a pattern", report.patterns.len())
+        format!(
+            "{} of {faces} faces meshed by a pattern",
+            report.patterns.len()
+        )
     } else {
         "patterns off".to_string()
     };
     let d = &report.defects;
     let defects = if stages.defects {
-        format!("defects: {} of {} very irregular vertices replaced by disk quadrangulations", d.replaced, d.found)
+        format!(
+            "defects: {} of {} very irregular vertices replaced by disk quadrangulations",
+            d.replaced, d.found
+        )
     } else {
         "defects off".to_string()
     };
@@ -160,7 +204,11 @@ fn timings_text(t: &quadrille::StageTimes, threads: usize, cli: [f64; 4]) -> Str
         ("curves", "curve planning and discretization", s(t.curves)),
         ("faces", "faces (wall time)", s(t.faces)),
         ("patterns", "  patterns", s(t.patterns)),
-        ("frontal", "  frontal+recombination+subdivision", s(t.frontal)),
+        (
+            "frontal",
+            "  frontal+recombination+subdivision",
+            s(t.frontal),
+        ),
         ("smoothing", "  smoothing", s(t.smoothing)),
         ("defects", "  defects", s(t.defects)),
         ("cavities", "  cavities", s(t.cavities)),
@@ -169,7 +217,11 @@ fn timings_text(t: &quadrille::StageTimes, threads: usize, cli: [f64; 4]) -> Str
         ("mesh", "meshing (wall time)", mesh),
         ("regularize", "regularize", regularize),
         ("write", "writing", write),
-        ("total", "total (load + meshing + regularize)", load + mesh + regularize),
+        (
+            "total",
+            "total (load + meshing + regularize)",
+            load + mesh + regularize,
+        ),
     ];
     let mut out = format!(
         "timings in seconds ({threads} thread{}; the indented per-face stages are sums over faces, which run in parallel):\n",
@@ -178,7 +230,10 @@ fn timings_text(t: &quadrille::StageTimes, threads: usize, cli: [f64; 4]) -> Str
     for (_, label, v) in &rows {
         out.push_str(&format!("  {label:<37} {v:>9.4}\n"));
     }
-    let json: Vec<String> = rows.iter().map(|(key, _, v)| format!("\"{key}\":{v:.4}")).collect();
+    let json: Vec<String> = rows
+        .iter()
+        .map(|(key, _, v)| format!("\"{key}\":{v:.4}"))
+        .collect();
     out.push_str(&format!("timings:{{{}}}\n", json.join(",")));
     out
 }
@@ -189,13 +244,35 @@ mod tests {
 
     #[test]
     fn timings_list_every_stage_and_parse_as_json() {
-        let t = quadrille::StageTimes { frontal: std::time::Duration::from_millis(250), ..Default::default() };
+        let t = quadrille::StageTimes {
+            frontal: std::time::Duration::from_millis(250),
+            ..Default::default()
+        };
         let text = timings_text(&t, 2, [0.5, 1.0, 0.0, 0.25]);
-        for stage in ["load", "cross fields", "curve planning", "patterns", "frontal+recombination+subdivision", "smoothing", "defects", "cavities", "fallback", "assembly", "writing", "total"] {
+        for stage in [
+            "load",
+            "cross fields",
+            "curve planning",
+            "patterns",
+            "frontal+recombination+subdivision",
+            "smoothing",
+            "defects",
+            "cavities",
+            "fallback",
+            "assembly",
+            "writing",
+            "total",
+        ] {
             assert!(text.contains(stage), "{stage} missing: {text}");
         }
-        assert!(text.contains("2 threads") && text.contains("sums over faces"), "{text}");
-        let json = text.lines().find_map(|l| l.strip_prefix("timings:")).expect("a timings: line");
+        assert!(
+            text.contains("2 threads") && text.contains("sums over faces"),
+            "{text}"
+        );
+        let json = text
+            .lines()
+            .find_map(|l| l.strip_prefix("timings:"))
+            .expect("a timings: line");
         assert!(json.contains("\"frontal\":0.2500"), "{json}");
         // load + meshing + regularize, writing excluded
         assert!(json.contains("\"total\":1.5000"), "{json}");

@@ -9,8 +9,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     files::check_output(&args.output, &["png"])?;
     let m = files::read_mesh(&args.mesh)?;
     let model = args.cad.as_deref().map(files::load_model).transpose()?;
-    let sicn = args.sicn.then(|| mesh::stats::quad_sicn_values(&m, model.as_ref()));
-    let title = args.mesh.file_name().map(|n| n.to_string_lossy().into_owned());
+    let sicn = args
+        .sicn
+        .then(|| mesh::stats::quad_sicn_values(&m, model.as_ref()));
+    let title = args
+        .mesh
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned());
     let mut opts = mesh::render::RenderOptions {
         width: args.width,
         height: args.height,

@@ -12,7 +12,10 @@ static TRIMESH_OPTIONS: std::sync::OnceLock<trimesh::Options> = std::sync::OnceL
 
 /// Sets the triangle-mesh import options from the command's arguments.
 pub fn set_trimesh_options(args: &crate::ImportArgs) -> Result<()> {
-    let mut opts = trimesh::Options { feature_angle: args.feature_angle, ..Default::default() };
+    let mut opts = trimesh::Options {
+        feature_angle: args.feature_angle,
+        ..Default::default()
+    };
     if let Some(f) = &args.feature_edges {
         opts.feature_edges = trimesh::read_feature_edges(f)?;
     }
@@ -41,14 +44,19 @@ pub fn load_model(path: &Path) -> Result<Model> {
 pub fn read_mesh(path: &Path) -> Result<QuadMesh> {
     let ext = extension(path);
     if ext != "msh" {
-        bail!("{}: unknown mesh extension '.{ext}' (expected .msh, MSH 4.1 or 2.2)", path.display());
+        bail!(
+            "{}: unknown mesh extension '.{ext}' (expected .msh, MSH 4.1 or 2.2)",
+            path.display()
+        );
     }
     Ok(mesh::msh::read_msh(path)?.mesh)
 }
 
 /// Lower-case extension of `path` ("" when none).
 pub fn extension(path: &Path) -> String {
-    path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default()
+    path.extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default()
 }
 
 /// Checks that `path` has one of `allowed` extensions and that its folder
@@ -56,15 +64,24 @@ pub fn extension(path: &Path) -> String {
 pub fn check_output(path: &Path, allowed: &[&str]) -> Result<String> {
     let ext = extension(path);
     if !allowed.contains(&ext.as_str()) {
-        bail!("{}: unknown output extension '.{ext}' (expected one of: .{})", path.display(), allowed.join(", ."));
+        bail!(
+            "{}: unknown output extension '.{ext}' (expected one of: .{})",
+            path.display(),
+            allowed.join(", .")
+        );
     }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => std::path::PathBuf::from("."),
     };
     let probe = dir.join(format!(".quadrille-probe-{}", std::process::id()));
-    std::fs::write(&probe, b"")
-        .with_context(|| format!("{}: cannot write the output there (folder {})", path.display(), dir.display()))?;
+    std::fs::write(&probe, b"").with_context(|| {
+        format!(
+            "{}: cannot write the output there (folder {})",
+            path.display(),
+            dir.display()
+        )
+    })?;
     let _ = std::fs::remove_file(&probe);
     Ok(ext)
 }

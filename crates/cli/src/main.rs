@@ -44,10 +44,14 @@ enum Command {
     #[command(after_help = "Example:\n  quadrille info part.step --json")]
     Info(InfoArgs),
     /// Mesh a CAD model (STEP, IGES, BREP) with quads and write MSH, VTU or OBJ.
-    #[command(after_help = "Examples:\n  quadrille mesh part.step -o part.msh\n  quadrille mesh part.step -o part.vtu --size 2.5 --png part.png\n  quadrille mesh part.step -o part.msh --method unstructured --timings\n  quadrille mesh part.step -o part.msh --no-patterns --no-cavities")]
+    #[command(
+        after_help = "Examples:\n  quadrille mesh part.step -o part.msh\n  quadrille mesh part.step -o part.vtu --size 2.5 --png part.png\n  quadrille mesh part.step -o part.msh --method unstructured --timings\n  quadrille mesh part.step -o part.msh --no-patterns --no-cavities"
+    )]
     Mesh(MeshArgs),
     /// Quality statistics of a mesh (MSH 4.1 or 2.2): SICN, valences, irregular vertices, open edges.
-    #[command(after_help = "Examples:\n  quadrille stats part.msh\n  quadrille stats part.msh --cad part.step --json")]
+    #[command(
+        after_help = "Examples:\n  quadrille stats part.msh\n  quadrille stats part.msh --cad part.step --json"
+    )]
     Stats(StatsArgs),
     /// Draw a mesh (MSH) to a PNG picture: shaded quads, edges, irregular vertices.
     #[command(after_help = "Example:\n  quadrille render part.msh -o part.png --sicn")]
@@ -269,7 +273,11 @@ fn parse_entity_size(text: &str) -> Result<(quadrille::size_map::Entity, f64), S
         "corner" => Entity::Corner(geometry::CornerId(id - 1)),
         "curve" => Entity::Curve(geometry::CurveId(id - 1)),
         "face" => Entity::Face(geometry::FaceId(id - 1)),
-        other => return Err(format!("`{text}`: unknown entity kind `{other}` (corner, curve or face)")),
+        other => {
+            return Err(format!(
+                "`{text}`: unknown entity kind `{other}` (corner, curve or face)"
+            ))
+        }
     };
     Ok((entity, size))
 }

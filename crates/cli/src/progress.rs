@@ -15,8 +15,10 @@ impl FaceProgress {
         let bar = (!quiet).then(|| {
             let b = ProgressBar::new(faces as u64);
             b.set_style(
-                ProgressStyle::with_template(&format!("{label} {{bar:30}} {{pos}}/{{len}} faces {{elapsed}}"))
-                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
+                ProgressStyle::with_template(&format!(
+                    "{label} {{bar:30}} {{pos}}/{{len}} faces {{elapsed}}"
+                ))
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
             );
             b
         });
@@ -25,7 +27,9 @@ impl FaceProgress {
 
     /// The callback the library calls as faces finish.
     pub fn callback(&self) -> Option<quadrille::ProgressFn> {
-        self.bar.clone().map(|b| -> quadrille::ProgressFn { Arc::new(move |done, _| b.set_position(done as u64)) })
+        self.bar.clone().map(|b| -> quadrille::ProgressFn {
+            Arc::new(move |done, _| b.set_position(done as u64))
+        })
     }
 
     /// Removes the bar from the terminal.

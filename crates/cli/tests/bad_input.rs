@@ -11,12 +11,27 @@ use common::{assert_clean_failure, cad, quadrille};
 /// returns stderr.
 fn mesh_fails(input: &Path, dir: &Path) -> String {
     let out = dir.join("out.msh");
-    let r = quadrille(&["mesh", input.to_str().unwrap(), "-o", out.to_str().unwrap(), "--quiet"]);
+    let r = quadrille(&[
+        "mesh",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
     assert!(!r.status.success(), "must fail on {}", input.display());
     let stderr = assert_clean_failure(&r, &input.file_name().unwrap().to_string_lossy());
     assert!(!out.exists(), "no output file may be left behind");
-    let leftovers: Vec<_> = std::fs::read_dir(dir).unwrap().flatten().map(|e| e.file_name()).collect();
-    assert!(leftovers.iter().all(|n| !n.to_string_lossy().contains("out.msh")), "partial files left: {leftovers:?}");
+    let leftovers: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name())
+        .collect();
+    assert!(
+        leftovers
+            .iter()
+            .all(|n| !n.to_string_lossy().contains("out.msh")),
+        "partial files left: {leftovers:?}"
+    );
     stderr
 }
 
@@ -30,7 +45,10 @@ fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
 fn missing_file() {
     let dir = tempfile::tempdir().unwrap();
     let err = mesh_fails(&dir.path().join("no_such_model.step"), dir.path());
-    assert!(err.to_lowercase().contains("not found") || err.contains("No such file"), "{err}");
+    assert!(
+        err.to_lowercase().contains("not found") || err.contains("No such file"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -52,7 +70,9 @@ fn truncated_step() {
 #[test]
 fn binary_garbage_named_step() {
     let dir = tempfile::tempdir().unwrap();
-    let garbage: Vec<u8> = (0..4096u32).map(|i| (i.wrapping_mul(2654435761) >> 13) as u8).collect();
+    let garbage: Vec<u8> = (0..4096u32)
+        .map(|i| (i.wrapping_mul(2654435761) >> 13) as u8)
+        .collect();
     let p = write(dir.path(), "garbage.step", &garbage);
     mesh_fails(&p, dir.path());
 }
@@ -81,13 +101,22 @@ fn unknown_extension() {
     let dir = tempfile::tempdir().unwrap();
     let p = write(dir.path(), "model.xyz", b"solid nothing");
     let err = mesh_fails(&p, dir.path());
-    assert!(err.to_lowercase().contains("extension") || err.to_lowercase().contains("format"), "{err}");
+    assert!(
+        err.to_lowercase().contains("extension") || err.to_lowercase().contains("format"),
+        "{err}"
+    );
 }
 
 /// Meshes a good model into `out`, which must be refused: checks the failure
 /// contract and that the error names the output file.
 fn output_refused(out: &Path) {
-    let r = quadrille(&["mesh", cad("s17o_sphere.stp").to_str().unwrap(), "-o", out.to_str().unwrap(), "--quiet"]);
+    let r = quadrille(&[
+        "mesh",
+        cad("s17o_sphere.stp").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
     assert_clean_failure(&r, &out.file_name().unwrap().to_string_lossy());
     assert!(!out.exists());
 }
@@ -108,7 +137,11 @@ fn unknown_output_extension() {
 #[test]
 fn stats_on_garbage_mesh() {
     let dir = tempfile::tempdir().unwrap();
-    let p = write(dir.path(), "broken.msh", b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 5 1 5\n2 1 0 5\n1\n");
+    let p = write(
+        dir.path(),
+        "broken.msh",
+        b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 5 1 5\n2 1 0 5\n1\n",
+    );
     let r = quadrille(&["stats", p.to_str().unwrap()]);
     assert_clean_failure(&r, "broken.msh");
 }
@@ -127,8 +160,15 @@ fn closed_output_pipe_is_not_a_panic() {
     drop(child.stdout.take()); // the reader goes away before anything is written
     let out = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(!stderr.contains("panicked"), "panic on a closed pipe: {stderr}");
-    assert_ne!(out.status.code(), Some(101), "exit code 101 is a Rust panic: {stderr}");
+    assert!(
+        !stderr.contains("panicked"),
+        "panic on a closed pipe: {stderr}"
+    );
+    assert_ne!(
+        out.status.code(),
+        Some(101),
+        "exit code 101 is a Rust panic: {stderr}"
+    );
 }
 
 /// The error line says each cause once (library errors that print their
@@ -137,5 +177,9 @@ fn closed_output_pipe_is_not_a_panic() {
 fn missing_mesh_error_says_its_cause_once() {
     let r = common::quadrille(&["stats", "/nonexistent/quadrille-missing.msh"]);
     let stderr = common::assert_clean_failure(&r, "quadrille-missing.msh");
-    assert_eq!(stderr.matches("No such file or directory").count(), 1, "cause repeated: {stderr}");
+    assert_eq!(
+        stderr.matches("No such file or directory").count(),
+        1,
+        "cause repeated: {stderr}"
+    );
 }

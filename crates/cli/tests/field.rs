@@ -12,23 +12,33 @@ use serde_json::Value;
 
 /// The `<Piece …>…</Piece>` elements of a VTU file, in order.
 fn pieces(xml: &str) -> Vec<&str> {
-    xml.split("<Piece ").skip(1).map(|p| &p[..p.find("</Piece>").expect("closed Piece")]).collect()
+    xml.split("<Piece ")
+        .skip(1)
+        .map(|p| &p[..p.find("</Piece>").expect("closed Piece")])
+        .collect()
 }
 
 /// An integer attribute of a piece's opening tag.
 fn attr(piece: &str, name: &str) -> usize {
     let key = format!("{name}=\"");
     let start = piece.find(&key).unwrap_or_else(|| panic!("no {name}")) + key.len();
-    piece[start..start + piece[start..].find('"').unwrap()].parse().unwrap()
+    piece[start..start + piece[start..].find('"').unwrap()]
+        .parse()
+        .unwrap()
 }
 
 /// The values of the `DataArray` called `name` in `piece`.
 fn array(piece: &str, name: &str) -> Vec<f64> {
     let key = format!("Name=\"{name}\"");
-    let start = piece.find(&key).unwrap_or_else(|| panic!("no array {name}"));
+    let start = piece
+        .find(&key)
+        .unwrap_or_else(|| panic!("no array {name}"));
     let body = start + piece[start..].find('>').unwrap() + 1;
     let end = body + piece[body..].find("</DataArray>").unwrap();
-    piece[body..end].split_whitespace().map(|v| v.parse().unwrap()).collect()
+    piece[body..end]
+        .split_whitespace()
+        .map(|v| v.parse().unwrap())
+        .collect()
 }
 
 /// Runs `quadrille field MODEL -o DIR/field.vtu --json --quiet [extra]`;
@@ -36,7 +46,14 @@ fn array(piece: &str, name: &str) -> Vec<f64> {
 fn field(model: &str, dir: &Path, extra: &[&str]) -> (Value, String) {
     let out = dir.join("field.vtu");
     let m = cad(model);
-    let mut args = vec!["field", m.to_str().unwrap(), "-o", out.to_str().unwrap(), "--json", "--quiet"];
+    let mut args = vec![
+        "field",
+        m.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+        "--quiet",
+    ];
     args.extend_from_slice(extra);
     let r = quadrille(&args);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
@@ -49,28 +66,52 @@ fn field(model: &str, dir: &Path, extra: &[&str]) -> (Value, String) {
 /// sizes), then one vertex cell per singularity with its index.
 fn vtu_matches_report(json: &Value, xml: &str) {
     let triangles = json["totals"]["triangles"].as_u64().unwrap() as usize;
-    let per_face: u64 = json["faces"].as_array().unwrap().iter().map(|f| f["triangles"].as_u64().unwrap()).sum();
+    let per_face: u64 = json["faces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["triangles"].as_u64().unwrap())
+        .sum();
     assert_eq!(triangles as u64, per_face);
     let listed: Vec<f64> = json["faces"]
         .as_array()
         .unwrap()
         .iter()
-        .flat_map(|f| f["singularities"].as_array().unwrap().iter().map(|s| s["index"].as_f64().unwrap()))
+        .flat_map(|f| {
+            f["singularities"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|s| s["index"].as_f64().unwrap())
+        })
         .collect();
     let ns = listed.len();
     assert!(xml.starts_with("<?xml") && xml.trim_end().ends_with("</VTKFile>"));
     let p = pieces(xml);
     assert_eq!(p.len(), 1);
     let p = p[0];
-    assert_eq!(attr(p, "NumberOfCells"), triangles + ns, "one cell per background triangle and per singularity");
+    assert_eq!(
+        attr(p, "NumberOfCells"),
+        triangles + ns,
+        "one cell per background triangle and per singularity"
+    );
     let types = array(p, "types");
     assert_eq!(types.len(), triangles + ns);
-    assert_eq!(types.iter().filter(|&&t| t == 5.0).count(), triangles, "VTK triangles");
-    assert!(types[triangles..].iter().all(|&t| t == 1.0), "then VTK vertices");
+    assert_eq!(
+        types.iter().filter(|&&t| t == 5.0).count(),
+        triangles,
+        "VTK triangles"
+    );
+    assert!(
+        types[triangles..].iter().all(|&t| t == 1.0),
+        "then VTK vertices"
+    );
     assert_eq!(array(p, "offsets").len(), triangles + ns);
     let points = attr(p, "NumberOfPoints");
     assert_eq!(array(p, "Points").len(), 3 * points);
-    assert!(array(p, "connectivity").iter().all(|&v| v >= 0.0 && (v as usize) < points));
+    assert!(array(p, "connectivity")
+        .iter()
+        .all(|&v| v >= 0.0 && (v as usize) < points));
     let cross = array(p, "cross");
     assert_eq!(cross.len(), 3 * (triangles + ns));
     let cross = &cross[..3 * triangles];
@@ -78,15 +119,32 @@ fn vtu_matches_report(json: &Value, xml: &str) {
         let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         assert!((n - 1.0).abs() < 1e-6 || n == 0.0, "cross vector {d:?}");
     }
-    assert!(cross.chunks(3).filter(|d| d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0).count() * 100 < triangles, "few vanishing crosses");
+    assert!(
+        cross
+            .chunks(3)
+            .filter(|d| d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0)
+            .count()
+            * 100
+            < triangles,
+        "few vanishing crosses"
+    );
     let faces = json["totals"]["faces"].as_u64().unwrap() as f64;
-    assert!(array(p, "cad_face").iter().all(|&f| (1.0..=faces).contains(&f)));
+    assert!(array(p, "cad_face")
+        .iter()
+        .all(|&f| (1.0..=faces).contains(&f)));
     let sizes = array(p, "size");
     assert_eq!(sizes.len(), triangles + ns);
-    assert!(sizes[..triangles].iter().all(|&s| s > 0.0), "the size map is positive");
+    assert!(
+        sizes[..triangles].iter().all(|&s| s > 0.0),
+        "the size map is positive"
+    );
     let index = array(p, "singularity_index");
     assert!(index[..triangles].iter().all(|&k| k == 0.0));
-    assert_eq!(index[triangles..], listed[..], "singularity cells carry the indices of the report");
+    assert_eq!(
+        index[triangles..],
+        listed[..],
+        "singularity cells carry the indices of the report"
+    );
 }
 
 #[test]
@@ -98,13 +156,29 @@ fn sphere_indices_add_up_to_eight() {
     let f = &faces[0];
     assert_eq!(f["face"], 1);
     assert_eq!(f["euler_characteristic"], 2);
-    assert!(f["corner_indices"].as_array().unwrap().is_empty(), "a closed sphere has no boundary corner");
-    let sum: i64 = f["singularities"].as_array().unwrap().iter().map(|s| s["index"].as_i64().unwrap()).sum();
+    assert!(
+        f["corner_indices"].as_array().unwrap().is_empty(),
+        "a closed sphere has no boundary corner"
+    );
+    let sum: i64 = f["singularities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["index"].as_i64().unwrap())
+        .sum();
     assert_eq!(sum, 8, "Σ indices = 4χ = 8");
     for s in f["singularities"].as_array().unwrap() {
-        let p: Vec<f64> = s["position"].as_array().unwrap().iter().map(|c| c.as_f64().unwrap()).collect();
+        let p: Vec<f64> = s["position"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c.as_f64().unwrap())
+            .collect();
         let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-        assert!((r - 5.0).abs() < 0.05, "singularity off the sphere of radius 5: {p:?}");
+        assert!(
+            (r - 5.0).abs() < 0.05,
+            "singularity off the sphere of radius 5: {p:?}"
+        );
     }
     assert_eq!(f["euler_ok"], true);
     assert_eq!(json["totals"]["faces_euler_ok"], 1);
@@ -116,20 +190,34 @@ fn sphere_indices_add_up_to_eight() {
 fn four_sided_faces_are_regular_and_the_picture_is_written() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("field.png");
-    let (json, xml) = field("twisted_body.step", dir.path(), &["--png", png.to_str().unwrap(), "--size-factor", "1.5"]);
+    let (json, xml) = field(
+        "twisted_body.step",
+        dir.path(),
+        &["--png", png.to_str().unwrap(), "--size-factor", "1.5"],
+    );
     let faces = json["faces"].as_array().unwrap();
     assert_eq!(faces.len(), 6);
     for f in faces {
         assert_eq!(f["euler_characteristic"], 1, "{f}");
-        assert_eq!(f["corner_indices"], serde_json::json!([1, 1, 1, 1]), "four 90° corners: {f}");
-        assert!(f["singularities"].as_array().unwrap().is_empty(), "a four-sided face needs no singularity: {f}");
+        assert_eq!(
+            f["corner_indices"],
+            serde_json::json!([1, 1, 1, 1]),
+            "four 90° corners: {f}"
+        );
+        assert!(
+            f["singularities"].as_array().unwrap().is_empty(),
+            "a four-sided face needs no singularity: {f}"
+        );
         assert_eq!(f["euler_ok"], true);
     }
     assert_eq!(json["totals"]["faces_euler_ok"], 6);
     vtu_matches_report(&json, &xml);
     let bytes = std::fs::read(&png).unwrap();
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
-    let (w, h) = (u32::from_be_bytes(bytes[16..20].try_into().unwrap()), u32::from_be_bytes(bytes[20..24].try_into().unwrap()));
+    let (w, h) = (
+        u32::from_be_bytes(bytes[16..20].try_into().unwrap()),
+        u32::from_be_bytes(bytes[20..24].try_into().unwrap()),
+    );
     assert_eq!((w, h), (1600, 1200));
 }
 
@@ -147,7 +235,13 @@ fn a_larger_size_gives_fewer_background_triangles() {
 /// naming `name`, and leave neither file.
 fn field_refused(out: &Path, png: Option<&Path>, name: &str) {
     let model = cad("s17o_sphere.stp");
-    let mut args = vec!["field", model.to_str().unwrap(), "-o", out.to_str().unwrap(), "--quiet"];
+    let mut args = vec![
+        "field",
+        model.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
     if let Some(p) = png {
         args.extend(["--png", p.to_str().unwrap()]);
     }
@@ -167,9 +261,21 @@ fn bad_outputs_are_refused_before_any_work() {
     field_refused(&blocker.join("field.vtu"), None, "field.vtu");
     // wrong extensions for the field and for the picture
     field_refused(&dir.path().join("field.msh"), None, "field.msh");
-    field_refused(&dir.path().join("field.vtu"), Some(&dir.path().join("field.jpg")), "field.jpg");
-    field_refused(&dir.path().join("field.vtu"), Some(&blocker.join("field.png")), "field.png");
-    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().flatten().map(|e| e.file_name()).collect();
+    field_refused(
+        &dir.path().join("field.vtu"),
+        Some(&dir.path().join("field.jpg")),
+        "field.jpg",
+    );
+    field_refused(
+        &dir.path().join("field.vtu"),
+        Some(&blocker.join("field.png")),
+        "field.png",
+    );
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name())
+        .collect();
     assert_eq!(left, ["blocker"], "files left behind: {left:?}");
 }
 
@@ -177,11 +283,24 @@ fn bad_outputs_are_refused_before_any_work() {
 fn missing_model_and_bad_size_give_clear_errors() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("field.vtu");
-    let r = quadrille(&["field", dir.path().join("nope.step").to_str().unwrap(), "-o", out.to_str().unwrap(), "--quiet"]);
+    let r = quadrille(&[
+        "field",
+        dir.path().join("nope.step").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
     assert_clean_failure(&r, "nope.step");
     assert!(!out.exists());
     let model = cad("s17o_sphere.stp");
-    let r = quadrille(&["field", model.to_str().unwrap(), "-o", out.to_str().unwrap(), "--size=0", "--quiet"]);
+    let r = quadrille(&[
+        "field",
+        model.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--size=0",
+        "--quiet",
+    ]);
     let err = assert_clean_failure(&r, "s17o_sphere.stp");
     assert!(err.contains("size"), "{err}");
     assert!(!out.exists());
@@ -192,8 +311,14 @@ fn help_has_an_example() {
     let r = quadrille(&["field", "--help"]);
     assert!(r.status.success());
     let help = String::from_utf8_lossy(&r.stdout);
-    assert!(help.contains("quadrille field part.step -o field.vtu --png field.png"), "{help}");
-    assert!(help.contains("--size-factor") && help.contains("--json"), "{help}");
+    assert!(
+        help.contains("quadrille field part.step -o field.vtu --png field.png"),
+        "{help}"
+    );
+    assert!(
+        help.contains("--size-factor") && help.contains("--json"),
+        "{help}"
+    );
     let top = quadrille(&["--help"]);
     assert!(String::from_utf8_lossy(&top.stdout).contains("field"));
 }
@@ -205,7 +330,11 @@ fn help_has_an_example() {
 fn curves_are_quantized_against_the_size_map() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("size.png");
-    let (plain, xml) = field("twisted_body.step", dir.path(), &["--size-png", png.to_str().unwrap()]);
+    let (plain, xml) = field(
+        "twisted_body.step",
+        dir.path(),
+        &["--size-png", png.to_str().unwrap()],
+    );
     assert_eq!(&std::fs::read(&png).unwrap()[..8], b"\x89PNG\r\n\x1a\n");
     vtu_matches_report(&plain, &xml);
     let curves = plain["curves"].as_array().unwrap();
@@ -214,18 +343,38 @@ fn curves_are_quantized_against_the_size_map() {
         let edges = c["edges"].as_u64().unwrap();
         let ideal = c["ideal_edges"].as_f64().unwrap();
         assert!(edges % 2 == 0 && edges >= 2, "{c}");
-        assert!((edges as f64 - ideal).abs() <= 0.5 * ideal.max(2.0), "count far from its ideal: {c}");
+        assert!(
+            (edges as f64 - ideal).abs() <= 0.5 * ideal.max(2.0),
+            "count far from its ideal: {c}"
+        );
         let r = c["size_range"].as_array().unwrap();
-        assert!(r[0].as_f64().unwrap() > 0.0 && r[0].as_f64() <= r[1].as_f64(), "{c}");
+        assert!(
+            r[0].as_f64().unwrap() > 0.0 && r[0].as_f64() <= r[1].as_f64(),
+            "{c}"
+        );
     }
     let range = plain["size_range"].as_array().unwrap();
     let h = plain["size"].as_f64().unwrap();
-    assert!(range[0].as_f64().unwrap() > 0.3 * h && range[1].as_f64().unwrap() < 3.0 * h, "{range:?} for size {h}");
+    assert!(
+        range[0].as_f64().unwrap() > 0.3 * h && range[1].as_f64().unwrap() < 3.0 * h,
+        "{range:?} for size {h}"
+    );
     let small = 0.25 * h;
-    let (sized, _) = field("twisted_body.step", dir.path(), &["--entity-size", &format!("curve:1={small}")]);
+    let (sized, _) = field(
+        "twisted_body.step",
+        dir.path(),
+        &["--entity-size", &format!("curve:1={small}")],
+    );
     let c1 = &sized["curves"][0];
-    assert!(c1["edges"].as_u64().unwrap() >= 3 * plain["curves"][0]["edges"].as_u64().unwrap(), "{c1} vs {}", plain["curves"][0]);
-    assert!((c1["size_range"][0].as_f64().unwrap() - small).abs() < 1e-9 * h, "{c1}");
+    assert!(
+        c1["edges"].as_u64().unwrap() >= 3 * plain["curves"][0]["edges"].as_u64().unwrap(),
+        "{c1} vs {}",
+        plain["curves"][0]
+    );
+    assert!(
+        (c1["size_range"][0].as_f64().unwrap() - small).abs() < 1e-9 * h,
+        "{c1}"
+    );
 }
 
 #[test]
@@ -242,7 +391,14 @@ fn bad_size_options_are_refused() {
         ("--size-gradient=0", "gradient"),
         ("--min-size=-1", "minimum size"),
     ] {
-        let r = quadrille(&["field", model.to_str().unwrap(), "-o", out.to_str().unwrap(), opt, "--quiet"]);
+        let r = quadrille(&[
+            "field",
+            model.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            opt,
+            "--quiet",
+        ]);
         assert!(!r.status.success(), "{opt} accepted");
         let err = String::from_utf8_lossy(&r.stderr);
         assert!(err.contains(says), "{opt}: {err}");

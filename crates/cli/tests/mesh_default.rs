@@ -11,7 +11,14 @@ use common::{assert_clean_failure, cad, quadrille};
 
 /// `quadrille mesh MODEL -o OUT --threads 1 EXTRA...`.
 fn mesh(model: &Path, out: &Path, extra: &[&str]) -> Output {
-    let mut args = vec!["mesh", model.to_str().unwrap(), "-o", out.to_str().unwrap(), "--threads", "1"];
+    let mut args = vec![
+        "mesh",
+        model.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--threads",
+        "1",
+    ];
     args.extend_from_slice(extra);
     quadrille(&args)
 }
@@ -24,20 +31,38 @@ fn stderr(r: &Output) -> String {
 fn topology_line(r: &Output) -> String {
     let text = stderr(r);
     assert!(r.status.success(), "{text}");
-    text.lines().find(|l| l.contains("defects")).unwrap_or_else(|| panic!("no topology line: {text}")).to_string()
+    text.lines()
+        .find(|l| l.contains("defects"))
+        .unwrap_or_else(|| panic!("no topology line: {text}"))
+        .to_string()
 }
 
 /// The first number after `prefix` in `line`.
 fn number_after(line: &str, prefix: &str) -> usize {
-    let rest = &line[line.find(prefix).unwrap_or_else(|| panic!("`{prefix}` not in `{line}`")) + prefix.len()..];
-    rest.trim_start().split(|c: char| !c.is_ascii_digit()).next().unwrap().parse().unwrap_or_else(|_| panic!("no number after `{prefix}` in `{line}`"))
+    let rest = &line[line
+        .find(prefix)
+        .unwrap_or_else(|| panic!("`{prefix}` not in `{line}`"))
+        + prefix.len()..];
+    rest.trim_start()
+        .split(|c: char| !c.is_ascii_digit())
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap_or_else(|_| panic!("no number after `{prefix}` in `{line}`"))
 }
 
 /// A value of `quadrille stats --json`.
 fn stat(json: &str, key: &str) -> f64 {
-    let at = json.find(&format!("\"{key}\"")).unwrap_or_else(|| panic!("{key} not in {json}"));
+    let at = json
+        .find(&format!("\"{key}\""))
+        .unwrap_or_else(|| panic!("{key} not in {json}"));
     let rest = json[at + key.len() + 2..].trim_start_matches([':', ' ']);
-    rest.split([',', '\n', '}']).next().unwrap().trim().parse().unwrap()
+    rest.split([',', '\n', '}'])
+        .next()
+        .unwrap()
+        .trim()
+        .parse()
+        .unwrap()
 }
 
 #[test]
@@ -48,10 +73,23 @@ fn default_method_gives_a_valid_all_quad_mesh() {
     let r = mesh(&model, &out, &[]);
     let line = topology_line(&r);
     // the default is the quasi-structured method: its steps ran
-    assert!(number_after(&line, "") > 30, "most faces of i01o_m1 by a pattern: {line}");
+    assert!(
+        number_after(&line, "") > 30,
+        "most faces of i01o_m1 by a pattern: {line}"
+    );
     assert!(stderr(&r).contains("0 inverted"), "{}", stderr(&r));
-    assert!(!stderr(&r).contains("meshed with the baseline"), "{}", stderr(&r));
-    let s = quadrille(&["stats", out.to_str().unwrap(), "--cad", model.to_str().unwrap(), "--json"]);
+    assert!(
+        !stderr(&r).contains("meshed with the baseline"),
+        "{}",
+        stderr(&r)
+    );
+    let s = quadrille(&[
+        "stats",
+        out.to_str().unwrap(),
+        "--cad",
+        model.to_str().unwrap(),
+        "--json",
+    ]);
     assert!(s.status.success(), "{}", stderr(&s));
     let json = String::from_utf8_lossy(&s.stdout);
     assert_eq!(stat(&json, "triangles"), 0.0, "{json}");
@@ -61,9 +99,18 @@ fn default_method_gives_a_valid_all_quad_mesh() {
     let plain = dir.path().join("u.msh");
     let u = mesh(&model, &plain, &["--method", "unstructured", "--quiet"]);
     assert!(u.status.success(), "{}", stderr(&u));
-    let su = quadrille(&["stats", plain.to_str().unwrap(), "--cad", model.to_str().unwrap(), "--json"]);
+    let su = quadrille(&[
+        "stats",
+        plain.to_str().unwrap(),
+        "--cad",
+        model.to_str().unwrap(),
+        "--json",
+    ]);
     let ju = String::from_utf8_lossy(&su.stdout);
-    assert!(stat(&json, "irregular_percent") < stat(&ju, "irregular_percent"), "quasi-structured {json}\nunstructured {ju}");
+    assert!(
+        stat(&json, "irregular_percent") < stat(&ju, "irregular_percent"),
+        "quasi-structured {json}\nunstructured {ju}"
+    );
 }
 
 #[test]
@@ -78,21 +125,44 @@ fn each_no_switch_turns_its_step_off() {
     assert!(number_after(&all, "cavities:") > 0, "{all}");
 
     let no_patterns = topology_line(&mesh(&model, &out, &["--no-patterns"]));
-    assert!(no_patterns.starts_with("patterns off;") && !no_patterns.contains("meshed by a pattern"), "{no_patterns}");
-    assert!(no_patterns.contains("defects:") && no_patterns.contains("cavities:"), "{no_patterns}");
+    assert!(
+        no_patterns.starts_with("patterns off;") && !no_patterns.contains("meshed by a pattern"),
+        "{no_patterns}"
+    );
+    assert!(
+        no_patterns.contains("defects:") && no_patterns.contains("cavities:"),
+        "{no_patterns}"
+    );
 
     let no_defects = topology_line(&mesh(&model, &out, &["--no-defects"]));
-    assert!(no_defects.contains("defects off") && !no_defects.contains("disk quadrangulations"), "{no_defects}");
-    assert!(no_defects.contains("meshed by a pattern") && no_defects.contains("cavities:"), "{no_defects}");
+    assert!(
+        no_defects.contains("defects off") && !no_defects.contains("disk quadrangulations"),
+        "{no_defects}"
+    );
+    assert!(
+        no_defects.contains("meshed by a pattern") && no_defects.contains("cavities:"),
+        "{no_defects}"
+    );
 
     let no_cavities = topology_line(&mesh(&model, &out, &["--no-cavities"]));
-    assert!(no_cavities.ends_with("cavities off") && !no_cavities.contains("remeshed"), "{no_cavities}");
+    assert!(
+        no_cavities.ends_with("cavities off") && !no_cavities.contains("remeshed"),
+        "{no_cavities}"
+    );
     // the other steps report what they did with everything on
-    assert_eq!(no_cavities.split("; cavities").next(), all.split("; cavities").next(), "{no_cavities}\n{all}");
+    assert_eq!(
+        no_cavities.split("; cavities").next(),
+        all.split("; cavities").next(),
+        "{no_cavities}\n{all}"
+    );
 
     // --method unstructured runs none of the steps: no topology line at all
     let u = mesh(&model, &out, &["--method", "unstructured"]);
-    assert!(u.status.success() && !stderr(&u).contains("defects"), "{}", stderr(&u));
+    assert!(
+        u.status.success() && !stderr(&u).contains("defects"),
+        "{}",
+        stderr(&u)
+    );
 }
 
 #[test]
@@ -120,8 +190,14 @@ fn timings_print_every_stage() {
     }
     assert!(text.contains("sums over faces"), "{text}");
     // the machine-readable line: the stages in seconds, a positive total
-    let json = text.lines().find_map(|l| l.strip_prefix("timings:")).unwrap_or_else(|| panic!("no timings: line\n{text}"));
-    assert!(stat(json, "total") > 0.0 && stat(json, "fields") > 0.0, "{json}");
+    let json = text
+        .lines()
+        .find_map(|l| l.strip_prefix("timings:"))
+        .unwrap_or_else(|| panic!("no timings: line\n{text}"));
+    assert!(
+        stat(json, "total") > 0.0 && stat(json, "fields") > 0.0,
+        "{json}"
+    );
     assert!(stat(json, "total") >= stat(json, "load"), "{json}");
 }
 
@@ -130,16 +206,28 @@ fn bad_combinations_and_values_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let model = cad("s11o_cube_cyl.stp");
     let out = dir.path().join("m.msh");
-    for (method, switch) in [("baseline", "--no-cavities"), ("regular", "--no-patterns"), ("unstructured", "--no-defects")] {
+    for (method, switch) in [
+        ("baseline", "--no-cavities"),
+        ("regular", "--no-patterns"),
+        ("unstructured", "--no-defects"),
+    ] {
         let r = mesh(&model, &out, &["--method", method, switch]);
         let text = assert_clean_failure(&r, switch);
-        assert!(text.contains("quasi-structured") && text.contains(method), "{text}");
+        assert!(
+            text.contains("quasi-structured") && text.contains(method),
+            "{text}"
+        );
         assert!(!out.exists(), "no output after a refused combination");
     }
     // an unknown method: clap's usage error lists the methods
     let r = mesh(&model, &out, &["--method", "quasi"]);
     assert!(!r.status.success());
     let text = stderr(&r);
-    assert!(text.contains("invalid value 'quasi'") && text.contains("quasi-structured") && !text.contains("panicked"), "{text}");
+    assert!(
+        text.contains("invalid value 'quasi'")
+            && text.contains("quasi-structured")
+            && !text.contains("panicked"),
+        "{text}"
+    );
     assert!(!out.exists());
 }

@@ -11,7 +11,13 @@ use common::{assert_clean_failure, quadrille};
 /// Runs `quadrille mesh INPUT -o DIR/out.msh`, checks the failure contract; returns stderr.
 fn mesh_fails(input: &Path, dir: &Path, extra: &[&str]) -> String {
     let out = dir.join("out.msh");
-    let mut args = vec!["mesh", input.to_str().unwrap(), "-o", out.to_str().unwrap(), "--quiet"];
+    let mut args = vec![
+        "mesh",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
     args.extend_from_slice(extra);
     let r = quadrille(&args);
     assert!(!r.status.success(), "must fail on {}", input.display());
@@ -27,12 +33,18 @@ fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
 }
 
 /// A box as an OBJ: 8 vertices, 6 quads (fan-triangulated by the reader).
-const BOX_OBJ: &str = "v 0 0 0\nv 2 0 0\nv 0 1 0\nv 2 1 0\nv 0 0 1.5\nv 2 0 1.5\nv 0 1 1.5\nv 2 1 1.5\n\
+const BOX_OBJ: &str =
+    "v 0 0 0\nv 2 0 0\nv 0 1 0\nv 2 1 0\nv 0 0 1.5\nv 2 0 1.5\nv 0 1 1.5\nv 2 1 1.5\n\
 f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
 
 /// The box as a binary STL (two triangles per face).
 fn box_stl() -> Vec<u8> {
-    let soup = trimesh::read::read_bytes(BOX_OBJ.as_bytes(), trimesh::Format::Obj, Path::new("box.obj")).unwrap();
+    let soup = trimesh::read::read_bytes(
+        BOX_OBJ.as_bytes(),
+        trimesh::Format::Obj,
+        Path::new("box.obj"),
+    )
+    .unwrap();
     trimesh::read::write_stl_binary(&soup.points, &soup.tris)
 }
 
@@ -43,12 +55,31 @@ fn info_and_mesh_work_on_an_stl_box() {
     let r = quadrille(&["info", stl.to_str().unwrap(), "--json"]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let info: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
-    assert_eq!((info["faces"].as_u64(), info["curves"].as_u64(), info["corners"].as_u64()), (Some(6), Some(12), Some(8)));
+    assert_eq!(
+        (
+            info["faces"].as_u64(),
+            info["curves"].as_u64(),
+            info["corners"].as_u64()
+        ),
+        (Some(6), Some(12), Some(8))
+    );
     assert_eq!(info["boundary_curves"].as_u64(), Some(0));
     let out = dir.path().join("box.msh");
-    let r = quadrille(&["mesh", stl.to_str().unwrap(), "-o", out.to_str().unwrap(), "--quiet"]);
+    let r = quadrille(&[
+        "mesh",
+        stl.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    let r = quadrille(&["stats", out.to_str().unwrap(), "--cad", stl.to_str().unwrap(), "--json"]);
+    let r = quadrille(&[
+        "stats",
+        out.to_str().unwrap(),
+        "--cad",
+        stl.to_str().unwrap(),
+        "--json",
+    ]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let s: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
     assert!(s["quads"].as_u64().unwrap() > 0);
@@ -58,31 +89,80 @@ fn info_and_mesh_work_on_an_stl_box() {
     // a feature angle above 90°: no box edge is a feature, the box is one
     // closed patch; no single map flattens it, so it is split into charts
     // (their borders are curves; no boundary curve: still closed)
-    let r = quadrille(&["info", stl.to_str().unwrap(), "--json", "--feature-angle", "95"]);
+    let r = quadrille(&[
+        "info",
+        stl.to_str().unwrap(),
+        "--json",
+        "--feature-angle",
+        "95",
+    ]);
     let info: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
     assert!(info["faces"].as_u64().unwrap() >= 2, "{info}");
     assert_eq!(info["boundary_curves"].as_u64(), Some(0));
     // stats and render read a triangle-mesh --cad with the same options as
     // mesh (the mesh's faces must be the model's: at 60° the box keeps its 6
     // faces, and the nodes lie on them)
-    let r = quadrille(&["stats", out.to_str().unwrap(), "--cad", stl.to_str().unwrap(), "--feature-angle", "60", "--json"]);
+    let r = quadrille(&[
+        "stats",
+        out.to_str().unwrap(),
+        "--cad",
+        stl.to_str().unwrap(),
+        "--feature-angle",
+        "60",
+        "--json",
+    ]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let s: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
-    assert!(s["cad_distance"]["max_relative"].as_f64().unwrap() < 1e-9, "{s}");
+    assert!(
+        s["cad_distance"]["max_relative"].as_f64().unwrap() < 1e-9,
+        "{s}"
+    );
     let png = dir.path().join("box.png");
-    let r = quadrille(&["render", out.to_str().unwrap(), "-o", png.to_str().unwrap(), "--cad", stl.to_str().unwrap(), "--sicn", "--feature-angle", "60"]);
-    assert!(r.status.success() && png.exists(), "{}", String::from_utf8_lossy(&r.stderr));
-    let r = quadrille(&["stats", out.to_str().unwrap(), "--cad", stl.to_str().unwrap(), "--feature-angle", "400"]);
+    let r = quadrille(&[
+        "render",
+        out.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--cad",
+        stl.to_str().unwrap(),
+        "--sicn",
+        "--feature-angle",
+        "60",
+    ]);
+    assert!(
+        r.status.success() && png.exists(),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    let r = quadrille(&[
+        "stats",
+        out.to_str().unwrap(),
+        "--cad",
+        stl.to_str().unwrap(),
+        "--feature-angle",
+        "400",
+    ]);
     assert!(!r.status.success());
-    assert!(String::from_utf8_lossy(&r.stderr).contains("feature angle"), "{}", String::from_utf8_lossy(&r.stderr));
+    assert!(
+        String::from_utf8_lossy(&r.stderr).contains("feature angle"),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
 }
 
 #[test]
 fn nan_coordinates() {
     let dir = tempfile::tempdir().unwrap();
-    let p = write(dir.path(), "nan.obj", BOX_OBJ.replace("v 2 1 0", "v 2 nan 0").as_bytes());
+    let p = write(
+        dir.path(),
+        "nan.obj",
+        BOX_OBJ.replace("v 2 1 0", "v 2 nan 0").as_bytes(),
+    );
     let err = mesh_fails(&p, dir.path(), &[]);
-    assert!(err.contains("line 4") && err.contains("non-finite"), "{err}");
+    assert!(
+        err.contains("line 4") && err.contains("non-finite"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -102,7 +182,12 @@ fn non_manifold_obj() {
     let text = format!("{BOX_OBJ}v 1 -1 -1\nf 1 2 9\n");
     let p = write(dir.path(), "fin.obj", text.as_bytes());
     let err = mesh_fails(&p, dir.path(), &[]);
-    assert!(err.contains("non-manifold edge") && err.contains("[0.0, 0.0, 0.0]") && err.contains("[2.0, 0.0, 0.0]"), "{err}");
+    assert!(
+        err.contains("non-manifold edge")
+            && err.contains("[0.0, 0.0, 0.0]")
+            && err.contains("[2.0, 0.0, 0.0]"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -111,7 +196,10 @@ fn truncated_binary_stl() {
     let full = box_stl();
     let p = write(dir.path(), "cut.stl", &full[..full.len() - 30]);
     let err = mesh_fails(&p, dir.path(), &[]);
-    assert!(err.contains("truncated") && err.contains("12 triangles"), "{err}");
+    assert!(
+        err.contains("truncated") && err.contains("12 triangles"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -120,7 +208,14 @@ fn bad_feature_edges_file() {
     let stl = write(dir.path(), "box.stl", &box_stl());
     let fe = write(dir.path(), "edges.txt", b"1 2\n3 x\n");
     let out = dir.path().join("out.msh");
-    let r = quadrille(&["mesh", stl.to_str().unwrap(), "-o", out.to_str().unwrap(), "--feature-edges", fe.to_str().unwrap()]);
+    let r = quadrille(&[
+        "mesh",
+        stl.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--feature-edges",
+        fe.to_str().unwrap(),
+    ]);
     let err = assert_clean_failure(&r, "edges.txt");
     assert!(err.contains("line 2") && !out.exists(), "{err}");
     let fe = write(dir.path(), "edges2.txt", b"1 500\n");

@@ -10,6 +10,9 @@ pub mod primitives;
 pub mod traits;
 pub mod vec3;
 
-pub use model::{Bounds2, Corner, CornerId, CornerUv, CurveEntity, CurveId, CurveUse, Face, FaceId, Loop, Model, ModelError};
+pub use model::{
+    Bounds2, Corner, CornerId, CornerUv, CurveEntity, CurveId, CurveUse, Face, FaceId, Loop, Model,
+    ModelError,
+};
 pub use traits::{Curve, Curve2d, Surface, SurfaceDerivs};
 pub use vec3::Vec3;

@@ -138,7 +138,11 @@ impl Face {
     /// Unit normal with the face's orientation, or `None` at a singular point.
     pub fn normal(&self, uv: [f64; 2]) -> Option<Vec3> {
         let n = self.surface.normal(uv)?;
-        Some(if self.reversed { vec3::scale(n, -1.0) } else { n })
+        Some(if self.reversed {
+            vec3::scale(n, -1.0)
+        } else {
+            n
+        })
     }
 
     /// All curves bounding this face (a seam appears twice).
@@ -179,7 +183,11 @@ impl Face {
             if singular_ratio(&d) >= SINGULAR_RATIO {
                 // [`Face::normal`] there, from the derivatives already at hand
                 if let Some(n) = vec3::normalize(vec3::cross(d.du, d.dv)) {
-                    return Some(if self.reversed { vec3::scale(n, -1.0) } else { n });
+                    return Some(if self.reversed {
+                        vec3::scale(n, -1.0)
+                    } else {
+                        n
+                    });
                 }
             } else if uu < 1e-6 * vv {
                 p[0] = centre[0];
@@ -187,7 +195,10 @@ impl Face {
                 p[1] = centre[1];
             }
         }
-        let w = [p[0] + POLE_OFFSET * (centre[0] - p[0]), p[1] + POLE_OFFSET * (centre[1] - p[1])];
+        let w = [
+            p[0] + POLE_OFFSET * (centre[0] - p[0]),
+            p[1] + POLE_OFFSET * (centre[1] - p[1]),
+        ];
         self.normal(w).or_else(|| self.normal(centre))
     }
 }
@@ -226,7 +237,11 @@ impl CornerUv {
             CornerUv::Pole([p, q]) => {
                 let d = [q[0] - p[0], q[1] - p[1]];
                 let dd = d[0] * d[0] + d[1] * d[1];
-                let s = if dd > 0.0 { (((other[0] - p[0]) * d[0] + (other[1] - p[1]) * d[1]) / dd).clamp(0.0, 1.0) } else { 0.0 };
+                let s = if dd > 0.0 {
+                    (((other[0] - p[0]) * d[0] + (other[1] - p[1]) * d[1]) / dd).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
                 [p[0] + s * d[0], p[1] + s * d[1]]
             }
         }
@@ -329,7 +344,12 @@ impl Model {
     /// The closed polyline of loop `loop_idx` of face `face` in (u, v), with
     /// `samples_per_use` segments per curve use. The last point equals the first
     /// only up to tolerance (the polyline is returned open: no repeated point).
-    pub fn loop_uv_polyline(&self, face: FaceId, loop_idx: usize, samples_per_use: usize) -> Vec<[f64; 2]> {
+    pub fn loop_uv_polyline(
+        &self,
+        face: FaceId,
+        loop_idx: usize,
+        samples_per_use: usize,
+    ) -> Vec<[f64; 2]> {
         let f = &self.faces[face.idx()];
         let mut pts = Vec::new();
         for u in &f.loops[loop_idx].uses {
@@ -345,7 +365,9 @@ impl Model {
     /// mapping entirely to the corner (empty when the corner is no pole of
     /// the face). Each segment runs from the pcurve at `range.0` to `range.1`.
     pub fn pole_segments(&self, face: FaceId, corner: CornerId) -> Vec<[[f64; 2]; 2]> {
-        let Some(f) = self.faces.get(face.idx()) else { return Vec::new() };
+        let Some(f) = self.faces.get(face.idx()) else {
+            return Vec::new();
+        };
         f.curve_uses()
             .filter_map(|u| {
                 let c = self.curves.get(u.curve.idx())?;
@@ -359,13 +381,19 @@ impl Model {
     pub fn validate(&self) -> Result<(), ModelError> {
         for (i, c) in self.curves.iter().enumerate() {
             if c.start.idx() >= self.corners.len() || c.end.idx() >= self.corners.len() {
-                return Err(ModelError::BadReference(format!("curve {} refers to a missing corner", i + 1)));
+                return Err(ModelError::BadReference(format!(
+                    "curve {} refers to a missing corner",
+                    i + 1
+                )));
             }
         }
         for (i, f) in self.faces.iter().enumerate() {
             for u in f.curve_uses() {
                 if u.curve.idx() >= self.curves.len() {
-                    return Err(ModelError::BadReference(format!("face {} refers to a missing curve", i + 1)));
+                    return Err(ModelError::BadReference(format!(
+                        "face {} refers to a missing curve",
+                        i + 1
+                    )));
                 }
             }
         }
@@ -405,7 +433,9 @@ mod tests {
         assert!(m.pole_segments(FaceId(0), CornerId(1)).is_empty());
         let va = f.uv_bounds.vmin;
         for u in [0.3, 2.0, 4.5] {
-            let n = f.corner_normal(CornerUv::Pole(seg[0]), [u, 0.5 * va]).unwrap();
+            let n = f
+                .corner_normal(CornerUv::Pole(seg[0]), [u, 0.5 * va])
+                .unwrap();
             assert!(vec3::dist(n, cone_normal(u)) < 1e-9, "u {u}: {n:?}");
         }
     }
@@ -421,12 +451,17 @@ mod tests {
         assert!(f.is_singular(past));
         let wrong = f.normal(past).unwrap();
         assert!(vec3::dot(wrong, cone_normal(1.0)) < -0.99);
-        let n = f.corner_normal(CornerUv::Point(past), [2.0, 0.5 * va]).unwrap();
+        let n = f
+            .corner_normal(CornerUv::Point(past), [2.0, 0.5 * va])
+            .unwrap();
         assert!(vec3::dot(n, cone_normal(2.0)) > 1.0 - 1e-6, "{n:?}");
         // an ordinary point: the face normal
         let uv = [1.0, 0.5 * va];
         assert!(!f.is_singular(uv));
-        assert_eq!(f.corner_normal(CornerUv::Point(uv), [2.0, 0.4 * va]), f.normal(uv));
+        assert_eq!(
+            f.corner_normal(CornerUv::Point(uv), [2.0, 0.4 * va]),
+            f.normal(uv)
+        );
     }
 
     #[test]

@@ -29,10 +29,20 @@ pub struct Plane {
 
 impl Surface for Plane {
     fn eval(&self, uv: [f64; 2]) -> Vec3 {
-        add(self.origin, add(scale(self.xdir, uv[0]), scale(self.ydir, uv[1])))
+        add(
+            self.origin,
+            add(scale(self.xdir, uv[0]), scale(self.ydir, uv[1])),
+        )
     }
     fn derivs(&self, uv: [f64; 2]) -> SurfaceDerivs {
-        SurfaceDerivs { point: self.eval(uv), du: self.xdir, dv: self.ydir, duu: [0.0; 3], duv: [0.0; 3], dvv: [0.0; 3] }
+        SurfaceDerivs {
+            point: self.eval(uv),
+            du: self.xdir,
+            dv: self.ydir,
+            duu: [0.0; 3],
+            duv: [0.0; 3],
+            dvv: [0.0; 3],
+        }
     }
     fn uv_bounds(&self) -> Bounds2 {
         self.bounds
@@ -73,7 +83,10 @@ impl Surface for Cylinder {
         let r = self.radius;
         add(
             self.center,
-            add(scale(self.xdir, r * uv[0].cos()), add(scale(self.ydir, r * uv[0].sin()), scale(self.axis(), uv[1]))),
+            add(
+                scale(self.xdir, r * uv[0].cos()),
+                add(scale(self.ydir, r * uv[0].sin()), scale(self.axis(), uv[1])),
+            ),
         )
     }
     fn derivs(&self, uv: [f64; 2]) -> SurfaceDerivs {
@@ -89,7 +102,12 @@ impl Surface for Cylinder {
         }
     }
     fn uv_bounds(&self) -> Bounds2 {
-        Bounds2 { umin: 0.0, umax: TAU, vmin: self.height.0, vmax: self.height.1 }
+        Bounds2 {
+            umin: 0.0,
+            umax: TAU,
+            vmin: self.height.0,
+            vmax: self.height.1,
+        }
     }
     fn periods(&self) -> [Option<f64>; 2] {
         [Some(TAU), None]
@@ -139,7 +157,12 @@ impl Surface for Sphere {
         vec3::normalize(sub(self.eval(uv), self.center))
     }
     fn uv_bounds(&self) -> Bounds2 {
-        Bounds2 { umin: 0.0, umax: TAU, vmin: -FRAC_PI_2, vmax: FRAC_PI_2 }
+        Bounds2 {
+            umin: 0.0,
+            umax: TAU,
+            vmin: -FRAC_PI_2,
+            vmax: FRAC_PI_2,
+        }
     }
     fn periods(&self) -> [Option<f64>; 2] {
         [Some(TAU), None]
@@ -147,7 +170,11 @@ impl Surface for Sphere {
     fn project(&self, p: Vec3, hint: Option<[f64; 2]>) -> Option<([f64; 2], Vec3)> {
         let d = sub(p, self.center);
         let rxy = (d[0] * d[0] + d[1] * d[1]).sqrt();
-        let mut u = if rxy > 1e-14 * self.radius { d[1].atan2(d[0]) } else { hint.map_or(0.0, |h| h[0]) };
+        let mut u = if rxy > 1e-14 * self.radius {
+            d[1].atan2(d[0])
+        } else {
+            hint.map_or(0.0, |h| h[0])
+        };
         u = match hint {
             Some(h) => nearest_period(u, TAU, h[0]),
             None => u.rem_euclid(TAU),
@@ -200,7 +227,12 @@ impl Surface for Cone {
         }
     }
     fn uv_bounds(&self) -> Bounds2 {
-        Bounds2 { umin: 0.0, umax: TAU, vmin: self.apex_v(), vmax: 0.0 }
+        Bounds2 {
+            umin: 0.0,
+            umax: TAU,
+            vmin: self.apex_v(),
+            vmax: 0.0,
+        }
     }
     fn periods(&self) -> [Option<f64>; 2] {
         [Some(TAU), None]
@@ -209,7 +241,11 @@ impl Surface for Cone {
     /// v from the closest point of that generatrix line.
     fn project(&self, p: Vec3, hint: Option<[f64; 2]>) -> Option<([f64; 2], Vec3)> {
         let rxy = p[0].hypot(p[1]);
-        let mut u = if rxy > 1e-14 * self.radius { p[1].atan2(p[0]) } else { hint.map_or(0.0, |h| h[0]) };
+        let mut u = if rxy > 1e-14 * self.radius {
+            p[1].atan2(p[0])
+        } else {
+            hint.map_or(0.0, |h| h[0])
+        };
         u = match hint {
             Some(h) => nearest_period(u, TAU, h[0]),
             None => u.rem_euclid(TAU),
@@ -242,7 +278,8 @@ impl Curve for Line {
         self.range
     }
     fn project(&self, p: Vec3, _hint: Option<f64>) -> Option<(f64, Vec3)> {
-        let t = (dot(sub(p, self.origin), self.dir) / dot(self.dir, self.dir)).clamp(self.range.0, self.range.1);
+        let t = (dot(sub(p, self.origin), self.dir) / dot(self.dir, self.dir))
+            .clamp(self.range.0, self.range.1);
         Some((t, self.eval(t)))
     }
 }
@@ -264,10 +301,19 @@ pub struct Circle {
 
 impl Curve for Circle {
     fn eval(&self, t: f64) -> Vec3 {
-        add(self.center, add(scale(self.xdir, self.radius * t.cos()), scale(self.ydir, self.radius * t.sin())))
+        add(
+            self.center,
+            add(
+                scale(self.xdir, self.radius * t.cos()),
+                scale(self.ydir, self.radius * t.sin()),
+            ),
+        )
     }
     fn deriv(&self, t: f64) -> Vec3 {
-        add(scale(self.xdir, -self.radius * t.sin()), scale(self.ydir, self.radius * t.cos()))
+        add(
+            scale(self.xdir, -self.radius * t.sin()),
+            scale(self.ydir, self.radius * t.cos()),
+        )
     }
     fn range(&self) -> (f64, f64) {
         self.range
@@ -292,7 +338,10 @@ pub struct Line2d {
 
 impl Curve2d for Line2d {
     fn eval(&self, t: f64) -> [f64; 2] {
-        [self.origin[0] + t * self.dir[0], self.origin[1] + t * self.dir[1]]
+        [
+            self.origin[0] + t * self.dir[0],
+            self.origin[1] + t * self.dir[1],
+        ]
     }
     fn deriv(&self, _t: f64) -> [f64; 2] {
         self.dir
@@ -310,7 +359,10 @@ pub struct Circle2d {
 
 impl Curve2d for Circle2d {
     fn eval(&self, t: f64) -> [f64; 2] {
-        [self.center[0] + self.radius * t.cos(), self.center[1] + self.radius * t.sin()]
+        [
+            self.center[0] + self.radius * t.cos(),
+            self.center[1] + self.radius * t.sin(),
+        ]
     }
     fn deriv(&self, t: f64) -> [f64; 2] {
         [-self.radius * t.sin(), self.radius * t.cos()]
@@ -318,7 +370,12 @@ impl Curve2d for Circle2d {
 }
 
 fn line_use(curve: u32, forward: bool, origin: [f64; 2], dir: [f64; 2], seam: bool) -> CurveUse {
-    CurveUse { curve: CurveId(curve), forward, pcurve: Arc::new(Line2d { origin, dir }), seam }
+    CurveUse {
+        curve: CurveId(curve),
+        forward,
+        pcurve: Arc::new(Line2d { origin, dir }),
+        seam,
+    }
 }
 
 /// A planar square `[0, side]²` in the z = 0 plane: 1 face, 4 line curves, 4 corners.
@@ -329,7 +386,12 @@ pub fn square(side: f64) -> Model {
 /// A planar rectangle `[0, width] × [0, height]` in the z = 0 plane: 1 face,
 /// 4 line curves (bottom, right, top, left), 4 corners.
 pub fn rectangle(width: f64, height: f64) -> Model {
-    let p = [[0.0, 0.0, 0.0], [width, 0.0, 0.0], [width, height, 0.0], [0.0, height, 0.0]];
+    let p = [
+        [0.0, 0.0, 0.0],
+        [width, 0.0, 0.0],
+        [width, height, 0.0],
+        [0.0, height, 0.0],
+    ];
     let corners = p.iter().map(|&point| Corner { point }).collect();
     let mut curves = Vec::new();
     let mut uses = Vec::new();
@@ -337,20 +399,45 @@ pub fn rectangle(width: f64, height: f64) -> Model {
         let a = p[i];
         let b = p[(i + 1) % 4];
         curves.push(CurveEntity {
-            geom: Some(Arc::new(Line { origin: a, dir: sub(b, a), range: (0.0, 1.0) })),
+            geom: Some(Arc::new(Line {
+                origin: a,
+                dir: sub(b, a),
+                range: (0.0, 1.0),
+            })),
             range: (0.0, 1.0),
             start: CornerId(i as u32),
             end: CornerId(((i + 1) % 4) as u32),
             degenerate: false,
         });
-        uses.push(line_use(i as u32, true, [a[0], a[1]], [b[0] - a[0], b[1] - a[1]], false));
+        uses.push(line_use(
+            i as u32,
+            true,
+            [a[0], a[1]],
+            [b[0] - a[0], b[1] - a[1]],
+            false,
+        ));
     }
-    let bounds = Bounds2 { umin: 0.0, umax: width, vmin: 0.0, vmax: height };
-    let plane = Plane { origin: [0.0; 3], xdir: [1.0, 0.0, 0.0], ydir: [0.0, 1.0, 0.0], bounds };
+    let bounds = Bounds2 {
+        umin: 0.0,
+        umax: width,
+        vmin: 0.0,
+        vmax: height,
+    };
+    let plane = Plane {
+        origin: [0.0; 3],
+        xdir: [1.0, 0.0, 0.0],
+        ydir: [0.0, 1.0, 0.0],
+        bounds,
+    };
     Model {
         corners,
         curves,
-        faces: vec![Face { surface: Arc::new(plane), reversed: false, loops: vec![Loop { uses, outer: true }], uv_bounds: bounds }],
+        faces: vec![Face {
+            surface: Arc::new(plane),
+            reversed: false,
+            loops: vec![Loop { uses, outer: true }],
+            uv_bounds: bounds,
+        }],
     }
 }
 
@@ -360,22 +447,60 @@ pub fn rectangle(width: f64, height: f64) -> Model {
 pub fn cylinder(r: f64, h: f64) -> Model {
     let x = [1.0, 0.0, 0.0];
     let y = [0.0, 1.0, 0.0];
-    let corners = vec![Corner { point: [r, 0.0, 0.0] }, Corner { point: [r, 0.0, h] }];
-    let circle = |z: f64| Circle { center: [0.0, 0.0, z], xdir: x, ydir: y, radius: r, range: (0.0, TAU) };
+    let corners = vec![
+        Corner {
+            point: [r, 0.0, 0.0],
+        },
+        Corner { point: [r, 0.0, h] },
+    ];
+    let circle = |z: f64| Circle {
+        center: [0.0, 0.0, z],
+        xdir: x,
+        ydir: y,
+        radius: r,
+        range: (0.0, TAU),
+    };
     let curves = vec![
-        CurveEntity { geom: Some(Arc::new(circle(0.0))), range: (0.0, TAU), start: CornerId(0), end: CornerId(0), degenerate: false },
-        CurveEntity { geom: Some(Arc::new(circle(h))), range: (0.0, TAU), start: CornerId(1), end: CornerId(1), degenerate: false },
         CurveEntity {
-            geom: Some(Arc::new(Line { origin: [r, 0.0, 0.0], dir: [0.0, 0.0, 1.0], range: (0.0, h) })),
+            geom: Some(Arc::new(circle(0.0))),
+            range: (0.0, TAU),
+            start: CornerId(0),
+            end: CornerId(0),
+            degenerate: false,
+        },
+        CurveEntity {
+            geom: Some(Arc::new(circle(h))),
+            range: (0.0, TAU),
+            start: CornerId(1),
+            end: CornerId(1),
+            degenerate: false,
+        },
+        CurveEntity {
+            geom: Some(Arc::new(Line {
+                origin: [r, 0.0, 0.0],
+                dir: [0.0, 0.0, 1.0],
+                range: (0.0, h),
+            })),
             range: (0.0, h),
             start: CornerId(0),
             end: CornerId(1),
             degenerate: false,
         },
     ];
-    let side_bounds = Bounds2 { umin: 0.0, umax: TAU, vmin: 0.0, vmax: h };
+    let side_bounds = Bounds2 {
+        umin: 0.0,
+        umax: TAU,
+        vmin: 0.0,
+        vmax: h,
+    };
     let side = Face {
-        surface: Arc::new(Cylinder { center: [0.0; 3], xdir: x, ydir: y, radius: r, height: (0.0, h) }),
+        surface: Arc::new(Cylinder {
+            center: [0.0; 3],
+            xdir: x,
+            ydir: y,
+            radius: r,
+            height: (0.0, h),
+        }),
         reversed: false,
         loops: vec![Loop {
             uses: vec![
@@ -389,18 +514,40 @@ pub fn cylinder(r: f64, h: f64) -> Model {
         uv_bounds: side_bounds,
     };
     let disc = |z: f64, curve: u32, reversed: bool| {
-        let bounds = Bounds2 { umin: -r, umax: r, vmin: -r, vmax: r };
+        let bounds = Bounds2 {
+            umin: -r,
+            umax: r,
+            vmin: -r,
+            vmax: r,
+        };
         Face {
-            surface: Arc::new(Plane { origin: [0.0, 0.0, z], xdir: x, ydir: y, bounds }),
+            surface: Arc::new(Plane {
+                origin: [0.0, 0.0, z],
+                xdir: x,
+                ydir: y,
+                bounds,
+            }),
             reversed,
             loops: vec![Loop {
-                uses: vec![CurveUse { curve: CurveId(curve), forward: true, pcurve: Arc::new(Circle2d { center: [0.0, 0.0], radius: r }), seam: false }],
+                uses: vec![CurveUse {
+                    curve: CurveId(curve),
+                    forward: true,
+                    pcurve: Arc::new(Circle2d {
+                        center: [0.0, 0.0],
+                        radius: r,
+                    }),
+                    seam: false,
+                }],
                 outer: true,
             }],
             uv_bounds: bounds,
         }
     };
-    Model { corners, curves, faces: vec![side, disc(0.0, 0, true), disc(h, 1, false)] }
+    Model {
+        corners,
+        curves,
+        faces: vec![side, disc(0.0, 0, true), disc(h, 1, false)],
+    }
 }
 
 /// The lateral face of a cone with its apex at the origin and its base circle
@@ -409,15 +556,47 @@ pub fn cylinder(r: f64, h: f64) -> Model {
 /// v = apex), a seam line (curve 1) and the base circle (curve 2); 2 corners
 /// (0 the apex, 1 on the base circle).
 pub fn cone(r: f64, h: f64) -> Model {
-    let s = Cone { radius: r, height: h, half_angle: r.atan2(h) };
+    let s = Cone {
+        radius: r,
+        height: h,
+        half_angle: r.atan2(h),
+    };
     let va = s.apex_v();
     let corners = vec![Corner { point: [0.0; 3] }, Corner { point: [r, 0.0, h] }];
-    let seam = Line { origin: [r, 0.0, h], dir: s.derivs([0.0, 0.0]).dv, range: (va, 0.0) };
-    let base = Circle { center: [0.0, 0.0, h], xdir: [1.0, 0.0, 0.0], ydir: [0.0, 1.0, 0.0], radius: r, range: (0.0, TAU) };
+    let seam = Line {
+        origin: [r, 0.0, h],
+        dir: s.derivs([0.0, 0.0]).dv,
+        range: (va, 0.0),
+    };
+    let base = Circle {
+        center: [0.0, 0.0, h],
+        xdir: [1.0, 0.0, 0.0],
+        ydir: [0.0, 1.0, 0.0],
+        radius: r,
+        range: (0.0, TAU),
+    };
     let curves = vec![
-        CurveEntity { geom: None, range: (0.0, TAU), start: CornerId(0), end: CornerId(0), degenerate: true },
-        CurveEntity { geom: Some(Arc::new(seam)), range: (va, 0.0), start: CornerId(0), end: CornerId(1), degenerate: false },
-        CurveEntity { geom: Some(Arc::new(base)), range: (0.0, TAU), start: CornerId(1), end: CornerId(1), degenerate: false },
+        CurveEntity {
+            geom: None,
+            range: (0.0, TAU),
+            start: CornerId(0),
+            end: CornerId(0),
+            degenerate: true,
+        },
+        CurveEntity {
+            geom: Some(Arc::new(seam)),
+            range: (va, 0.0),
+            start: CornerId(0),
+            end: CornerId(1),
+            degenerate: false,
+        },
+        CurveEntity {
+            geom: Some(Arc::new(base)),
+            range: (0.0, TAU),
+            start: CornerId(1),
+            end: CornerId(1),
+            degenerate: false,
+        },
     ];
     let face = Face {
         uv_bounds: s.uv_bounds(),
@@ -433,21 +612,53 @@ pub fn cone(r: f64, h: f64) -> Model {
             outer: true,
         }],
     };
-    Model { corners, curves, faces: vec![face] }
+    Model {
+        corners,
+        curves,
+        faces: vec![face],
+    }
 }
 
 /// A sphere of radius `r` at the origin: one face with a seam (a meridian) and
 /// two degenerate curves at the poles; 2 corners (the poles).
 pub fn sphere(r: f64) -> Model {
-    let corners = vec![Corner { point: [0.0, 0.0, -r] }, Corner { point: [0.0, 0.0, r] }];
-    let pole = |c: u32| CurveEntity { geom: None, range: (0.0, TAU), start: CornerId(c), end: CornerId(c), degenerate: true };
-    let meridian = Circle { center: [0.0; 3], xdir: [1.0, 0.0, 0.0], ydir: [0.0, 0.0, 1.0], radius: r, range: (-FRAC_PI_2, FRAC_PI_2) };
+    let corners = vec![
+        Corner {
+            point: [0.0, 0.0, -r],
+        },
+        Corner {
+            point: [0.0, 0.0, r],
+        },
+    ];
+    let pole = |c: u32| CurveEntity {
+        geom: None,
+        range: (0.0, TAU),
+        start: CornerId(c),
+        end: CornerId(c),
+        degenerate: true,
+    };
+    let meridian = Circle {
+        center: [0.0; 3],
+        xdir: [1.0, 0.0, 0.0],
+        ydir: [0.0, 0.0, 1.0],
+        radius: r,
+        range: (-FRAC_PI_2, FRAC_PI_2),
+    };
     let curves = vec![
         pole(0),
-        CurveEntity { geom: Some(Arc::new(meridian)), range: (-FRAC_PI_2, FRAC_PI_2), start: CornerId(0), end: CornerId(1), degenerate: false },
+        CurveEntity {
+            geom: Some(Arc::new(meridian)),
+            range: (-FRAC_PI_2, FRAC_PI_2),
+            start: CornerId(0),
+            end: CornerId(1),
+            degenerate: false,
+        },
         pole(1),
     ];
-    let s = Sphere { center: [0.0; 3], radius: r };
+    let s = Sphere {
+        center: [0.0; 3],
+        radius: r,
+    };
     let face = Face {
         uv_bounds: s.uv_bounds(),
         surface: Arc::new(s),
@@ -462,7 +673,11 @@ pub fn sphere(r: f64) -> Model {
             outer: true,
         }],
     };
-    Model { corners, curves, faces: vec![face] }
+    Model {
+        corners,
+        curves,
+        faces: vec![face],
+    }
 }
 
 #[cfg(test)]
@@ -476,14 +691,19 @@ mod tests {
         for (fi, f) in m.faces.iter().enumerate() {
             for (li, l) in f.loops.iter().enumerate() {
                 let poly = m.loop_uv_polyline(FaceId(fi as u32), li, 8);
-                assert!(signed_area(&poly) > 0.0, "face {fi} loop {li} must be counter-clockwise");
+                assert!(
+                    signed_area(&poly) > 0.0,
+                    "face {fi} loop {li} must be counter-clockwise"
+                );
                 // consecutive uses meet in uv, and in 3D the pcurve maps onto the curve
                 for (k, u) in l.uses.iter().enumerate() {
                     let c = &m.curves[u.curve.idx()];
                     let next = &l.uses[(k + 1) % l.uses.len()];
                     let cn = &m.curves[next.curve.idx()];
                     let end = u.pcurve.eval(if u.forward { c.range.1 } else { c.range.0 });
-                    let start = next.pcurve.eval(if next.forward { cn.range.0 } else { cn.range.1 });
+                    let start =
+                        next.pcurve
+                            .eval(if next.forward { cn.range.0 } else { cn.range.1 });
                     assert!((end[0] - start[0]).hypot(end[1] - start[1]) < 1e-12);
                     for i in 0..=4 {
                         let t = c.range.0 + (c.range.1 - c.range.0) * i as f64 / 4.0;
@@ -509,13 +729,19 @@ mod tests {
         for f in &m.faces {
             let b = f.uv_bounds;
             for i in 1..5 {
-                let uv = [b.umin + (b.umax - b.umin) * i as f64 / 5.0, b.vmin + (b.vmax - b.vmin) * 0.3];
+                let uv = [
+                    b.umin + (b.umax - b.umin) * i as f64 / 5.0,
+                    b.vmin + (b.vmax - b.vmin) * 0.3,
+                ];
                 let p = f.surface.eval(uv);
                 let (_, q) = f.surface.project(p, None).unwrap();
                 assert!(vec3::dist(p, q) < 1e-12);
             }
         }
-        let s = Sphere { center: [0.0; 3], radius: 2.0 };
+        let s = Sphere {
+            center: [0.0; 3],
+            radius: 2.0,
+        };
         let (uv, _) = s.project([0.0, 2.0, 0.0], None).unwrap();
         assert!((uv[0] - FRAC_PI_2).abs() < 1e-12 && uv[1].abs() < 1e-12);
     }
@@ -542,6 +768,10 @@ mod tests {
         assert!(vec3::dist(n, [-s, 0.0, s]) < 1e-6, "{n:?}");
         let p = f.surface.eval([1.0, 0.5 * va]);
         let (uv, q) = f.surface.project(p, None).unwrap();
-        assert!(vec3::dist(p, q) < 1e-12 && (uv[0] - 1.0).abs() < 1e-12 && (uv[1] - 0.5 * va).abs() < 1e-12);
+        assert!(
+            vec3::dist(p, q) < 1e-12
+                && (uv[0] - 1.0).abs() < 1e-12
+                && (uv[1] - 0.5 * va).abs() < 1e-12
+        );
     }
 }

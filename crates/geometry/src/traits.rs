@@ -2,8 +2,8 @@
 //! parameter-space curves (pcurves). Implemented by the OpenCASCADE importer,
 //! the discrete (triangle-mesh) model and the analytic primitives.
 
-use crate::vec3::Vec3;
 use crate::model::Bounds2;
+use crate::vec3::Vec3;
 
 /// Position and derivatives of a surface at one (u, v).
 #[derive(Clone, Copy, Debug, PartialEq)]

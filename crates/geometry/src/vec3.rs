@@ -26,7 +26,11 @@ pub fn dot(a: Vec3, b: Vec3) -> f64 {
 /// Cross product.
 #[inline]
 pub fn cross(a: Vec3, b: Vec3) -> Vec3 {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 /// Euclidean norm.
 #[inline]
@@ -51,5 +55,9 @@ pub fn normalize(a: Vec3) -> Option<Vec3> {
 /// Linear interpolation `a + t (b - a)`.
 #[inline]
 pub fn lerp(a: Vec3, b: Vec3, t: f64) -> Vec3 {
-    [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])]
+    [
+        a[0] + t * (b[0] - a[0]),
+        a[1] + t * (b[1] - a[1]),
+        a[2] + t * (b[2] - a[2]),
+    ]
 }

@@ -16,7 +16,10 @@ where
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => std::path::PathBuf::from("."),
     };
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out".into());
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "out".into());
     let tmp = dir.join(format!(".{}.{}.partial", name, std::process::id()));
     let result = (|| {
         let file = File::create(&tmp)?;
@@ -48,7 +51,11 @@ mod tests {
         });
         assert!(r.is_err());
         assert!(!target.exists());
-        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "temporary file left behind");
+        assert_eq!(
+            std::fs::read_dir(&dir).unwrap().count(),
+            0,
+            "temporary file left behind"
+        );
         write_atomically::<io::Error, _>(&target, |w| w.write_all(b"ok")).unwrap();
         assert_eq!(std::fs::read(&target).unwrap(), b"ok");
         std::fs::remove_dir_all(&dir).unwrap();

@@ -67,26 +67,54 @@ impl CrossFieldMesh {
     pub fn check(&self) -> Result<(), String> {
         let (n, nt) = (self.nodes.len(), self.triangles.len());
         if self.triangle_face.len() != nt {
-            return Err(format!("{} triangle faces for {nt} triangles", self.triangle_face.len()));
+            return Err(format!(
+                "{} triangle faces for {nt} triangles",
+                self.triangle_face.len()
+            ));
         }
         if self.cross.len() != nt {
-            return Err(format!("{} cross directions for {nt} triangles", self.cross.len()));
+            return Err(format!(
+                "{} cross directions for {nt} triangles",
+                self.cross.len()
+            ));
         }
         if let Some(s) = &self.size {
             if s.len() != nt {
                 return Err(format!("{} sizes for {nt} triangles", s.len()));
             }
         }
-        if let Some(i) = self.nodes.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
-            return Err(format!("node {i} has non-finite coordinates {:?}", self.nodes[i]));
+        if let Some(i) = self
+            .nodes
+            .iter()
+            .position(|p| !p.iter().all(|c| c.is_finite()))
+        {
+            return Err(format!(
+                "node {i} has non-finite coordinates {:?}",
+                self.nodes[i]
+            ));
         }
-        if let Some(i) = self.triangles.iter().position(|t| t.iter().any(|&v| v as usize >= n)) {
-            return Err(format!("triangle {i} {:?} refers to a node beyond the {n} nodes", self.triangles[i]));
+        if let Some(i) = self
+            .triangles
+            .iter()
+            .position(|t| t.iter().any(|&v| v as usize >= n))
+        {
+            return Err(format!(
+                "triangle {i} {:?} refers to a node beyond the {n} nodes",
+                self.triangles[i]
+            ));
         }
-        if let Some(i) = self.cross.iter().position(|c| c.is_some_and(|d| !d.iter().all(|x| x.is_finite()))) {
+        if let Some(i) = self
+            .cross
+            .iter()
+            .position(|c| c.is_some_and(|d| !d.iter().all(|x| x.is_finite())))
+        {
             return Err(format!("triangle {i} has a non-finite cross direction"));
         }
-        if let Some(i) = self.singularities.iter().position(|s| !s.position.iter().all(|c| c.is_finite())) {
+        if let Some(i) = self
+            .singularities
+            .iter()
+            .position(|s| !s.position.iter().all(|c| c.is_finite()))
+        {
             return Err(format!("singularity {i} has non-finite coordinates"));
         }
         Ok(())
@@ -101,7 +129,11 @@ impl CrossFieldMesh {
     /// the boundary edges of each face's triangulation (its CAD curves) are
     /// its curve edges, so they are drawn thicker.
     pub fn surface(&self) -> QuadMesh {
-        let curve_edges = self.boundary_edges().into_iter().map(|e| (e, CurveId(0))).collect();
+        let curve_edges = self
+            .boundary_edges()
+            .into_iter()
+            .map(|e| (e, CurveId(0)))
+            .collect();
         QuadMesh {
             nodes: self.nodes.clone(),
             node_class: vec![NodeClass::Unclassified; self.nodes.len()],
@@ -122,7 +154,11 @@ impl CrossFieldMesh {
                 *uses.entry([a.min(b), a.max(b)]).or_insert(0) += 1;
             }
         }
-        let mut out: Vec<[u32; 2]> = uses.into_iter().filter(|&(_, n)| n == 1).map(|(e, _)| e).collect();
+        let mut out: Vec<[u32; 2]> = uses
+            .into_iter()
+            .filter(|&(_, n)| n == 1)
+            .map(|(e, _)| e)
+            .collect();
         out.sort_unstable();
         out
     }
@@ -151,7 +187,8 @@ impl CrossFieldMesh {
         let mut grid: HashMap<[i64; 3], Vec<Vec3>> = HashMap::new();
         let mut out = Vec::new();
         for t in 0..self.triangles.len() {
-            if self.cross[t].is_none() || self.triangles[t].iter().any(|&v| on_boundary[v as usize]) {
+            if self.cross[t].is_none() || self.triangles[t].iter().any(|&v| on_boundary[v as usize])
+            {
                 continue;
             }
             let (c, _) = self.centroid_normal(t);
@@ -159,7 +196,8 @@ impl CrossFieldMesh {
             let crowded = (-1..=1).any(|i| {
                 (-1..=1).any(|j| {
                     (-1..=1).any(|k| {
-                        grid.get(&[cell[0] + i, cell[1] + j, cell[2] + k]).is_some_and(|ps| ps.iter().any(|&p| dist(p, c) < spacing))
+                        grid.get(&[cell[0] + i, cell[1] + j, cell[2] + k])
+                            .is_some_and(|ps| ps.iter().any(|&p| dist(p, c) < spacing))
                     })
                 })
             });
@@ -179,36 +217,71 @@ impl CrossFieldMesh {
         let mut segments = Vec::new();
         for t in self.glyph_triangles(spacing) {
             let (c, n) = self.centroid_normal(t);
-            let (Some(d1), Some(n)) = (self.cross[t], n) else { continue };
+            let (Some(d1), Some(n)) = (self.cross[t], n) else {
+                continue;
+            };
             let d2 = cross(n, d1);
             for d in [d1, d2] {
-                segments.push(OverlaySegment { a: add(c, scale(d, -half)), b: add(c, scale(d, half)), color: GLYPH, normal: Some(n) });
+                segments.push(OverlaySegment {
+                    a: add(c, scale(d, -half)),
+                    b: add(c, scale(d, half)),
+                    color: GLYPH,
+                    normal: Some(n),
+                });
             }
         }
-        let points = self.singularities.iter().map(|s| OverlayPoint { position: s.position, color: singularity_color(s.index) }).collect();
+        let points = self
+            .singularities
+            .iter()
+            .map(|s| OverlayPoint {
+                position: s.position,
+                color: singularity_color(s.index),
+            })
+            .collect();
         let mut legend = vec![
-            (singularity_color(1), format!("index +1 (valence 3): {}", self.count(1))),
-            (singularity_color(-1), format!("index -1 (valence 5): {}", self.count(-1))),
+            (
+                singularity_color(1),
+                format!("index +1 (valence 3): {}", self.count(1)),
+            ),
+            (
+                singularity_color(-1),
+                format!("index -1 (valence 5): {}", self.count(-1)),
+            ),
         ];
         let others = self.singularities.len() - self.count(1) - self.count(-1);
         if others > 0 {
             legend.push((singularity_color(2), format!("other: {others}")));
         }
-        Overlay { segments, points, legend, ..Default::default() }
+        Overlay {
+            segments,
+            points,
+            legend,
+            ..Default::default()
+        }
     }
 }
 
 /// Draws `field` (see the module documentation) with glyph spacing
 /// `spacing` (model units) and writes the PNG atomically to `path`. `opts`
 /// gives the picture size, view and title; its overlay is replaced.
-pub fn render_field_png(field: &CrossFieldMesh, spacing: f64, opts: &RenderOptions, path: &Path) -> Result<(), RenderError> {
+pub fn render_field_png(
+    field: &CrossFieldMesh,
+    spacing: f64,
+    opts: &RenderOptions,
+    path: &Path,
+) -> Result<(), RenderError> {
     field.check().map_err(RenderError::InvalidMesh)?;
     let mut overlay = field.overlay(spacing);
     let k = ((opts.width.min(opts.height) as f32 / 600.0).round()).max(1.0);
     overlay.line_width = 1.2 * k;
     overlay.point_radius = 5.0 * k;
     // element edges would hide the glyphs; CAD curves stay
-    let opts = RenderOptions { overlay: Some(&overlay), show_irregular: false, show_edges: false, ..opts.clone() };
+    let opts = RenderOptions {
+        overlay: Some(&overlay),
+        show_irregular: false,
+        show_edges: false,
+        ..opts.clone()
+    };
     render::render_png(&field.surface(), &opts, path)
 }
 
@@ -216,20 +289,43 @@ pub fn render_field_png(field: &CrossFieldMesh, spacing: f64, opts: &RenderOptio
 /// for the smallest sizes to green for the largest (value = size / largest
 /// size, named on the colour bar), with the singularities as dots, and writes
 /// the PNG atomically to `path`. Fails when the field has no size map.
-pub fn render_size_png(field: &CrossFieldMesh, opts: &RenderOptions, path: &Path) -> Result<(), RenderError> {
+pub fn render_size_png(
+    field: &CrossFieldMesh,
+    opts: &RenderOptions,
+    path: &Path,
+) -> Result<(), RenderError> {
     field.check().map_err(RenderError::InvalidMesh)?;
-    let sizes = field.size.as_ref().ok_or_else(|| RenderError::InvalidOptions("the field has no size map".into()))?;
-    let largest = sizes.iter().copied().filter(|s| s.is_finite()).fold(0.0, f64::max);
+    let sizes = field
+        .size
+        .as_ref()
+        .ok_or_else(|| RenderError::InvalidOptions("the field has no size map".into()))?;
+    let largest = sizes
+        .iter()
+        .copied()
+        .filter(|s| s.is_finite())
+        .fold(0.0, f64::max);
     if !(largest > 0.0) {
-        return Err(RenderError::InvalidOptions("the size map has no positive value".into()));
+        return Err(RenderError::InvalidOptions(
+            "the size map has no positive value".into(),
+        ));
     }
-    let values: Vec<f64> = sizes.iter().map(|&s| if s.is_finite() { s / largest } else { f64::NAN }).collect();
+    let values: Vec<f64> = sizes
+        .iter()
+        .map(|&s| if s.is_finite() { s / largest } else { f64::NAN })
+        .collect();
     let label = format!("size / {largest:.3}");
     let mut overlay = field.overlay(f64::INFINITY);
     overlay.segments.clear();
     let k = ((opts.width.min(opts.height) as f32 / 600.0).round()).max(1.0);
     overlay.point_radius = 5.0 * k;
-    let opts = RenderOptions { overlay: Some(&overlay), triangle_values: Some(&values), values_label: &label, show_irregular: false, show_edges: false, ..opts.clone() };
+    let opts = RenderOptions {
+        overlay: Some(&overlay),
+        triangle_values: Some(&values),
+        values_label: &label,
+        show_irregular: false,
+        show_edges: false,
+        ..opts.clone()
+    };
     render::render_png(&field.surface(), &opts, path)
 }
 
@@ -244,7 +340,8 @@ pub(crate) mod tests {
         let mut f = CrossFieldMesh::default();
         for j in 0..=n {
             for i in 0..=n {
-                f.nodes.push([i as f64 / n as f64, j as f64 / n as f64, 0.0]);
+                f.nodes
+                    .push([i as f64 / n as f64, j as f64 / n as f64, 0.0]);
             }
         }
         let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
@@ -259,8 +356,16 @@ pub(crate) mod tests {
         f.cross = vec![Some([1.0, 0.0, 0.0]); nt];
         f.size = Some((0..nt).map(|t| 0.1 + t as f64 / nt as f64).collect());
         f.singularities = vec![
-            FieldSingularity { position: [0.5, 0.5, 0.0], index: 1, face: FaceId(0) },
-            FieldSingularity { position: [0.25, 0.25, 0.0], index: -1, face: FaceId(0) },
+            FieldSingularity {
+                position: [0.5, 0.5, 0.0],
+                index: 1,
+                face: FaceId(0),
+            },
+            FieldSingularity {
+                position: [0.25, 0.25, 0.0],
+                index: -1,
+                face: FaceId(0),
+            },
         ];
         f
     }
@@ -294,12 +399,17 @@ pub(crate) mod tests {
         let all = f.glyph_triangles(1e-3);
         // every triangle except those with a node on the square's boundary
         let inner: Vec<usize> = (0..f.triangles.len())
-            .filter(|&t| f.triangles[t].iter().all(|&v| {
-                let p = f.nodes[v as usize];
-                p[0] > 0.0 && p[0] < 1.0 && p[1] > 0.0 && p[1] < 1.0
-            }))
+            .filter(|&t| {
+                f.triangles[t].iter().all(|&v| {
+                    let p = f.nodes[v as usize];
+                    p[0] > 0.0 && p[0] < 1.0 && p[1] > 0.0 && p[1] < 1.0
+                })
+            })
             .collect();
-        assert_eq!(all, inner, "a tiny spacing keeps every triangle off the boundary");
+        assert_eq!(
+            all, inner,
+            "a tiny spacing keeps every triangle off the boundary"
+        );
         let some = f.glyph_triangles(0.25);
         let centroid = |t: usize| f.centroid_normal(t).0;
         for (i, &a) in some.iter().enumerate() {
@@ -308,9 +418,16 @@ pub(crate) mod tests {
             }
         }
         for &t in &inner {
-            assert!(some.iter().any(|&g| dist(centroid(g), centroid(t)) < 0.25), "triangle {t} far from every glyph");
+            assert!(
+                some.iter().any(|&g| dist(centroid(g), centroid(t)) < 0.25),
+                "triangle {t} far from every glyph"
+            );
         }
-        assert!((9..=30).contains(&some.len()), "{} glyphs on the unit square at spacing 0.25", some.len());
+        assert!(
+            (9..=30).contains(&some.len()),
+            "{} glyphs on the unit square at spacing 0.25",
+            some.len()
+        );
         let o = f.overlay(0.25);
         assert_eq!(o.segments.len(), 2 * some.len());
         for pair in o.segments.chunks(2) {
@@ -328,18 +445,44 @@ pub(crate) mod tests {
         let f = square_field(16);
         let mut overlay = f.overlay(0.125);
         overlay.point_radius = 6.0;
-        let base = RenderOptions { width: 400, height: 400, eye_dir: [0.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], show_info: false, ..Default::default() };
-        let with = render_image(&f.surface(), &RenderOptions { overlay: Some(&overlay), ..base.clone() }).unwrap();
+        let base = RenderOptions {
+            width: 400,
+            height: 400,
+            eye_dir: [0.0, 0.0, 1.0],
+            up: [0.0, 1.0, 0.0],
+            show_info: false,
+            ..Default::default()
+        };
+        let with = render_image(
+            &f.surface(),
+            &RenderOptions {
+                overlay: Some(&overlay),
+                ..base.clone()
+            },
+        )
+        .unwrap();
         let without = render_image(&f.surface(), &base).unwrap();
         let near = |p: &[u8], c: [u8; 3]| (0..3).all(|i| (p[i] as i32 - c[i] as i32).abs() < 30);
-        let count = |img: &render::RenderedImage, c: [u8; 3]| img.rgba.chunks(4).filter(|p| near(p, c)).count();
+        let count = |img: &render::RenderedImage, c: [u8; 3]| {
+            img.rgba.chunks(4).filter(|p| near(p, c)).count()
+        };
         // dots: blue and red pixels appear (in the plot and in the legend)
         assert!(count(&with, singularity_color(1)) > 50);
         assert!(count(&with, singularity_color(-1)) > 50);
         assert_eq!(count(&without, singularity_color(1)), 0);
         // glyphs: many more dark pixels than the plain triangulation has
-        let dark = |img: &render::RenderedImage| img.rgba.chunks(4).filter(|p| (p[0] as u32 + p[1] as u32 + p[2] as u32) < 200).count();
-        assert!(dark(&with) > dark(&without) + 1000, "{} vs {}", dark(&with), dark(&without));
+        let dark = |img: &render::RenderedImage| {
+            img.rgba
+                .chunks(4)
+                .filter(|p| (p[0] as u32 + p[1] as u32 + p[2] as u32) < 200)
+                .count()
+        };
+        assert!(
+            dark(&with) > dark(&without) + 1000,
+            "{} vs {}",
+            dark(&with),
+            dark(&without)
+        );
     }
 
     /// The size picture colours small sizes red and large ones green, and
@@ -351,21 +494,45 @@ pub(crate) mod tests {
         let dir = std::env::temp_dir().join(format!("quadrille-size-png-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("size.png");
-        let opts = RenderOptions { width: 400, height: 400, eye_dir: [0.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], show_info: false, ..Default::default() };
+        let opts = RenderOptions {
+            width: 400,
+            height: 400,
+            eye_dir: [0.0, 0.0, 1.0],
+            up: [0.0, 1.0, 0.0],
+            show_info: false,
+            ..Default::default()
+        };
         render_size_png(&f, &opts, &path).unwrap();
         let img = tiny_skia::Pixmap::decode_png(&std::fs::read(&path).unwrap()).unwrap();
         // the pixel column through the middle of the picture crosses the square
         let (w, h) = (img.width() as usize, img.height() as f64);
-        let column: Vec<[u8; 3]> = (0..img.height() as usize).map(|y| { let p = &img.data()[4 * (y * w + w / 2)..]; [p[0], p[1], p[2]] }).collect();
-        let coloured: Vec<usize> = (0..column.len()).filter(|&y| { let c = column[y]; (c[0] as i32 - c[1] as i32).abs() > 40 }).collect();
-        assert!(coloured.len() as f64 > 0.3 * h, "only {} coloured rows", coloured.len());
+        let column: Vec<[u8; 3]> = (0..img.height() as usize)
+            .map(|y| {
+                let p = &img.data()[4 * (y * w + w / 2)..];
+                [p[0], p[1], p[2]]
+            })
+            .collect();
+        let coloured: Vec<usize> = (0..column.len())
+            .filter(|&y| {
+                let c = column[y];
+                (c[0] as i32 - c[1] as i32).abs() > 40
+            })
+            .collect();
+        assert!(
+            coloured.len() as f64 > 0.3 * h,
+            "only {} coloured rows",
+            coloured.len()
+        );
         let (top, bottom) = (column[coloured[2]], column[coloured[coloured.len() - 3]]);
         // image rows go down, so the top of the picture is y = 1 (large sizes: green)
         assert!(top[1] > top[0], "large sizes are green: {top:?}");
         assert!(bottom[0] > bottom[1], "small sizes are red: {bottom:?}");
         let mut no_size = f.clone();
         no_size.size = None;
-        assert!(matches!(render_size_png(&no_size, &opts, &dir.join("none.png")), Err(RenderError::InvalidOptions(_))));
+        assert!(matches!(
+            render_size_png(&no_size, &opts, &dir.join("none.png")),
+            Err(RenderError::InvalidOptions(_))
+        ));
         assert!(!dir.join("none.png").exists());
         std::fs::remove_dir_all(&dir).unwrap();
     }
@@ -376,8 +543,25 @@ pub(crate) mod tests {
         let mut overlay = f.overlay(0.125);
         overlay.points.clear();
         overlay.legend.clear();
-        let opts = |eye: Vec3| RenderOptions { width: 300, height: 300, eye_dir: eye, up: [0.0, 0.0, 1.0], show_info: false, ..Default::default() };
-        let draw = |eye: Vec3, o: Option<&Overlay>| render_image(&f.surface(), &RenderOptions { overlay: o, ..opts(eye) }).unwrap().rgba;
+        let opts = |eye: Vec3| RenderOptions {
+            width: 300,
+            height: 300,
+            eye_dir: eye,
+            up: [0.0, 0.0, 1.0],
+            show_info: false,
+            ..Default::default()
+        };
+        let draw = |eye: Vec3, o: Option<&Overlay>| {
+            render_image(
+                &f.surface(),
+                &RenderOptions {
+                    overlay: o,
+                    ..opts(eye)
+                },
+            )
+            .unwrap()
+            .rgba
+        };
         // seen 11° above its plane: the glyphs would crowd, so none is drawn
         let grazing = [1.0, 0.3, 0.2];
         assert_eq!(draw(grazing, Some(&overlay)), draw(grazing, None));
@@ -392,15 +576,40 @@ pub(crate) mod tests {
         let f = square_field(8);
         let mut cover = f.surface();
         let n = cover.nodes.len() as u32;
-        cover.nodes.extend(f.nodes.iter().map(|p| [p[0], p[1], 1.0]));
-        cover.node_class.extend(vec![NodeClass::Unclassified; f.nodes.len()]);
-        cover.triangles.extend(f.triangles.iter().map(|t| t.map(|v| v + n)));
+        cover
+            .nodes
+            .extend(f.nodes.iter().map(|p| [p[0], p[1], 1.0]));
+        cover
+            .node_class
+            .extend(vec![NodeClass::Unclassified; f.nodes.len()]);
+        cover
+            .triangles
+            .extend(f.triangles.iter().map(|t| t.map(|v| v + n)));
         cover.triangle_face.extend(f.triangle_face.iter().copied());
         let mut overlay = f.overlay(0.125);
         overlay.legend.clear();
-        let opts = RenderOptions { width: 300, height: 300, eye_dir: [0.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], show_info: false, ..Default::default() };
-        let img = render_image(&cover, &RenderOptions { overlay: Some(&overlay), ..opts }).unwrap();
+        let opts = RenderOptions {
+            width: 300,
+            height: 300,
+            eye_dir: [0.0, 0.0, 1.0],
+            up: [0.0, 1.0, 0.0],
+            show_info: false,
+            ..Default::default()
+        };
+        let img = render_image(
+            &cover,
+            &RenderOptions {
+                overlay: Some(&overlay),
+                ..opts
+            },
+        )
+        .unwrap();
         let blue = singularity_color(1);
-        assert!(!img.rgba.chunks(4).any(|p| (0..3).all(|i| (p[i] as i32 - blue[i] as i32).abs() < 20)), "hidden dot drawn");
+        assert!(
+            !img.rgba
+                .chunks(4)
+                .any(|p| (0..3).all(|i| (p[i] as i32 - blue[i] as i32).abs() < 20)),
+            "hidden dot drawn"
+        );
     }
 }

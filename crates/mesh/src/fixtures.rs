@@ -7,7 +7,9 @@ use std::sync::Arc;
 
 use geometry::primitives::{square, Line, Line2d, Plane};
 use geometry::vec3::{add, dot, lerp, scale, sub, Vec3};
-use geometry::{Bounds2, Corner, CornerId, CurveEntity, CurveId, CurveUse, Face, FaceId, Loop, Model};
+use geometry::{
+    Bounds2, Corner, CornerId, CurveEntity, CurveId, CurveUse, Face, FaceId, Loop, Model,
+};
 
 use crate::quadmesh::{NodeClass, QuadMesh};
 
@@ -47,22 +49,36 @@ pub fn square_grid(side: f64, n: usize) -> (Model, QuadMesh) {
     }
     for j in 0..n {
         for i in 0..n {
-            mesh.quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            mesh.quads
+                .push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
             mesh.quad_face.push(FaceId(0));
         }
     }
     // grouped by curve, each in its direction: the order the MSH writer keeps
-    mesh.curve_edges.extend((0..n).map(|k| ([id(k, 0), id(k + 1, 0)], CurveId(0))));
-    mesh.curve_edges.extend((0..n).map(|k| ([id(n, k), id(n, k + 1)], CurveId(1))));
-    mesh.curve_edges.extend((0..n).map(|k| ([id(n - k, n), id(n - k - 1, n)], CurveId(2))));
-    mesh.curve_edges.extend((0..n).map(|k| ([id(0, n - k), id(0, n - k - 1)], CurveId(3))));
-    mesh.corner_nodes = vec![(id(0, 0), CornerId(0)), (id(n, 0), CornerId(1)), (id(n, n), CornerId(2)), (id(0, n), CornerId(3))];
+    mesh.curve_edges
+        .extend((0..n).map(|k| ([id(k, 0), id(k + 1, 0)], CurveId(0))));
+    mesh.curve_edges
+        .extend((0..n).map(|k| ([id(n, k), id(n, k + 1)], CurveId(1))));
+    mesh.curve_edges
+        .extend((0..n).map(|k| ([id(n - k, n), id(n - k - 1, n)], CurveId(2))));
+    mesh.curve_edges
+        .extend((0..n).map(|k| ([id(0, n - k), id(0, n - k - 1)], CurveId(3))));
+    mesh.corner_nodes = vec![
+        (id(0, 0), CornerId(0)),
+        (id(n, 0), CornerId(1)),
+        (id(n, n), CornerId(2)),
+        (id(0, n), CornerId(3)),
+    ];
     (model, mesh)
 }
 
 /// Corners of the cube `[0, side]³`, numbered by the bits (x, y, z).
 fn cube_corner(side: f64, k: usize) -> Vec3 {
-    [(k & 1) as f64 * side, ((k >> 1) & 1) as f64 * side, ((k >> 2) & 1) as f64 * side]
+    [
+        (k & 1) as f64 * side,
+        ((k >> 1) & 1) as f64 * side,
+        ((k >> 2) & 1) as f64 * side,
+    ]
 }
 
 /// The faces of the cube as corner quadruples, counter-clockwise seen from outside.
@@ -80,7 +96,11 @@ const CUBE_FACES: [[usize; 4]; 6] = [
 /// per face (`n ≥ 1`), every node classified with its parameters.
 pub fn cube(side: f64, n: usize) -> (Model, QuadMesh) {
     let n = n.max(1);
-    let corners: Vec<Corner> = (0..8).map(|k| Corner { point: cube_corner(side, k) }).collect();
+    let corners: Vec<Corner> = (0..8)
+        .map(|k| Corner {
+            point: cube_corner(side, k),
+        })
+        .collect();
     let mut curve_of: HashMap<(usize, usize), u32> = HashMap::new();
     let mut curves = Vec::new();
     for f in CUBE_FACES {
@@ -89,7 +109,11 @@ pub fn cube(side: f64, n: usize) -> (Model, QuadMesh) {
             curve_of.entry((a, b)).or_insert_with(|| {
                 let (pa, pb) = (cube_corner(side, a), cube_corner(side, b));
                 curves.push(CurveEntity {
-                    geom: Some(Arc::new(Line { origin: pa, dir: sub(pb, pa), range: (0.0, 1.0) })),
+                    geom: Some(Arc::new(Line {
+                        origin: pa,
+                        dir: sub(pb, pa),
+                        range: (0.0, 1.0),
+                    })),
                     range: (0.0, 1.0),
                     start: CornerId(a as u32),
                     end: CornerId(b as u32),
@@ -105,7 +129,12 @@ pub fn cube(side: f64, n: usize) -> (Model, QuadMesh) {
         let xdir = scale(sub(cube_corner(side, f[1]), o), 1.0 / side);
         let ydir = scale(sub(cube_corner(side, f[3]), o), 1.0 / side);
         let uv = |p: Vec3| [dot(sub(p, o), xdir), dot(sub(p, o), ydir)];
-        let bounds = Bounds2 { umin: 0.0, umax: side, vmin: 0.0, vmax: side };
+        let bounds = Bounds2 {
+            umin: 0.0,
+            umax: side,
+            vmin: 0.0,
+            vmax: side,
+        };
         let uses = (0..4)
             .map(|k| {
                 let (a, b) = (f[k], f[(k + 1) % 4]);
@@ -115,19 +144,31 @@ pub fn cube(side: f64, n: usize) -> (Model, QuadMesh) {
                 CurveUse {
                     curve: CurveId(curve_of[&(s, e)]),
                     forward,
-                    pcurve: Arc::new(Line2d { origin: us, dir: [ue[0] - us[0], ue[1] - us[1]] }),
+                    pcurve: Arc::new(Line2d {
+                        origin: us,
+                        dir: [ue[0] - us[0], ue[1] - us[1]],
+                    }),
                     seam: false,
                 }
             })
             .collect();
         faces.push(Face {
-            surface: Arc::new(Plane { origin: o, xdir, ydir, bounds }),
+            surface: Arc::new(Plane {
+                origin: o,
+                xdir,
+                ydir,
+                bounds,
+            }),
             reversed: false,
             loops: vec![Loop { uses, outer: true }],
             uv_bounds: bounds,
         });
     }
-    let model = Model { corners, curves, faces };
+    let model = Model {
+        corners,
+        curves,
+        faces,
+    };
 
     // Nodes on the integer lattice of the surface, shared between faces.
     let mut mesh = QuadMesh::default();
@@ -136,13 +177,23 @@ pub fn cube(side: f64, n: usize) -> (Model, QuadMesh) {
     let mut node = |mesh: &mut QuadMesh, p: Vec3, fi: usize| -> u32 {
         let key = p.map(|x| (x / step).round() as i64);
         *node_of.entry(key).or_insert_with(|| {
-            let on_side: Vec<usize> = (0..3).filter(|&k| key[k] == 0 || key[k] == n as i64).collect();
+            let on_side: Vec<usize> = (0..3)
+                .filter(|&k| key[k] == 0 || key[k] == n as i64)
+                .collect();
             let class = match on_side.len() {
-                3 => NodeClass::Corner(CornerId(key.iter().enumerate().map(|(k, &x)| ((x != 0) as u32) << k).sum())),
+                3 => NodeClass::Corner(CornerId(
+                    key.iter()
+                        .enumerate()
+                        .map(|(k, &x)| ((x != 0) as u32) << k)
+                        .sum(),
+                )),
                 2 => {
                     // the free axis is the curve direction; its ends differ only there
                     let free = (0..3).find(|k| !on_side.contains(k)).unwrap_or(0);
-                    let base: usize = (0..3).filter(|&k| k != free && key[k] != 0).map(|k| 1 << k).sum();
+                    let base: usize = (0..3)
+                        .filter(|&k| k != free && key[k] != 0)
+                        .map(|k| 1 << k)
+                        .sum();
                     let c = curve_of[&(base, base | (1 << free))];
                     NodeClass::Curve(CurveId(c), Some(p[free] / side))
                 }
@@ -150,7 +201,10 @@ pub fn cube(side: f64, n: usize) -> (Model, QuadMesh) {
                     let o = cube_corner(side, CUBE_FACES[fi][0]);
                     let xdir = scale(sub(cube_corner(side, CUBE_FACES[fi][1]), o), 1.0 / side);
                     let ydir = scale(sub(cube_corner(side, CUBE_FACES[fi][3]), o), 1.0 / side);
-                    NodeClass::Face(FaceId(fi as u32), Some([dot(sub(p, o), xdir), dot(sub(p, o), ydir)]))
+                    NodeClass::Face(
+                        FaceId(fi as u32),
+                        Some([dot(sub(p, o), xdir), dot(sub(p, o), ydir)]),
+                    )
                 }
             };
             mesh.nodes.push(p);
@@ -161,7 +215,10 @@ pub fn cube(side: f64, n: usize) -> (Model, QuadMesh) {
     for (fi, f) in CUBE_FACES.iter().enumerate() {
         let [a, b, _, d] = f.map(|k| cube_corner(side, k));
         let at = |i: usize, j: usize| {
-            add(lerp(a, b, i as f64 / n as f64), sub(lerp(a, d, j as f64 / n as f64), a))
+            add(
+                lerp(a, b, i as f64 / n as f64),
+                sub(lerp(a, d, j as f64 / n as f64), a),
+            )
         };
         let mut ids = vec![vec![0u32; n + 1]; n + 1];
         for (j, row) in ids.iter_mut().enumerate() {
@@ -171,16 +228,23 @@ pub fn cube(side: f64, n: usize) -> (Model, QuadMesh) {
         }
         for j in 0..n {
             for i in 0..n {
-                mesh.quads.push([ids[j][i], ids[j][i + 1], ids[j + 1][i + 1], ids[j + 1][i]]);
+                mesh.quads
+                    .push([ids[j][i], ids[j][i + 1], ids[j + 1][i + 1], ids[j + 1][i]]);
                 mesh.quad_face.push(FaceId(fi as u32));
             }
         }
     }
     for (ci, c) in model.curves.iter().enumerate() {
-        let (pa, pb) = (model.corners[c.start.idx()].point, model.corners[c.end.idx()].point);
+        let (pa, pb) = (
+            model.corners[c.start.idx()].point,
+            model.corners[c.end.idx()].point,
+        );
         for k in 0..n {
             let key = |t: f64| lerp(pa, pb, t).map(|x| (x / step).round() as i64);
-            let e = [node_of[&key(k as f64 / n as f64)], node_of[&key((k + 1) as f64 / n as f64)]];
+            let e = [
+                node_of[&key(k as f64 / n as f64)],
+                node_of[&key((k + 1) as f64 / n as f64)],
+            ];
             mesh.curve_edges.push((e, CurveId(ci as u32)));
         }
     }

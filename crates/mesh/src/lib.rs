@@ -3,13 +3,13 @@
 
 pub mod atomic;
 pub mod field;
-pub mod obj;
 pub mod fixtures;
 pub mod msh;
+pub mod obj;
 pub mod quadmesh;
 pub mod quality;
 pub mod render;
-pub mod vtu;
 pub mod stats;
+pub mod vtu;
 
 pub use quadmesh::{NodeClass, QuadMesh};

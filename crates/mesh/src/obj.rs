@@ -33,20 +33,42 @@ pub enum ObjError {
 
 /// Writes `mesh` to `path` as Wavefront OBJ (atomically).
 pub fn write_obj(mesh: &QuadMesh, path: &Path) -> Result<(), ObjError> {
-    crate::vtu::check_mesh(mesh).map_err(|reason| ObjError::Invalid { path: path.to_path_buf(), reason })?;
-    write_atomically(path, |w| write_body(mesh, w)).map_err(|source| ObjError::Io { path: path.to_path_buf(), source })
+    crate::vtu::check_mesh(mesh).map_err(|reason| ObjError::Invalid {
+        path: path.to_path_buf(),
+        reason,
+    })?;
+    write_atomically(path, |w| write_body(mesh, w)).map_err(|source| ObjError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// The file body.
 fn write_body<W: Write>(mesh: &QuadMesh, w: &mut W) -> io::Result<()> {
-    writeln!(w, "# written by Quadrille: {} nodes, {} quads, {} triangles", mesh.nodes.len(), mesh.quads.len(), mesh.triangles.len())?;
+    writeln!(
+        w,
+        "# written by Quadrille: {} nodes, {} quads, {} triangles",
+        mesh.nodes.len(),
+        mesh.quads.len(),
+        mesh.triangles.len()
+    )?;
     for p in &mesh.nodes {
         writeln!(w, "v {} {} {}", p[0], p[1], p[2])?;
     }
     // elements sorted by face, quads before triangles within a face, mesh order kept
-    let mut order: Vec<(u32, usize)> = mesh.quad_face.iter().enumerate().map(|(i, f)| (f.0, i)).collect();
+    let mut order: Vec<(u32, usize)> = mesh
+        .quad_face
+        .iter()
+        .enumerate()
+        .map(|(i, f)| (f.0, i))
+        .collect();
     let nq = mesh.quads.len();
-    order.extend(mesh.triangle_face.iter().enumerate().map(|(i, f)| (f.0, nq + i)));
+    order.extend(
+        mesh.triangle_face
+            .iter()
+            .enumerate()
+            .map(|(i, f)| (f.0, nq + i)),
+    );
     order.sort_by_key(|&(f, i)| (f, i));
     let mut current = None;
     for (f, i) in order {
@@ -56,10 +78,23 @@ fn write_body<W: Write>(mesh: &QuadMesh, w: &mut W) -> io::Result<()> {
         }
         if i < nq {
             let q = mesh.quads[i];
-            writeln!(w, "f {} {} {} {}", q[0] as u64 + 1, q[1] as u64 + 1, q[2] as u64 + 1, q[3] as u64 + 1)?;
+            writeln!(
+                w,
+                "f {} {} {} {}",
+                q[0] as u64 + 1,
+                q[1] as u64 + 1,
+                q[2] as u64 + 1,
+                q[3] as u64 + 1
+            )?;
         } else {
             let t = mesh.triangles[i - nq];
-            writeln!(w, "f {} {} {}", t[0] as u64 + 1, t[1] as u64 + 1, t[2] as u64 + 1)?;
+            writeln!(
+                w,
+                "f {} {} {}",
+                t[0] as u64 + 1,
+                t[1] as u64 + 1,
+                t[2] as u64 + 1
+            )?;
         }
     }
     Ok(())
@@ -81,16 +116,36 @@ mod tests {
         write_obj(&mesh, &path).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         let lines: Vec<&str> = text.lines().collect();
-        let verts: Vec<Vec<f64>> =
-            lines.iter().filter(|l| l.starts_with("v ")).map(|l| l[2..].split_whitespace().map(|s| s.parse().unwrap()).collect()).collect();
+        let verts: Vec<Vec<f64>> = lines
+            .iter()
+            .filter(|l| l.starts_with("v "))
+            .map(|l| {
+                l[2..]
+                    .split_whitespace()
+                    .map(|s| s.parse().unwrap())
+                    .collect()
+            })
+            .collect();
         assert_eq!(verts.len(), 7);
         assert_eq!(verts[6], [3.0, 0.5, 0.0]);
-        let faces: Vec<Vec<usize>> =
-            lines.iter().filter(|l| l.starts_with("f ")).map(|l| l[2..].split_whitespace().map(|s| s.parse().unwrap()).collect()).collect();
+        let faces: Vec<Vec<usize>> = lines
+            .iter()
+            .filter(|l| l.starts_with("f "))
+            .map(|l| {
+                l[2..]
+                    .split_whitespace()
+                    .map(|s| s.parse().unwrap())
+                    .collect()
+            })
+            .collect();
         assert_eq!(faces.len(), 3);
         assert_eq!(faces.iter().filter(|f| f.len() == 4).count(), 2);
         assert!(faces.iter().flatten().all(|&i| (1..=7).contains(&i)));
-        let groups: Vec<&str> = lines.iter().filter(|l| l.starts_with("g ")).copied().collect();
+        let groups: Vec<&str> = lines
+            .iter()
+            .filter(|l| l.starts_with("g "))
+            .copied()
+            .collect();
         assert_eq!(groups, ["g face_1", "g face_2", "g face_5"]);
         // face 0 (group face_1) holds quad 1, written 1-based
         let g1 = lines.iter().position(|l| *l == "g face_1").unwrap();
@@ -106,7 +161,10 @@ mod tests {
         mesh.triangles[0][1] = 7;
         let path = dir.join("bad.obj");
         let e = write_obj(&mesh, &path).unwrap_err();
-        assert!(e.to_string().contains("bad.obj") && e.to_string().contains("triangle 0"), "{e}");
+        assert!(
+            e.to_string().contains("bad.obj") && e.to_string().contains("triangle 0"),
+            "{e}"
+        );
         let e = write_obj(&small_mixed_mesh(), &dir.join("missing/x.obj")).unwrap_err();
         assert!(matches!(e, ObjError::Io { .. }) && e.to_string().contains("x.obj"));
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);

@@ -18,7 +18,11 @@ pub fn corner_sicn(p: &[Vec3; 4], n: &[Vec3; 4]) -> [f64; 4] {
         let a = sub(p[(i + 1) % 4], p[i]);
         let b = sub(p[(i + 3) % 4], p[i]);
         let den = dot(a, a) + dot(b, b);
-        out[i] = if den > 0.0 { 2.0 * dot(cross(a, b), n[i]) / den } else { 0.0 };
+        out[i] = if den > 0.0 {
+            2.0 * dot(cross(a, b), n[i]) / den
+        } else {
+            0.0
+        };
     }
     out
 }
@@ -30,7 +34,11 @@ pub fn corner_scaled_jacobian(p: &[Vec3; 4], n: &[Vec3; 4]) -> [f64; 4] {
         let a = sub(p[(i + 1) % 4], p[i]);
         let b = sub(p[(i + 3) % 4], p[i]);
         let den = (dot(a, a) * dot(b, b)).sqrt();
-        out[i] = if den > 0.0 { dot(cross(a, b), n[i]) / den } else { 0.0 };
+        out[i] = if den > 0.0 {
+            dot(cross(a, b), n[i]) / den
+        } else {
+            0.0
+        };
     }
     out
 }
@@ -42,7 +50,9 @@ pub fn quad_sicn(p: &[Vec3; 4], n: &[Vec3; 4]) -> f64 {
 
 /// Quad scaled Jacobian: the minimum of [`corner_scaled_jacobian`].
 pub fn quad_scaled_jacobian(p: &[Vec3; 4], n: &[Vec3; 4]) -> f64 {
-    corner_scaled_jacobian(p, n).into_iter().fold(f64::INFINITY, f64::min)
+    corner_scaled_jacobian(p, n)
+        .into_iter()
+        .fold(f64::INFINITY, f64::min)
 }
 
 #[cfg(test)]
@@ -52,17 +62,37 @@ mod tests {
 
     #[test]
     fn hand_computed_values() {
-        let square = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        let square = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
         assert!((quad_sicn(&square, &Z) - 1.0).abs() < 1e-15);
-        let rect = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        let rect = [
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [2.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
         assert!((quad_sicn(&rect, &Z) - 0.8).abs() < 1e-15);
         assert!((quad_scaled_jacobian(&rect, &Z) - 1.0).abs() < 1e-15);
         // clockwise seen from +z: inverted
         let cw = [square[0], square[3], square[2], square[1]];
         assert!(quad_sicn(&cw, &Z) < 0.0);
         // a tiny edge: SICN → 0 while SJ stays sin(angle)
-        let tiny = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [1e-12, 1.0, 0.0]];
-        let flat = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0 + 1e-12, 1e-12, 0.0], [1.0, 1.0, 0.0]];
+        let tiny = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1e-12, 1.0, 0.0],
+        ];
+        let flat = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0 + 1e-12, 1e-12, 0.0],
+            [1.0, 1.0, 0.0],
+        ];
         assert!(quad_sicn(&tiny, &Z) > 0.99);
         assert!(quad_sicn(&flat, &Z) < 1e-9);
     }

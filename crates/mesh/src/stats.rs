@@ -46,7 +46,11 @@ impl QualitySummary {
         let mut v: Vec<f64> = values.to_vec();
         v.sort_by(f64::total_cmp);
         let rank = ((0.01 * v.len() as f64).ceil() as usize).clamp(1, v.len());
-        Self { min: v[0], avg: v.iter().sum::<f64>() / v.len() as f64, p1: v[rank - 1] }
+        Self {
+            min: v[0],
+            avg: v.iter().sum::<f64>() / v.len() as f64,
+            p1: v[rank - 1],
+        }
     }
 }
 
@@ -177,14 +181,22 @@ pub fn quad_corner_normals(mesh: &QuadMesh, model: Option<&Model>) -> Vec<[Vec3;
 /// in range, one face per quad); [`MeshStats::compute`] tolerates broken ones.
 pub fn quad_sicn_values(mesh: &QuadMesh, model: Option<&Model>) -> Vec<f64> {
     let normals = quad_corner_normals(mesh, model);
-    mesh.quads.iter().zip(&normals).map(|(q, n)| min4(corner_sicn(&quad_points(mesh, q), n))).collect()
+    mesh.quads
+        .iter()
+        .zip(&normals)
+        .map(|(q, n)| min4(corner_sicn(&quad_points(mesh, q), n)))
+        .collect()
 }
 
 /// Scaled Jacobian of every quad (minimum over its corners), with the normals
 /// of [`quad_corner_normals`].
 pub fn quad_scaled_jacobian_values(mesh: &QuadMesh, model: Option<&Model>) -> Vec<f64> {
     let normals = quad_corner_normals(mesh, model);
-    mesh.quads.iter().zip(&normals).map(|(q, n)| min4(corner_scaled_jacobian(&quad_points(mesh, q), n))).collect()
+    mesh.quads
+        .iter()
+        .zip(&normals)
+        .map(|(q, n)| min4(corner_scaled_jacobian(&quad_points(mesh, q), n)))
+        .collect()
 }
 
 fn min4(v: [f64; 4]) -> f64 {
@@ -232,7 +244,10 @@ fn mesh_corner_normals(mesh: &QuadMesh) -> Vec<[Vec3; 4]> {
             }
             nbrs.sort_unstable();
             nbrs.dedup();
-            let sum = nbrs.iter().filter_map(|&j| unit[j as usize]).fold([0.0; 3], add);
+            let sum = nbrs
+                .iter()
+                .filter_map(|&j| unit[j as usize])
+                .fold([0.0; 3], add);
             let n = vec3::normalize(sum).or(unit[qi]).unwrap_or([0.0, 0.0, 1.0]);
             [n; 4]
         })
@@ -257,7 +272,12 @@ struct CadNormals<'a> {
 
 impl<'a> CadNormals<'a> {
     fn new(mesh: &'a QuadMesh, model: &'a Model) -> Self {
-        Self { mesh, model, diagonal: model.diagonal(), projected: HashMap::new() }
+        Self {
+            mesh,
+            model,
+            diagonal: model.diagonal(),
+            projected: HashMap::new(),
+        }
     }
 
     /// The (u, v) segments of the degenerate curves of face `f` at node `v`
@@ -276,14 +296,22 @@ impl<'a> CadNormals<'a> {
     /// Candidate (u, v) of node `v` on face `f` from its classification: the
     /// face (u, v), the pcurves at a curve parameter or at a corner (two on a seam).
     fn classified_uvs(&self, v: u32, f: FaceId) -> Vec<[f64; 2]> {
-        let Some(face) = self.model.faces.get(f.idx()) else { return Vec::new() };
+        let Some(face) = self.model.faces.get(f.idx()) else {
+            return Vec::new();
+        };
         match self.mesh.node_class.get(v as usize) {
             Some(NodeClass::Face(g, Some(uv))) if *g == f => vec![*uv],
-            Some(NodeClass::Curve(c, Some(t))) => face.curve_uses().filter(|u| u.curve == *c).map(|u| u.pcurve.eval(*t)).collect(),
+            Some(NodeClass::Curve(c, Some(t))) => face
+                .curve_uses()
+                .filter(|u| u.curve == *c)
+                .map(|u| u.pcurve.eval(*t))
+                .collect(),
             Some(NodeClass::Corner(k)) => {
                 let mut out = Vec::new();
                 for u in face.curve_uses() {
-                    let Some(c) = self.model.curves.get(u.curve.idx()) else { continue };
+                    let Some(c) = self.model.curves.get(u.curve.idx()) else {
+                        continue;
+                    };
                     if c.start == *k {
                         out.push(u.pcurve.eval(c.range.0));
                     }
@@ -313,7 +341,10 @@ impl<'a> CadNormals<'a> {
         let p = self.mesh.nodes[v as usize];
         let on_surface = 1e-7 * self.diagonal;
         let candidate = |hint: Option<[f64; 2]>| {
-            face.surface.project(p, hint).filter(|(uv, _)| in_face_range(face, *uv)).map(|(uv, q)| (uv, vec3::dist(p, q)))
+            face.surface
+                .project(p, hint)
+                .filter(|(uv, _)| in_face_range(face, *uv))
+                .map(|(uv, q)| (uv, vec3::dist(p, q)))
         };
         let mut best = candidate(hint);
         if hint.is_some() && !best.is_some_and(|(_, d)| d <= on_surface) {
@@ -324,29 +355,44 @@ impl<'a> CadNormals<'a> {
             }
         }
         // nothing inside the face range: the plain projection
-        let uv = best.map(|(uv, _)| uv).or_else(|| face.surface.project(p, hint).map(|(uv, _)| uv));
+        let uv = best
+            .map(|(uv, _)| uv)
+            .or_else(|| face.surface.project(p, hint).map(|(uv, _)| uv));
         self.projected.insert((v, f), uv);
         uv
     }
 
     /// CAD normals at the four corners of quad `qi` (None where undefined).
     fn quad_normals(&mut self, qi: usize, q: &[u32; 4]) -> [Option<Vec3>; 4] {
-        let Some(&f) = self.mesh.quad_face.get(qi) else { return [None; 4] };
-        let Some(face) = self.model.faces.get(f.idx()) else { return [None; 4] };
+        let Some(&f) = self.mesh.quad_face.get(qi) else {
+            return [None; 4];
+        };
+        let Some(face) = self.model.faces.get(f.idx()) else {
+            return [None; 4];
+        };
         let poles = q.map(|v| self.pole_segments(v, f));
-        let cands: [Vec<[f64; 2]>; 4] =
-            [0, 1, 2, 3].map(|k| if poles[k].is_empty() { self.classified_uvs(q[k], f) } else { Vec::new() });
+        let cands: [Vec<[f64; 2]>; 4] = [0, 1, 2, 3].map(|k| {
+            if poles[k].is_empty() {
+                self.classified_uvs(q[k], f)
+            } else {
+                Vec::new()
+            }
+        });
         // (u, v) of the other corners: unambiguous ones first, then seam nodes
         // on the side of those, then projections near them. The hint never
         // comes from a singular point (an apex not classified as a pole): its
         // u is arbitrary and it is a poor start for projecting the others.
         let regular = |uv: &[f64; 2]| !face.is_singular(*uv);
-        let mut uvs: [Option<[f64; 2]>; 4] = [0, 1, 2, 3].map(|k| (cands[k].len() == 1).then(|| cands[k][0]));
+        let mut uvs: [Option<[f64; 2]>; 4] =
+            [0, 1, 2, 3].map(|k| (cands[k].len() == 1).then(|| cands[k][0]));
         let mut hint = uvs.iter().flatten().copied().find(regular);
         for k in 0..4 {
             if uvs[k].is_none() && !cands[k].is_empty() {
                 let h = hint.unwrap_or(cands[k][0]);
-                uvs[k] = cands[k].iter().copied().min_by(|a, b| uv_dist2(*a, h).total_cmp(&uv_dist2(*b, h)));
+                uvs[k] = cands[k]
+                    .iter()
+                    .copied()
+                    .min_by(|a, b| uv_dist2(*a, h).total_cmp(&uv_dist2(*b, h)));
                 hint = hint.or(uvs[k].filter(regular));
             }
         }
@@ -356,7 +402,9 @@ impl<'a> CadNormals<'a> {
                 hint = hint.or(uvs[k].filter(regular));
             }
         }
-        let Some(hint) = hint.or(uvs.iter().flatten().next().copied()) else { return [None; 4] };
+        let Some(hint) = hint.or(uvs.iter().flatten().next().copied()) else {
+            return [None; 4];
+        };
         let periods = face.surface.periods();
         let unwrap = |uv: [f64; 2], target: [f64; 2]| {
             let mut out = uv;
@@ -368,8 +416,13 @@ impl<'a> CadNormals<'a> {
             out
         };
         let known: Vec<[f64; 2]> = uvs.iter().flatten().map(|&uv| unwrap(uv, hint)).collect();
-        let centre = known.iter().fold([0.0, 0.0], |c, uv| [c[0] + uv[0], c[1] + uv[1]]);
-        let centre = [centre[0] / known.len() as f64, centre[1] / known.len() as f64];
+        let centre = known
+            .iter()
+            .fold([0.0, 0.0], |c, uv| [c[0] + uv[0], c[1] + uv[1]]);
+        let centre = [
+            centre[0] / known.len() as f64,
+            centre[1] / known.len() as f64,
+        ];
         let mut out = [None; 4];
         for k in 0..4 {
             let n = if poles[k].is_empty() {
@@ -400,7 +453,8 @@ fn in_face_range(face: &geometry::Face, uv: [f64; 2]) -> bool {
         let tol = 1e-6 * (hi - lo).abs().max(1e-300);
         periodic || !(lo.is_finite() && hi.is_finite()) || (x >= lo - tol && x <= hi + tol)
     };
-    ok(uv[0], b.umin, b.umax, periods[0].is_some()) && ok(uv[1], b.vmin, b.vmax, periods[1].is_some())
+    ok(uv[0], b.umin, b.umax, periods[0].is_some())
+        && ok(uv[1], b.vmin, b.vmax, periods[1].is_some())
 }
 
 fn uv_dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
@@ -417,14 +471,25 @@ pub fn sharp_corners(model: &Model, below_deg: f64) -> Vec<SharpCorner> {
             let n = lp.uses.len();
             for k in 0..n {
                 let (a, b) = (&lp.uses[k], &lp.uses[(k + 1) % n]);
-                let (Some(ca), Some(cb)) = (model.curves.get(a.curve.idx()), model.curves.get(b.curve.idx())) else {
+                let (Some(ca), Some(cb)) = (
+                    model.curves.get(a.curve.idx()),
+                    model.curves.get(b.curve.idx()),
+                ) else {
                     continue;
                 };
                 if ca.degenerate || cb.degenerate {
                     continue;
                 }
-                let (t_end, sa) = if a.forward { (ca.range.1, 1.0) } else { (ca.range.0, -1.0) };
-                let (t_start, sb) = if b.forward { (cb.range.0, 1.0) } else { (cb.range.1, -1.0) };
+                let (t_end, sa) = if a.forward {
+                    (ca.range.1, 1.0)
+                } else {
+                    (ca.range.0, -1.0)
+                };
+                let (t_start, sb) = if b.forward {
+                    (cb.range.0, 1.0)
+                } else {
+                    (cb.range.1, -1.0)
+                };
                 let corner = if a.forward { ca.end } else { ca.start };
                 let uv = b.pcurve.eval(t_start);
                 let d = face.surface.derivs(uv);
@@ -433,7 +498,9 @@ pub fn sharp_corners(model: &Model, below_deg: f64) -> Vec<SharpCorner> {
                 let db = b.pcurve.deriv(t_start);
                 let t_in = scale(to3d(da), sa);
                 let t_out = scale(to3d(db), sb);
-                let Some(n0) = vec3::normalize(cross(d.du, d.dv)) else { continue };
+                let Some(n0) = vec3::normalize(cross(d.du, d.dv)) else {
+                    continue;
+                };
                 let w = scale(t_in, -1.0);
                 if vec3::norm(w) < 1e-300 || vec3::norm(t_out) < 1e-300 {
                     continue;
@@ -447,8 +514,15 @@ pub fn sharp_corners(model: &Model, below_deg: f64) -> Vec<SharpCorner> {
                 }
                 let deg = ang.to_degrees();
                 if deg < below_deg {
-                    let entry = SharpCorner { corner: corner.0, face: fi as u32, angle_deg: deg };
-                    match out.iter_mut().find(|s| s.corner == entry.corner && s.face == entry.face) {
+                    let entry = SharpCorner {
+                        corner: corner.0,
+                        face: fi as u32,
+                        angle_deg: deg,
+                    };
+                    match out
+                        .iter_mut()
+                        .find(|s| s.corner == entry.corner && s.face == entry.face)
+                    {
                         Some(s) => s.angle_deg = s.angle_deg.min(deg),
                         None => out.push(entry),
                     }
@@ -471,7 +545,10 @@ pub fn node_cad_distances(mesh: &QuadMesh, model: &Model) -> Vec<Option<f64>> {
                 let curve = model.curves.get(c.idx())?;
                 match &curve.geom {
                     Some(g) => g.project(p, t).map(|(_, q)| vec3::dist(p, q)),
-                    None => model.corners.get(curve.start.idx()).map(|k| vec3::dist(p, k.point)),
+                    None => model
+                        .corners
+                        .get(curve.start.idx())
+                        .map(|k| vec3::dist(p, k.point)),
                 }
             }
             NodeClass::Face(f, uv) => {
@@ -486,7 +563,8 @@ pub fn node_cad_distances(mesh: &QuadMesh, model: &Model) -> Vec<Option<f64>> {
 
 /// Counts of element edges by number of incident elements (quads and triangles).
 fn edge_uses(mesh: &QuadMesh) -> HashMap<(u32, u32), u32> {
-    let mut uses: HashMap<(u32, u32), u32> = HashMap::with_capacity(2 * (mesh.quads.len() + mesh.triangles.len()));
+    let mut uses: HashMap<(u32, u32), u32> =
+        HashMap::with_capacity(2 * (mesh.quads.len() + mesh.triangles.len()));
     let mut add_edge = |a: u32, b: u32| *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
     for q in &mesh.quads {
         for k in 0..4 {
@@ -511,7 +589,12 @@ impl MeshStats {
     pub fn compute(mesh: &QuadMesh, model: Option<&Model>) -> MeshStats {
         let nn = mesh.nodes.len();
         let valid_mesh;
-        let mesh = if mesh.quads.iter().flatten().chain(mesh.triangles.iter().flatten()).any(|&v| v as usize >= nn)
+        let mesh = if mesh
+            .quads
+            .iter()
+            .flatten()
+            .chain(mesh.triangles.iter().flatten())
+            .any(|&v| v as usize >= nn)
             || mesh.node_class.len() != nn
             || mesh.quad_face.len() != mesh.quads.len()
         {
@@ -532,11 +615,17 @@ impl MeshStats {
         s.open_edges = uses.values().filter(|&&u| u == 1).count();
         s.non_manifold_edges = uses.values().filter(|&&u| u > 2).count();
         let mut used = vec![false; nn];
-        for &v in mesh.quads.iter().flatten().chain(mesh.triangles.iter().flatten()) {
+        for &v in mesh
+            .quads
+            .iter()
+            .flatten()
+            .chain(mesh.triangles.iter().flatten())
+        {
             used[v as usize] = true;
         }
         let used_nodes = used.iter().filter(|&&u| u).count();
-        s.euler_characteristic = used_nodes as i64 - s.edges as i64 + (s.quads + s.triangles) as i64;
+        s.euler_characteristic =
+            used_nodes as i64 - s.edges as i64 + (s.quads + s.triangles) as i64;
 
         let val = mesh.node_valences();
         for (v, &d) in val.iter().enumerate() {
@@ -568,11 +657,22 @@ impl MeshStats {
         s.scaled_jacobian = QualitySummary::of(&sj);
 
         if let Some(model) = model {
-            let d: Vec<f64> = node_cad_distances(mesh, model).into_iter().flatten().collect();
-            let classified = mesh.node_class.iter().filter(|c| !matches!(c, NodeClass::Unclassified)).count();
+            let d: Vec<f64> = node_cad_distances(mesh, model)
+                .into_iter()
+                .flatten()
+                .collect();
+            let classified = mesh
+                .node_class
+                .iter()
+                .filter(|c| !matches!(c, NodeClass::Unclassified))
+                .count();
             let diagonal = model.diagonal();
             let max = d.iter().copied().fold(0.0, f64::max);
-            let mean = if d.is_empty() { 0.0 } else { d.iter().sum::<f64>() / d.len() as f64 };
+            let mean = if d.is_empty() {
+                0.0
+            } else {
+                d.iter().sum::<f64>() / d.len() as f64
+            };
             let rel = |x: f64| if diagonal > 0.0 { x / diagonal } else { 0.0 };
             s.cad_distance = Some(CadDistance {
                 max,
@@ -596,7 +696,12 @@ impl MeshStats {
                         _ => None,
                     });
                     if let Some((c, a)) = hit {
-                        s.excused_quads.push(ExcusedQuad { quad: qi, corner: c.0, angle_deg: a, sicn: sicn[qi] });
+                        s.excused_quads.push(ExcusedQuad {
+                            quad: qi,
+                            corner: c.0,
+                            angle_deg: a,
+                            sicn: sicn[qi],
+                        });
                     }
                 }
             }
@@ -620,18 +725,25 @@ impl MeshStats {
 /// classification and face lists padded to the right lengths.
 fn sanitized(mesh: &QuadMesh) -> QuadMesh {
     let nn = mesh.nodes.len() as u32;
-    let mut m = QuadMesh { nodes: mesh.nodes.clone(), node_class: mesh.node_class.clone(), ..Default::default() };
-    m.node_class.resize(mesh.nodes.len(), NodeClass::Unclassified);
+    let mut m = QuadMesh {
+        nodes: mesh.nodes.clone(),
+        node_class: mesh.node_class.clone(),
+        ..Default::default()
+    };
+    m.node_class
+        .resize(mesh.nodes.len(), NodeClass::Unclassified);
     for (i, q) in mesh.quads.iter().enumerate() {
         if q.iter().all(|&v| v < nn) {
             m.quads.push(*q);
-            m.quad_face.push(mesh.quad_face.get(i).copied().unwrap_or(FaceId(0)));
+            m.quad_face
+                .push(mesh.quad_face.get(i).copied().unwrap_or(FaceId(0)));
         }
     }
     for (i, t) in mesh.triangles.iter().enumerate() {
         if t.iter().all(|&v| v < nn) {
             m.triangles.push(*t);
-            m.triangle_face.push(mesh.triangle_face.get(i).copied().unwrap_or(FaceId(0)));
+            m.triangle_face
+                .push(mesh.triangle_face.get(i).copied().unwrap_or(FaceId(0)));
         }
     }
     m
@@ -646,36 +758,82 @@ impl fmt::Display for MeshStats {
         row(f, "quads", self.quads.to_string())?;
         row(f, "triangles", self.triangles.to_string())?;
         row(f, "edges", self.edges.to_string())?;
-        row(f, "Euler characteristic (V-E+F)", self.euler_characteristic.to_string())?;
-        row(f, "face-interior nodes", self.face_interior_nodes.to_string())?;
-        let hist: Vec<String> = self.valence_histogram.iter().map(|(v, n)| format!("{v}:{n}")).collect();
+        row(
+            f,
+            "Euler characteristic (V-E+F)",
+            self.euler_characteristic.to_string(),
+        )?;
+        row(
+            f,
+            "face-interior nodes",
+            self.face_interior_nodes.to_string(),
+        )?;
+        let hist: Vec<String> = self
+            .valence_histogram
+            .iter()
+            .map(|(v, n)| format!("{v}:{n}"))
+            .collect();
         row(f, "valence histogram (face interior)", hist.join(" "))?;
-        row(f, "irregular nodes", format!("{} ({:.2} %)", self.irregular_nodes, self.irregular_percent))?;
-        let normals = if self.cad_normals { "CAD normals" } else { "mesh normals" };
+        row(
+            f,
+            "irregular nodes",
+            format!("{} ({:.2} %)", self.irregular_nodes, self.irregular_percent),
+        )?;
+        let normals = if self.cad_normals {
+            "CAD normals"
+        } else {
+            "mesh normals"
+        };
         row(
             f,
             &format!("SICN min / p1 / avg ({normals})"),
-            format!("{:.3} / {:.3} / {:.3}", self.sicn.min, self.sicn.p1, self.sicn.avg),
+            format!(
+                "{:.3} / {:.3} / {:.3}",
+                self.sicn.min, self.sicn.p1, self.sicn.avg
+            ),
         )?;
         row(
             f,
             "scaled Jacobian min / p1 / avg",
-            format!("{:.3} / {:.3} / {:.3}", self.scaled_jacobian.min, self.scaled_jacobian.p1, self.scaled_jacobian.avg),
+            format!(
+                "{:.3} / {:.3} / {:.3}",
+                self.scaled_jacobian.min, self.scaled_jacobian.p1, self.scaled_jacobian.avg
+            ),
         )?;
         row(f, "inverted quads", self.inverted_quads.to_string())?;
         row(f, "open edges", self.open_edges.to_string())?;
         row(f, "non-manifold edges", self.non_manifold_edges.to_string())?;
         if let Some(d) = &self.cad_distance {
-            row(f, "CAD distance max", format!("{:.3e} ({:.3e} of diagonal)", d.max, d.max_relative))?;
-            row(f, "CAD distance mean", format!("{:.3e} ({:.3e} of diagonal)", d.mean, d.mean_relative))?;
+            row(
+                f,
+                "CAD distance max",
+                format!("{:.3e} ({:.3e} of diagonal)", d.max, d.max_relative),
+            )?;
+            row(
+                f,
+                "CAD distance mean",
+                format!("{:.3e} ({:.3e} of diagonal)", d.mean, d.mean_relative),
+            )?;
             if d.failed > 0 {
                 row(f, "CAD projections failed", d.failed.to_string())?;
             }
         }
         if !self.sharp_corners.is_empty() {
-            row(f, &format!("CAD corners below {SHARP_CORNER_DEG}°"), self.sharp_corners.len().to_string())?;
-            row(f, "quads touching them (excused)", self.excused_quads.len().to_string())?;
-            row(f, "min SICN excluding them", format!("{:.3}", self.min_sicn_excluding_sharp))?;
+            row(
+                f,
+                &format!("CAD corners below {SHARP_CORNER_DEG}°"),
+                self.sharp_corners.len().to_string(),
+            )?;
+            row(
+                f,
+                "quads touching them (excused)",
+                self.excused_quads.len().to_string(),
+            )?;
+            row(
+                f,
+                "min SICN excluding them",
+                format!("{:.3}", self.min_sicn_excluding_sharp),
+            )?;
             for e in &self.excused_quads {
                 writeln!(
                     f,
@@ -747,7 +905,8 @@ mod tests {
         }
         for k in 0..5u32 {
             let m0 = 1 + 2 * k;
-            mesh.quads.push([0, m0, 1 + (2 * k + 1) % 10, 1 + (2 * k + 2) % 10]);
+            mesh.quads
+                .push([0, m0, 1 + (2 * k + 1) % 10, 1 + (2 * k + 2) % 10]);
             mesh.quad_face.push(FaceId(0));
         }
         let s = MeshStats::compute(&mesh, None);
@@ -794,7 +953,8 @@ mod tests {
         }
         // the quad (pole, ring i, mid i, ring i+1) is CCW seen from outside
         for i in 0..4u32 {
-            mesh.quads.push([0, 1 + 2 * i, 2 + 2 * i, 1 + (2 * i + 2) % 8]);
+            mesh.quads
+                .push([0, 1 + 2 * i, 2 + 2 * i, 1 + (2 * i + 2) % 8]);
             mesh.quad_face.push(FaceId(0));
         }
         let normals = quad_corner_normals(&mesh, Some(&model));
@@ -818,7 +978,10 @@ mod tests {
         use std::sync::Arc;
         let mut model = cone(1.0, 1.0);
         let va = model.faces[0].uv_bounds.vmin;
-        model.faces[0].loops[0].uses[0].pcurve = Arc::new(Line2d { origin: [0.0, va - past], dir: [1.0, 0.0] });
+        model.faces[0].loops[0].uses[0].pcurve = Arc::new(Line2d {
+            origin: [0.0, va - past],
+            dir: [1.0, 0.0],
+        });
         let v = 0.5 * va;
         let mut mesh = QuadMesh::default();
         mesh.nodes.push([0.0; 3]);
@@ -827,10 +990,15 @@ mod tests {
             let u = std::f64::consts::FRAC_PI_4 * k as f64;
             mesh.nodes.push(model.faces[0].surface.eval([u, v]));
             // the seam curve's parameter is v
-            mesh.node_class.push(if k == 0 { NodeClass::Curve(CurveId(1), Some(v)) } else { NodeClass::Face(FaceId(0), Some([u, v])) });
+            mesh.node_class.push(if k == 0 {
+                NodeClass::Curve(CurveId(1), Some(v))
+            } else {
+                NodeClass::Face(FaceId(0), Some([u, v]))
+            });
         }
         for i in 0..4u32 {
-            mesh.quads.push([0, 1 + (2 * i + 2) % 8, 2 + 2 * i, 1 + 2 * i]);
+            mesh.quads
+                .push([0, 1 + (2 * i + 2) % 8, 2 + 2 * i, 1 + 2 * i]);
             mesh.quad_face.push(FaceId(0));
         }
         (model, mesh)
@@ -845,7 +1013,12 @@ mod tests {
         (0..4)
             .map(|i| {
                 let u = |k: usize| std::f64::consts::FRAC_PI_4 * k as f64;
-                let ns = [n(u(2 * i + 1)), n(u(2 * i + 2)), n(u(2 * i + 1)), n(u(2 * i))];
+                let ns = [
+                    n(u(2 * i + 1)),
+                    n(u(2 * i + 2)),
+                    n(u(2 * i + 1)),
+                    n(u(2 * i)),
+                ];
                 min4(corner_sicn(&quad_points(mesh, &mesh.quads[i]), &ns))
             })
             .collect()
@@ -888,7 +1061,11 @@ mod tests {
         for i in 0..3 {
             let (s, e) = (p[i], p[(i + 1) % 3]);
             curves.push(CurveEntity {
-                geom: Some(Arc::new(Line { origin: s, dir: sub(e, s), range: (0.0, 1.0) })),
+                geom: Some(Arc::new(Line {
+                    origin: s,
+                    dir: sub(e, s),
+                    range: (0.0, 1.0),
+                })),
                 range: (0.0, 1.0),
                 start: CornerId(i as u32),
                 end: CornerId(((i + 1) % 3) as u32),
@@ -897,16 +1074,34 @@ mod tests {
             uses.push(CurveUse {
                 curve: CurveId(i as u32),
                 forward: true,
-                pcurve: Arc::new(Line2d { origin: [s[0], s[1]], dir: [e[0] - s[0], e[1] - s[1]] }),
+                pcurve: Arc::new(Line2d {
+                    origin: [s[0], s[1]],
+                    dir: [e[0] - s[0], e[1] - s[1]],
+                }),
                 seam: false,
             });
         }
-        let bounds = Bounds2 { umin: 0.0, umax: 1.0, vmin: 0.0, vmax: 1.0 };
-        let plane = Plane { origin: [0.0; 3], xdir: [1.0, 0.0, 0.0], ydir: [0.0, 1.0, 0.0], bounds };
+        let bounds = Bounds2 {
+            umin: 0.0,
+            umax: 1.0,
+            vmin: 0.0,
+            vmax: 1.0,
+        };
+        let plane = Plane {
+            origin: [0.0; 3],
+            xdir: [1.0, 0.0, 0.0],
+            ydir: [0.0, 1.0, 0.0],
+            bounds,
+        };
         let model = Model {
             corners: p.iter().map(|&point| Corner { point }).collect(),
             curves,
-            faces: vec![Face { surface: Arc::new(plane), reversed: false, loops: vec![Loop { uses, outer: true }], uv_bounds: bounds }],
+            faces: vec![Face {
+                surface: Arc::new(plane),
+                reversed: false,
+                loops: vec![Loop { uses, outer: true }],
+                uv_bounds: bounds,
+            }],
         };
         let mid = |i: usize, j: usize| scale(add(p[i], p[j]), 0.5);
         let g = scale(add(add(p[0], p[1]), p[2]), 1.0 / 3.0);
@@ -917,10 +1112,12 @@ mod tests {
         }
         for k in 0..3 {
             mesh.nodes.push(mid(k, (k + 1) % 3));
-            mesh.node_class.push(NodeClass::Curve(CurveId(k as u32), Some(0.5)));
+            mesh.node_class
+                .push(NodeClass::Curve(CurveId(k as u32), Some(0.5)));
         }
         mesh.nodes.push(g);
-        mesh.node_class.push(NodeClass::Face(FaceId(0), Some([g[0], g[1]])));
+        mesh.node_class
+            .push(NodeClass::Face(FaceId(0), Some([g[0], g[1]])));
         // corner k, mid of its outgoing side, centre, mid of its incoming side
         for k in 0..3u32 {
             mesh.quads.push([k, 3 + k, 6, 3 + (k + 2) % 3]);

@@ -73,22 +73,55 @@ pub enum VtuError {
 pub(crate) fn check_mesh(mesh: &QuadMesh) -> Result<(), String> {
     let n = mesh.nodes.len();
     if mesh.node_class.len() != n {
-        return Err(format!("{} node classifications for {} nodes", mesh.node_class.len(), n));
+        return Err(format!(
+            "{} node classifications for {} nodes",
+            mesh.node_class.len(),
+            n
+        ));
     }
     if mesh.quad_face.len() != mesh.quads.len() {
-        return Err(format!("{} quad faces for {} quads", mesh.quad_face.len(), mesh.quads.len()));
+        return Err(format!(
+            "{} quad faces for {} quads",
+            mesh.quad_face.len(),
+            mesh.quads.len()
+        ));
     }
     if mesh.triangle_face.len() != mesh.triangles.len() {
-        return Err(format!("{} triangle faces for {} triangles", mesh.triangle_face.len(), mesh.triangles.len()));
+        return Err(format!(
+            "{} triangle faces for {} triangles",
+            mesh.triangle_face.len(),
+            mesh.triangles.len()
+        ));
     }
-    if let Some(i) = mesh.nodes.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
-        return Err(format!("node {i} has non-finite coordinates {:?}", mesh.nodes[i]));
+    if let Some(i) = mesh
+        .nodes
+        .iter()
+        .position(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        return Err(format!(
+            "node {i} has non-finite coordinates {:?}",
+            mesh.nodes[i]
+        ));
     }
-    if let Some(i) = mesh.quads.iter().position(|q| q.iter().any(|&v| v as usize >= n)) {
-        return Err(format!("quad {i} {:?} refers to a node beyond the {n} nodes", mesh.quads[i]));
+    if let Some(i) = mesh
+        .quads
+        .iter()
+        .position(|q| q.iter().any(|&v| v as usize >= n))
+    {
+        return Err(format!(
+            "quad {i} {:?} refers to a node beyond the {n} nodes",
+            mesh.quads[i]
+        ));
     }
-    if let Some(i) = mesh.triangles.iter().position(|t| t.iter().any(|&v| v as usize >= n)) {
-        return Err(format!("triangle {i} {:?} refers to a node beyond the {n} nodes", mesh.triangles[i]));
+    if let Some(i) = mesh
+        .triangles
+        .iter()
+        .position(|t| t.iter().any(|&v| v as usize >= n))
+    {
+        return Err(format!(
+            "triangle {i} {:?} refers to a node beyond the {n} nodes",
+            mesh.triangles[i]
+        ));
     }
     Ok(())
 }
@@ -106,18 +139,32 @@ fn class_dim_tag(c: &NodeClass) -> (i32, i64) {
 /// Writes `mesh` to `path` as an ASCII VTK UnstructuredGrid. `sicn`, when
 /// given, must hold one value per quad. The file is written atomically.
 pub fn write_vtu(mesh: &QuadMesh, sicn: Option<&[f64]>, path: &Path) -> Result<(), VtuError> {
-    let invalid = |reason: String| VtuError::Invalid { path: path.to_path_buf(), reason };
+    let invalid = |reason: String| VtuError::Invalid {
+        path: path.to_path_buf(),
+        reason,
+    };
     check_mesh(mesh).map_err(invalid)?;
     if let Some(v) = sicn {
         if v.len() != mesh.quads.len() {
-            return Err(invalid(format!("{} SICN values for {} quads", v.len(), mesh.quads.len())));
+            return Err(invalid(format!(
+                "{} SICN values for {} quads",
+                v.len(),
+                mesh.quads.len()
+            )));
         }
     }
-    write_atomically(path, |w| write_body(mesh, sicn, w)).map_err(|source| VtuError::Io { path: path.to_path_buf(), source })
+    write_atomically(path, |w| write_body(mesh, sicn, w)).map_err(|source| VtuError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// Writes values `per_line` to a line, each line indented.
-fn write_values<W: Write, T: std::fmt::Display>(w: &mut W, values: impl Iterator<Item = T>, per_line: usize) -> io::Result<()> {
+fn write_values<W: Write, T: std::fmt::Display>(
+    w: &mut W,
+    values: impl Iterator<Item = T>,
+    per_line: usize,
+) -> io::Result<()> {
     let mut k = 0;
     for v in values {
         if k == 0 {
@@ -164,7 +211,10 @@ fn write_footer<W: Write>(w: &mut W) -> io::Result<()> {
 
 /// Opens a `Piece` element.
 fn open_piece<W: Write>(w: &mut W, points: usize, cells: usize) -> io::Result<()> {
-    writeln!(w, "    <Piece NumberOfPoints=\"{points}\" NumberOfCells=\"{cells}\">")
+    writeln!(
+        w,
+        "    <Piece NumberOfPoints=\"{points}\" NumberOfCells=\"{cells}\">"
+    )
 }
 
 /// The `Points` element.
@@ -216,22 +266,50 @@ fn write_body<W: Write>(mesh: &QuadMesh, sicn: Option<&[f64]>, w: &mut W) -> io:
     close_array(w)?;
     writeln!(w, "      </PointData>")?;
 
-    writeln!(w, "      <CellData{}>", if sicn.is_some() { " Scalars=\"SICN\"" } else { "" })?;
+    writeln!(
+        w,
+        "      <CellData{}>",
+        if sicn.is_some() {
+            " Scalars=\"SICN\""
+        } else {
+            ""
+        }
+    )?;
     open_array(w, "Int32", "cad_face", 1)?;
-    write_values(w, mesh.quad_face.iter().chain(&mesh.triangle_face).map(|f| f.0 as i64 + 1), 20)?;
+    write_values(
+        w,
+        mesh.quad_face
+            .iter()
+            .chain(&mesh.triangle_face)
+            .map(|f| f.0 as i64 + 1),
+        20,
+    )?;
     close_array(w)?;
     if let Some(v) = sicn {
         open_array(w, "Float64", "SICN", 1)?;
-        let vals = v.iter().map(|x| if x.is_finite() { *x } else { NO_VALUE }).chain(mesh.triangles.iter().map(|_| NO_VALUE));
+        let vals = v
+            .iter()
+            .map(|x| if x.is_finite() { *x } else { NO_VALUE })
+            .chain(mesh.triangles.iter().map(|_| NO_VALUE));
         write_values(w, vals, 6)?;
         close_array(w)?;
     }
     writeln!(w, "      </CellData>")?;
 
     write_points(w, mesh.nodes.iter())?;
-    let conn = mesh.quads.iter().flat_map(|q| q.iter().copied()).chain(mesh.triangles.iter().flat_map(|t| t.iter().copied()));
-    let offsets = (1..=mesh.quads.len()).map(|i| 4 * i).chain((1..=mesh.triangles.len()).map(|i| 4 * mesh.quads.len() + 3 * i));
-    let types = mesh.quads.iter().map(|_| VTK_QUAD).chain(mesh.triangles.iter().map(|_| VTK_TRIANGLE));
+    let conn = mesh
+        .quads
+        .iter()
+        .flat_map(|q| q.iter().copied())
+        .chain(mesh.triangles.iter().flat_map(|t| t.iter().copied()));
+    let offsets = (1..=mesh.quads.len())
+        .map(|i| 4 * i)
+        .chain((1..=mesh.triangles.len()).map(|i| 4 * mesh.quads.len() + 3 * i));
+    let types = mesh
+        .quads
+        .iter()
+        .map(|_| VTK_QUAD)
+        .chain(mesh.triangles.iter().map(|_| VTK_TRIANGLE));
     write_cells_and_close_piece(w, conn, offsets, types)?;
     write_footer(w)
 }
@@ -240,41 +318,83 @@ fn write_body<W: Write>(mesh: &QuadMesh, sicn: Option<&[f64]>, w: &mut W) -> io:
 /// module documentation for the pieces and arrays). The file is written
 /// atomically; an inconsistent `field` is refused before anything is written.
 pub fn write_field_vtu(field: &CrossFieldMesh, path: &Path) -> Result<(), VtuError> {
-    field.check().map_err(|reason| VtuError::Invalid { path: path.to_path_buf(), reason })?;
-    write_atomically(path, |w| write_field_body(field, w)).map_err(|source| VtuError::Io { path: path.to_path_buf(), source })
+    field.check().map_err(|reason| VtuError::Invalid {
+        path: path.to_path_buf(),
+        reason,
+    })?;
+    write_atomically(path, |w| write_field_body(field, w)).map_err(|source| VtuError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// The XML document of [`write_field_vtu`]: one piece, triangles then one
 /// vertex cell per singularity (whose points follow the triangles' nodes).
 fn write_field_body<W: Write>(field: &CrossFieldMesh, w: &mut W) -> io::Result<()> {
-    let (nn, nt, ns) = (field.nodes.len(), field.triangles.len(), field.singularities.len());
+    let (nn, nt, ns) = (
+        field.nodes.len(),
+        field.triangles.len(),
+        field.singularities.len(),
+    );
     write_header(w)?;
     open_piece(w, nn + ns, nt + ns)?;
 
-    writeln!(w, "      <CellData Scalars=\"singularity_index\" Vectors=\"cross\">")?;
+    writeln!(
+        w,
+        "      <CellData Scalars=\"singularity_index\" Vectors=\"cross\">"
+    )?;
     open_array(w, "Int32", "cad_face", 1)?;
-    let faces = field.triangle_face.iter().chain(field.singularities.iter().map(|s| &s.face));
+    let faces = field
+        .triangle_face
+        .iter()
+        .chain(field.singularities.iter().map(|s| &s.face));
     write_values(w, faces.map(|f| f.0 as i64 + 1), 20)?;
     close_array(w)?;
     open_array(w, "Float64", "cross", 3)?;
-    let cross = field.cross.iter().map(|c| c.unwrap_or([0.0; 3])).chain((0..ns).map(|_| [0.0; 3]));
+    let cross = field
+        .cross
+        .iter()
+        .map(|c| c.unwrap_or([0.0; 3]))
+        .chain((0..ns).map(|_| [0.0; 3]));
     write_values(w, cross.flat_map(|d| d.into_iter()), 6)?;
     close_array(w)?;
     if let Some(size) = &field.size {
         open_array(w, "Float64", "size", 1)?;
-        let size = size.iter().map(|&x| if x.is_finite() { x } else { NO_VALUE }).chain((0..ns).map(|_| NO_VALUE));
+        let size = size
+            .iter()
+            .map(|&x| if x.is_finite() { x } else { NO_VALUE })
+            .chain((0..ns).map(|_| NO_VALUE));
         write_values(w, size, 6)?;
         close_array(w)?;
     }
     open_array(w, "Int32", "singularity_index", 1)?;
-    write_values(w, (0..nt).map(|_| 0).chain(field.singularities.iter().map(|s| s.index)), 20)?;
+    write_values(
+        w,
+        (0..nt)
+            .map(|_| 0)
+            .chain(field.singularities.iter().map(|s| s.index)),
+        20,
+    )?;
     close_array(w)?;
     writeln!(w, "      </CellData>")?;
 
-    write_points(w, field.nodes.iter().chain(field.singularities.iter().map(|s| &s.position)))?;
-    let conn = field.triangles.iter().flatten().copied().chain(nn as u32..(nn + ns) as u32);
+    write_points(
+        w,
+        field
+            .nodes
+            .iter()
+            .chain(field.singularities.iter().map(|s| &s.position)),
+    )?;
+    let conn = field
+        .triangles
+        .iter()
+        .flatten()
+        .copied()
+        .chain(nn as u32..(nn + ns) as u32);
     let offsets = (1..=nt).map(|i| 3 * i).chain((1..=ns).map(|i| 3 * nt + i));
-    let types = (0..nt).map(|_| VTK_TRIANGLE).chain((0..ns).map(|_| VTK_VERTEX));
+    let types = (0..nt)
+        .map(|_| VTK_TRIANGLE)
+        .chain((0..ns).map(|_| VTK_VERTEX));
     write_cells_and_close_piece(w, conn, offsets, types)?;
     write_footer(w)
 }
@@ -287,7 +407,15 @@ pub(crate) mod tests {
     /// A 2×1 strip of quads plus one triangle, classified on corners, a curve and faces.
     pub(crate) fn small_mixed_mesh() -> QuadMesh {
         QuadMesh {
-            nodes: vec![[0., 0., 0.], [1., 0., 0.], [2., 0., 0.], [0., 1., 0.], [1., 1., 0.], [2., 1., 0.], [3., 0.5, 0.]],
+            nodes: vec![
+                [0., 0., 0.],
+                [1., 0., 0.],
+                [2., 0., 0.],
+                [0., 1., 0.],
+                [1., 1., 0.],
+                [2., 1., 0.],
+                [3., 0.5, 0.],
+            ],
             node_class: vec![
                 NodeClass::Corner(CornerId(0)),
                 NodeClass::Curve(CurveId(0), Some(0.5)),
@@ -308,10 +436,15 @@ pub(crate) mod tests {
     /// The text between `<DataArray … Name="name" …>` and `</DataArray>`, split on whitespace.
     pub(crate) fn array_values(xml: &str, name: &str) -> Vec<String> {
         let key = format!("Name=\"{name}\"");
-        let Some(start) = xml.find(&key) else { return Vec::new() };
+        let Some(start) = xml.find(&key) else {
+            return Vec::new();
+        };
         let body_start = start + xml[start..].find('>').unwrap() + 1;
         let body_end = body_start + xml[body_start..].find("</DataArray>").unwrap();
-        xml[body_start..body_end].split_whitespace().map(str::to_string).collect()
+        xml[body_start..body_end]
+            .split_whitespace()
+            .map(str::to_string)
+            .collect()
     }
 
     fn tmp(name: &str) -> PathBuf {
@@ -328,19 +461,37 @@ pub(crate) mod tests {
         write_vtu(&mesh, Some(&[0.9, f64::NAN]), &path).unwrap();
         let xml = std::fs::read_to_string(&path).unwrap();
         assert!(xml.contains("NumberOfPoints=\"7\" NumberOfCells=\"3\""));
-        assert_eq!(array_values(&xml, "connectivity"), ["0", "1", "4", "3", "1", "2", "5", "4", "2", "6", "5"]);
+        assert_eq!(
+            array_values(&xml, "connectivity"),
+            ["0", "1", "4", "3", "1", "2", "5", "4", "2", "6", "5"]
+        );
         assert_eq!(array_values(&xml, "offsets"), ["4", "8", "11"]);
         assert_eq!(array_values(&xml, "types"), ["9", "9", "5"]);
         assert_eq!(array_values(&xml, "Points").len(), 21);
-        let pts: Vec<f64> = array_values(&xml, "Points").iter().map(|s| s.parse().unwrap()).collect();
+        let pts: Vec<f64> = array_values(&xml, "Points")
+            .iter()
+            .map(|s| s.parse().unwrap())
+            .collect();
         assert_eq!(pts[18..], [3.0, 0.5, 0.0]);
         assert_eq!(array_values(&xml, "SICN"), ["0.9", "-2", "-2"]);
         assert_eq!(array_values(&xml, "cad_face"), ["1", "1", "2"]);
-        assert_eq!(array_values(&xml, "class_dim"), ["0", "1", "0", "0", "2", "0", "-1"]);
-        assert_eq!(array_values(&xml, "class_tag"), ["1", "1", "2", "4", "1", "3", "0"]);
-        assert_eq!(array_values(&xml, "valence"), ["1", "2", "1", "1", "2", "1", "0"]);
+        assert_eq!(
+            array_values(&xml, "class_dim"),
+            ["0", "1", "0", "0", "2", "0", "-1"]
+        );
+        assert_eq!(
+            array_values(&xml, "class_tag"),
+            ["1", "1", "2", "4", "1", "3", "0"]
+        );
+        assert_eq!(
+            array_values(&xml, "valence"),
+            ["1", "2", "1", "1", "2", "1", "0"]
+        );
         // well-formed enough: every opened DataArray is closed
-        assert_eq!(xml.matches("<DataArray").count(), xml.matches("</DataArray>").count());
+        assert_eq!(
+            xml.matches("<DataArray").count(),
+            xml.matches("</DataArray>").count()
+        );
         // without SICN there is no SICN array
         write_vtu(&mesh, None, &path).unwrap();
         assert!(!std::fs::read_to_string(&path).unwrap().contains("SICN"));
@@ -355,8 +506,14 @@ pub(crate) mod tests {
         write_field_vtu(&field, &path).unwrap();
         let xml = std::fs::read_to_string(&path).unwrap();
         assert_eq!(xml.matches("<Piece").count(), 1);
-        assert!(xml.contains("<Piece NumberOfPoints=\"11\" NumberOfCells=\"10\">"), "{xml}");
-        assert_eq!(xml.matches("<DataArray").count(), xml.matches("</DataArray>").count());
+        assert!(
+            xml.contains("<Piece NumberOfPoints=\"11\" NumberOfCells=\"10\">"),
+            "{xml}"
+        );
+        assert_eq!(
+            xml.matches("<DataArray").count(),
+            xml.matches("</DataArray>").count()
+        );
         let types = array_values(&xml, "types");
         assert_eq!(types[..8], ["5"; 8]);
         assert_eq!(types[8..], ["1", "1"]);
@@ -370,21 +527,34 @@ pub(crate) mod tests {
         let index = array_values(&xml, "singularity_index");
         assert_eq!(index[..8], ["0"; 8]);
         assert_eq!(index[8..], ["1", "-1"]);
-        assert_eq!(array_values(&xml, "Points")[27..], ["0.5", "0.5", "0", "0.25", "0.25", "0"]);
+        assert_eq!(
+            array_values(&xml, "Points")[27..],
+            ["0.5", "0.5", "0", "0.25", "0.25", "0"]
+        );
         let size = array_values(&xml, "size");
         assert_eq!(size.len(), 10);
         assert_eq!(size[8..], ["-2", "-2"]);
         assert_eq!(array_values(&xml, "cad_face"), ["1"; 10]);
         // without sizes and singularities: triangles only, no size array
-        let plain = CrossFieldMesh { size: None, singularities: Vec::new(), ..field.clone() };
+        let plain = CrossFieldMesh {
+            size: None,
+            singularities: Vec::new(),
+            ..field.clone()
+        };
         write_field_vtu(&plain, &path).unwrap();
         let xml = std::fs::read_to_string(&path).unwrap();
         assert!(xml.contains("NumberOfPoints=\"9\" NumberOfCells=\"8\""));
         assert!(!xml.contains("\"size\""));
         // inconsistent input is refused and leaves the old file alone
-        let broken = CrossFieldMesh { cross: Vec::new(), ..field };
+        let broken = CrossFieldMesh {
+            cross: Vec::new(),
+            ..field
+        };
         let e = write_field_vtu(&broken, &path).unwrap_err();
-        assert!(e.to_string().contains("f.vtu") && e.to_string().contains("cross"), "{e}");
+        assert!(
+            e.to_string().contains("f.vtu") && e.to_string().contains("cross"),
+            "{e}"
+        );
         assert_eq!(std::fs::read_to_string(&path).unwrap(), xml);
         std::fs::remove_dir_all(&dir).unwrap();
     }
@@ -395,20 +565,35 @@ pub(crate) mod tests {
         let mesh = small_mixed_mesh();
         let path = dir.join("m.vtu");
         let e = write_vtu(&mesh, Some(&[1.0]), &path).unwrap_err();
-        assert!(e.to_string().contains("m.vtu") && e.to_string().contains("SICN"), "{e}");
+        assert!(
+            e.to_string().contains("m.vtu") && e.to_string().contains("SICN"),
+            "{e}"
+        );
         let mut broken = mesh.clone();
         broken.quads[1][2] = 99;
-        assert!(write_vtu(&broken, None, &path).unwrap_err().to_string().contains("quad 1"));
+        assert!(write_vtu(&broken, None, &path)
+            .unwrap_err()
+            .to_string()
+            .contains("quad 1"));
         let mut nan = mesh.clone();
         nan.nodes[3][1] = f64::NAN;
-        assert!(write_vtu(&nan, None, &path).unwrap_err().to_string().contains("node 3"));
+        assert!(write_vtu(&nan, None, &path)
+            .unwrap_err()
+            .to_string()
+            .contains("node 3"));
         assert!(!path.exists());
         // a directory in the way: the rename fails, and no partial file is left
         let blocker = dir.join("taken.vtu");
         std::fs::create_dir_all(blocker.join("x")).unwrap();
         let e = write_vtu(&mesh, None, &blocker).unwrap_err();
-        assert!(matches!(e, VtuError::Io { .. }) && e.to_string().contains("taken.vtu"), "{e}");
-        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert!(
+            matches!(e, VtuError::Io { .. }) && e.to_string().contains("taken.vtu"),
+            "{e}"
+        );
+        let left: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
         assert_eq!(left.len(), 1, "left behind: {left:?}");
         let missing = dir.join("no/such/dir/m.vtu");
         assert!(write_vtu(&mesh, None, &missing).is_err());

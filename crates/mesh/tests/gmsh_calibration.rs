@@ -16,7 +16,9 @@ use mesh::stats::MeshStats;
 use mesh::NodeClass;
 
 fn fixture(name: &str) -> mesh::msh::MshRead {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name);
     read_msh(&path).expect("the Gmsh fixture reads")
 }
 
@@ -32,7 +34,10 @@ fn gmsh_quadqs_mesh_of_i01o_m1_matches_gmsh_figures() {
     let m = &r.mesh;
     assert_eq!(m.nodes.len(), 3028);
     assert_eq!(m.quads.len(), 3044);
-    assert!(m.node_class.iter().all(|c| !matches!(c, NodeClass::Unclassified)));
+    assert!(m
+        .node_class
+        .iter()
+        .all(|c| !matches!(c, NodeClass::Unclassified)));
     // parametric coordinates were saved for curve and face nodes
     assert!(m.node_class.iter().all(|c| match c {
         NodeClass::Curve(_, t) => t.is_some(),
@@ -41,11 +46,22 @@ fn gmsh_quadqs_mesh_of_i01o_m1_matches_gmsh_figures() {
     }));
     let s = MeshStats::compute(m, None);
     println!("{s}");
-    assert!(close(s.irregular_percent, 3.24, 0.01), "irregular {:.4} %", s.irregular_percent);
+    assert!(
+        close(s.irregular_percent, 3.24, 0.01),
+        "irregular {:.4} %",
+        s.irregular_percent
+    );
     assert!(close(s.sicn.min, 0.045, 0.01), "min SICN {:.5}", s.sicn.min);
     assert!(close(s.sicn.avg, 0.917, 0.01), "avg SICN {:.5}", s.sicn.avg);
-    assert!(close(s.sicn.p1, 0.523, 0.01), "1st percentile SICN {:.5}", s.sicn.p1);
-    assert_eq!(s.valence_histogram.values().sum::<usize>(), s.face_interior_nodes);
+    assert!(
+        close(s.sicn.p1, 0.523, 0.01),
+        "1st percentile SICN {:.5}",
+        s.sicn.p1
+    );
+    assert_eq!(
+        s.valence_histogram.values().sum::<usize>(),
+        s.face_interior_nodes
+    );
     assert_eq!(s.inverted_quads, 0);
     assert_eq!(s.open_edges, 0);
     assert_eq!(s.non_manifold_edges, 0);
@@ -68,14 +84,22 @@ fn gmsh_quadqs_mesh_of_i03o_m3_has_gmsh_inverted_count() {
 #[test]
 fn gmsh_mesh_survives_our_writer() {
     let r = fixture("i01o_m1_quadqs.msh");
-    for enc in [mesh::msh::MshEncoding::Ascii, mesh::msh::MshEncoding::Binary] {
+    for enc in [
+        mesh::msh::MshEncoding::Ascii,
+        mesh::msh::MshEncoding::Binary,
+    ] {
         let mut bytes = Vec::new();
         mesh::msh::write_msh_to(&mut bytes, &r.mesh, None, enc).unwrap();
         let back = mesh::msh::read_msh_bytes(&bytes, Path::new("rewritten.msh")).unwrap();
         assert_eq!(back.mesh.nodes, r.mesh.nodes);
         assert_eq!(back.mesh.node_class, r.mesh.node_class);
         let sorted = |m: &mesh::QuadMesh| {
-            let mut q: Vec<_> = m.quads.iter().zip(&m.quad_face).map(|(q, f)| (*q, f.0)).collect();
+            let mut q: Vec<_> = m
+                .quads
+                .iter()
+                .zip(&m.quad_face)
+                .map(|(q, f)| (*q, f.0))
+                .collect();
             q.sort();
             q
         };

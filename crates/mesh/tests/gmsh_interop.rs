@@ -42,11 +42,18 @@ print("JSON" + json.dumps(out))
 
 /// The Python that has gmsh: `QUADRILLE_PYTHON` (set by `run-tests`), else `python3`.
 fn python() -> String {
-    std::env::var("QUADRILLE_PYTHON").ok().filter(|s| !s.is_empty()).unwrap_or_else(|| "python3".to_string())
+    std::env::var("QUADRILLE_PYTHON")
+        .ok()
+        .filter(|s| !s.is_empty())
+        .unwrap_or_else(|| "python3".to_string())
 }
 
 fn gmsh_available() -> bool {
-    let ok = Command::new(python()).args(["-c", "import gmsh"]).output().map(|o| o.status.success()).unwrap_or(false);
+    let ok = Command::new(python())
+        .args(["-c", "import gmsh"])
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false);
     if !ok {
         if std::env::var("QUADRILLE_REQUIRE_GMSH").as_deref() == Ok("1") {
             panic!("QUADRILLE_REQUIRE_GMSH=1 but the gmsh Python module is not importable (pip install gmsh)");
@@ -69,12 +76,29 @@ fn gmsh_reads_our_msh_with_the_same_counts_entities_and_classification() {
         write_msh(&path, &mesh, Some(&model), enc).unwrap();
         let back = dir.join(format!("cube-{enc:?}-by-gmsh.msh"));
         let binary = if enc == MshEncoding::Binary { "1" } else { "0" };
-        let out = Command::new(python()).arg("-c").arg(SCRIPT).arg(&path).arg(&back).arg(binary).output().expect("python runs");
+        let out = Command::new(python())
+            .arg("-c")
+            .arg(SCRIPT)
+            .arg(&path)
+            .arg(&back)
+            .arg(binary)
+            .output()
+            .expect("python runs");
         let stdout = String::from_utf8_lossy(&out.stdout);
-        assert!(out.status.success(), "gmsh failed on {path:?}: {}\n{stdout}", String::from_utf8_lossy(&out.stderr));
-        let json = stdout.lines().find_map(|l| l.strip_prefix("JSON")).expect("the script prints its JSON");
+        assert!(
+            out.status.success(),
+            "gmsh failed on {path:?}: {}\n{stdout}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let json = stdout
+            .lines()
+            .find_map(|l| l.strip_prefix("JSON"))
+            .expect("the script prints its JSON");
         let v: Value = serde_json::from_str(json).unwrap();
-        println!("{enc:?}: gmsh sees {} nodes, elements {}, entities {}", v["nodes"], v["elements"], v["entities"]);
+        println!(
+            "{enc:?}: gmsh sees {} nodes, elements {}, entities {}",
+            v["nodes"], v["elements"], v["entities"]
+        );
 
         assert_eq!(v["nodes"], mesh.nodes.len());
         let mut want = BTreeMap::new();
@@ -85,7 +109,15 @@ fn gmsh_reads_our_msh_with_the_same_counts_entities_and_classification() {
             assert_eq!(v["elements"][ty], n, "element type {ty}");
         }
         assert_eq!(v["elements"].as_object().unwrap().len(), 3);
-        assert_eq!(v["entities"], serde_json::json!([model.corners.len(), model.curves.len(), model.faces.len(), 0]));
+        assert_eq!(
+            v["entities"],
+            serde_json::json!([
+                model.corners.len(),
+                model.curves.len(),
+                model.faces.len(),
+                0
+            ])
+        );
 
         // every node on the entity it is classified on, with its parameters
         let ents = &v["ents"];
@@ -93,15 +125,29 @@ fn gmsh_reads_our_msh_with_the_same_counts_entities_and_classification() {
             let (key, params): (String, Vec<f64>) = match *class {
                 NodeClass::Corner(c) => (format!("0:{}", c.0 + 1), vec![]),
                 NodeClass::Curve(c, t) => (format!("1:{}", c.0 + 1), t.into_iter().collect()),
-                NodeClass::Face(f, uv) => (format!("2:{}", f.0 + 1), uv.map(|p| p.to_vec()).unwrap_or_default()),
+                NodeClass::Face(f, uv) => (
+                    format!("2:{}", f.0 + 1),
+                    uv.map(|p| p.to_vec()).unwrap_or_default(),
+                ),
                 NodeClass::Unclassified => unreachable!("the cube is fully classified"),
             };
             let e = &ents[&key];
-            let tags: Vec<u64> = e["nodes"].as_array().unwrap().iter().map(|x| x.as_u64().unwrap()).collect();
-            let pos = tags.iter().position(|&t| t == i as u64 + 1).unwrap_or_else(|| panic!("node {} not on {key}", i + 1));
+            let tags: Vec<u64> = e["nodes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_u64().unwrap())
+                .collect();
+            let pos = tags
+                .iter()
+                .position(|&t| t == i as u64 + 1)
+                .unwrap_or_else(|| panic!("node {} not on {key}", i + 1));
             let k = params.len();
             if k > 0 {
-                let got: Vec<f64> = e["params"].as_array().unwrap()[pos * k..pos * k + k].iter().map(|x| x.as_f64().unwrap()).collect();
+                let got: Vec<f64> = e["params"].as_array().unwrap()[pos * k..pos * k + k]
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+                    .collect();
                 assert_eq!(got, params, "parameters of node {}", i + 1);
             }
         }
@@ -129,8 +175,12 @@ fn gmsh_reads_our_msh_with_the_same_counts_entities_and_classification() {
         }
         for (a, b) in r.mesh.node_class.iter().zip(&mesh.node_class) {
             let same = match (a, b) {
-                (NodeClass::Curve(c, Some(s)), NodeClass::Curve(d, Some(t))) => c == d && near(*s, *t),
-                (NodeClass::Face(f, Some(p)), NodeClass::Face(g, Some(q))) => f == g && near(p[0], q[0]) && near(p[1], q[1]),
+                (NodeClass::Curve(c, Some(s)), NodeClass::Curve(d, Some(t))) => {
+                    c == d && near(*s, *t)
+                }
+                (NodeClass::Face(f, Some(p)), NodeClass::Face(g, Some(q))) => {
+                    f == g && near(p[0], q[0]) && near(p[1], q[1])
+                }
                 _ => a == b,
             };
             assert!(same, "{a:?} vs {b:?}");

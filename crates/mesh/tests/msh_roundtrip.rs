@@ -53,7 +53,10 @@ fn ascii_and_binary_round_trips_keep_everything() {
                 assert!(r.skipped_elements.is_empty());
                 assert_same(&mesh, &r.mesh);
                 let nc = model.corners.len();
-                assert_eq!(r.entity_counts, [nc, model.curves.len(), model.faces.len(), 0]);
+                assert_eq!(
+                    r.entity_counts,
+                    [nc, model.curves.len(), model.faces.len(), 0]
+                );
             }
         }
     }
@@ -99,11 +102,23 @@ fn mixed_unclassified_and_parameterless_nodes() {
         assert_eq!(r.mesh.nodes, mesh.nodes);
         assert_eq!(r.mesh.triangles, mesh.triangles);
         // a block with a parameterless node is written without parameters
-        assert_eq!(r.mesh.node_class[5], NodeClass::Face(geometry::FaceId(0), None));
-        assert_eq!(r.mesh.node_class[6], NodeClass::Face(geometry::FaceId(0), None));
-        assert_eq!(r.mesh.node_class[1], NodeClass::Curve(geometry::CurveId(0), None));
+        assert_eq!(
+            r.mesh.node_class[5],
+            NodeClass::Face(geometry::FaceId(0), None)
+        );
+        assert_eq!(
+            r.mesh.node_class[6],
+            NodeClass::Face(geometry::FaceId(0), None)
+        );
+        assert_eq!(
+            r.mesh.node_class[1],
+            NodeClass::Curve(geometry::CurveId(0), None)
+        );
         // the unclassified node lands on the face of its triangle
-        assert_eq!(r.mesh.node_class[16], NodeClass::Face(geometry::FaceId(0), None));
+        assert_eq!(
+            r.mesh.node_class[16],
+            NodeClass::Face(geometry::FaceId(0), None)
+        );
         // other curves keep their parameters
         assert!(matches!(r.mesh.node_class[7], NodeClass::Curve(_, Some(_))));
     }
@@ -120,7 +135,11 @@ fn truncated_and_corrupted_files_give_errors_not_panics() {
         let end = bytes.len() - "$EndElements\n".len();
         for cut in (0..end).step_by(7) {
             let err = read_msh_bytes(&bytes[..cut], name);
-            assert!(err.is_err(), "{enc:?} cut at {cut} of {} was accepted", bytes.len());
+            assert!(
+                err.is_err(),
+                "{enc:?} cut at {cut} of {} was accepted",
+                bytes.len()
+            );
             assert!(err.unwrap_err().to_string().starts_with("broken.msh: "));
         }
         // corrupted bytes: any result, but no panic
@@ -141,9 +160,20 @@ fn truncated_and_corrupted_files_give_errors_not_panics() {
 
 #[test]
 fn missing_file_is_an_io_error_naming_it() {
-    let err = read_msh(Path::new("/nonexistent/dir/x.msh")).unwrap_err().to_string();
+    let err = read_msh(Path::new("/nonexistent/dir/x.msh"))
+        .unwrap_err()
+        .to_string();
     assert!(err.starts_with("/nonexistent/dir/x.msh: "), "{err}");
     let (_, mesh) = square_grid(1.0, 1);
-    let err = write_msh(Path::new("/nonexistent/dir/y.msh"), &mesh, None, MshEncoding::Ascii).unwrap_err();
-    assert!(err.to_string().starts_with("/nonexistent/dir/y.msh: "), "{err}");
+    let err = write_msh(
+        Path::new("/nonexistent/dir/y.msh"),
+        &mesh,
+        None,
+        MshEncoding::Ascii,
+    )
+    .unwrap_err();
+    assert!(
+        err.to_string().starts_with("/nonexistent/dir/y.msh: "),
+        "{err}"
+    );
 }

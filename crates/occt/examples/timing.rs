@@ -12,7 +12,10 @@ use geometry::vec3::{add, dist, scale};
 
 fn main() {
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/cad"));
-    let mut files: Vec<_> = std::fs::read_dir(dir).unwrap().filter_map(|e| e.ok().map(|e| e.path())).collect();
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .collect();
     files.retain(|p| occt::Format::from_path(p).is_some());
     files.sort();
     let mut pts = Vec::new(); // (model, face, uv)
@@ -21,13 +24,20 @@ fn main() {
     for f in &files {
         models.push(occt::load(f).unwrap());
     }
-    println!("load all {} models: {:.3} s", files.len(), t.elapsed().as_secs_f64());
+    println!(
+        "load all {} models: {:.3} s",
+        files.len(),
+        t.elapsed().as_secs_f64()
+    );
     for (mi, m) in models.iter().enumerate() {
         for (fi, face) in m.faces.iter().enumerate() {
             let b = face.uv_bounds;
             for i in 0..6 {
                 for j in 0..6 {
-                    let uv = [b.umin + (b.umax - b.umin) * (i as f64 + 0.5) / 6.0, b.vmin + (b.vmax - b.vmin) * (j as f64 + 0.5) / 6.0];
+                    let uv = [
+                        b.umin + (b.umax - b.umin) * (i as f64 + 0.5) / 6.0,
+                        b.vmin + (b.vmax - b.vmin) * (j as f64 + 0.5) / 6.0,
+                    ];
                     pts.push((mi, fi, uv));
                 }
             }
@@ -40,11 +50,18 @@ fn main() {
         for &(mi, fi, uv) in &pts {
             acc += f(&models[mi].faces[fi], uv, models[mi].diagonal_cached());
         }
-        println!("{label:<40} {:8.2} µs/call   (checksum {acc:.3e})", t.elapsed().as_secs_f64() * 1e6 / n);
+        println!(
+            "{label:<40} {:8.2} µs/call   (checksum {acc:.3e})",
+            t.elapsed().as_secs_f64() * 1e6 / n
+        );
     };
     time("surface eval", &|f, uv, _| f.surface.eval(uv)[0]);
-    time("surface derivs (D2)", &|f, uv, _| f.surface.derivs(uv).duu[0]);
-    time("surface normal", &|f, uv, _| f.surface.normal(uv).map_or(0.0, |n| n[0]));
+    time("surface derivs (D2)", &|f, uv, _| {
+        f.surface.derivs(uv).duu[0]
+    });
+    time("surface normal", &|f, uv, _| {
+        f.surface.normal(uv).map_or(0.0, |n| n[0])
+    });
     time("surface project, on surface, no hint", &|f, uv, _| {
         let p = f.surface.eval(uv);
         f.surface.project(p, None).map_or(1.0, |r| dist(r.1, p))
@@ -52,15 +69,21 @@ fn main() {
     time("surface project, on surface, hint", &|f, uv, _| {
         let p = f.surface.eval(uv);
         let b = f.uv_bounds;
-        f.surface.project(p, Some([uv[0] + 0.01 * (b.umax - b.umin), uv[1]])).map_or(1.0, |r| dist(r.1, p))
+        f.surface
+            .project(p, Some([uv[0] + 0.01 * (b.umax - b.umin), uv[1]]))
+            .map_or(1.0, |r| dist(r.1, p))
     });
     time("surface project, 1e-3·diag off, hint", &|f, uv, d| {
-        let Some(nrm) = f.surface.normal(uv) else { return 0.0 };
+        let Some(nrm) = f.surface.normal(uv) else {
+            return 0.0;
+        };
         let p = add(f.surface.eval(uv), scale(nrm, 1e-3 * d));
         f.surface.project(p, Some(uv)).map_or(1.0, |r| dist(r.1, p))
     });
     time("surface project, 1e-3·diag off, no hint", &|f, uv, d| {
-        let Some(nrm) = f.surface.normal(uv) else { return 0.0 };
+        let Some(nrm) = f.surface.normal(uv) else {
+            return 0.0;
+        };
         let p = add(f.surface.eval(uv), scale(nrm, 1e-3 * d));
         f.surface.project(p, None).map_or(1.0, |r| dist(r.1, p))
     });
@@ -69,7 +92,11 @@ fn main() {
         for (ci, c) in m.curves.iter().enumerate() {
             if c.geom.is_some() {
                 for k in 0..10 {
-                    cpts.push((mi, ci, c.range.0 + (c.range.1 - c.range.0) * (k as f64 + 0.5) / 10.0));
+                    cpts.push((
+                        mi,
+                        ci,
+                        c.range.0 + (c.range.1 - c.range.0) * (k as f64 + 0.5) / 10.0,
+                    ));
                 }
             }
         }
@@ -81,7 +108,10 @@ fn main() {
         for &(mi, ci, tt) in &cpts {
             acc += f(models[mi].curves[ci].geom.as_deref().unwrap(), tt);
         }
-        println!("{label:<40} {:8.2} µs/call   (checksum {acc:.3e})", t.elapsed().as_secs_f64() * 1e6 / nc);
+        println!(
+            "{label:<40} {:8.2} µs/call   (checksum {acc:.3e})",
+            t.elapsed().as_secs_f64() * 1e6 / nc
+        );
     };
     ctime("curve eval", &|c, t| c.eval(t)[0]);
     ctime("curve project, on curve, no hint", &|c, t| {
@@ -105,6 +135,8 @@ impl DiagCached for geometry::Model {
         static CACHE: Mutex<Option<HashMap<usize, f64>>> = Mutex::new(None);
         let key = self as *const _ as usize;
         let mut g = CACHE.lock().unwrap();
-        *g.get_or_insert_with(HashMap::new).entry(key).or_insert_with(|| self.diagonal())
+        *g.get_or_insert_with(HashMap::new)
+            .entry(key)
+            .or_insert_with(|| self.diagonal())
     }
 }

@@ -57,7 +57,15 @@ pub struct UseInfo {
 
 impl Default for UseInfo {
     fn default() -> Self {
-        UseInfo { wire: 0, edge: 0, orientation: 0, seam: 0, first: 0.0, last: 0.0, pcurve: std::ptr::null_mut() }
+        UseInfo {
+            wire: 0,
+            edge: 0,
+            orientation: 0,
+            seam: 0,
+            first: 0.0,
+            last: 0.0,
+            pcurve: std::ptr::null_mut(),
+        }
     }
 }
 
@@ -65,14 +73,48 @@ impl Default for UseInfo {
 pub const TOPABS_FORWARD: c_int = 0;
 
 extern "C" {
-    pub fn occt_load(path: *const c_char, kind: c_int, out: *mut *mut OcctModel, err: *mut c_char, errlen: usize) -> c_int;
+    pub fn occt_load(
+        path: *const c_char,
+        kind: c_int,
+        out: *mut *mut OcctModel,
+        err: *mut c_char,
+        errlen: usize,
+    ) -> c_int;
     pub fn occt_model_free(m: *mut OcctModel);
-    pub fn occt_write(m: *const OcctModel, path: *const c_char, kind: c_int, err: *mut c_char, errlen: usize) -> c_int;
+    pub fn occt_write(
+        m: *const OcctModel,
+        path: *const c_char,
+        kind: c_int,
+        err: *mut c_char,
+        errlen: usize,
+    ) -> c_int;
     pub fn occt_model_counts(m: *const OcctModel, nf: *mut usize, ne: *mut usize, nv: *mut usize);
-    pub fn occt_vertex(m: *const OcctModel, i: usize, xyz: *mut c_double, tol: *mut c_double) -> c_int;
-    pub fn occt_edge(m: *const OcctModel, i: usize, info: *mut EdgeInfo, curve: *mut *mut OcctCurve) -> c_int;
-    pub fn occt_face(m: *const OcctModel, i: usize, reversed: *mut c_int, bounds: *mut c_double, surf: *mut *mut OcctSurf) -> c_int;
-    pub fn occt_face_uses(m: *const OcctModel, i: usize, buf: *mut UseInfo, cap: usize, n: *mut usize) -> c_int;
+    pub fn occt_vertex(
+        m: *const OcctModel,
+        i: usize,
+        xyz: *mut c_double,
+        tol: *mut c_double,
+    ) -> c_int;
+    pub fn occt_edge(
+        m: *const OcctModel,
+        i: usize,
+        info: *mut EdgeInfo,
+        curve: *mut *mut OcctCurve,
+    ) -> c_int;
+    pub fn occt_face(
+        m: *const OcctModel,
+        i: usize,
+        reversed: *mut c_int,
+        bounds: *mut c_double,
+        surf: *mut *mut OcctSurf,
+    ) -> c_int;
+    pub fn occt_face_uses(
+        m: *const OcctModel,
+        i: usize,
+        buf: *mut UseInfo,
+        cap: usize,
+        n: *mut usize,
+    ) -> c_int;
 
     pub fn occt_surf_free(s: *mut OcctSurf);
     pub fn occt_surf_periods(s: *const OcctSurf, pu: *mut c_double, pv: *mut c_double) -> c_int;
@@ -94,7 +136,14 @@ extern "C" {
     pub fn occt_curve_free(c: *mut OcctCurve);
     pub fn occt_curve_d1(c: *const OcctCurve, t: c_double, out: *mut c_double) -> c_int;
     pub fn occt_curve_d2(c: *const OcctCurve, t: c_double, out: *mut c_double) -> c_int;
-    pub fn occt_curve_project(c: *const OcctCurve, p: *const c_double, t0: c_double, t1: c_double, t: *mut c_double, q: *mut c_double) -> c_int;
+    pub fn occt_curve_project(
+        c: *const OcctCurve,
+        p: *const c_double,
+        t0: c_double,
+        t1: c_double,
+        t: *mut c_double,
+        q: *mut c_double,
+    ) -> c_int;
 
     pub fn occt_curve2d_free(c: *mut OcctCurve2d);
     pub fn occt_curve2d_d1(c: *const OcctCurve2d, t: c_double, out: *mut c_double) -> c_int;

@@ -41,7 +41,12 @@ impl OcctSurface {
     /// Wraps a shim surface; `face_bounds` are the uv bounds of the face using it.
     pub(crate) fn new(ptr: SurfPtr, face_bounds: Bounds2) -> Self {
         let (mut pu, mut pv) = (0.0, 0.0);
-        let mut nb = [f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY];
+        let mut nb = [
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+        ];
         // SAFETY: ptr is a live shim surface; out-pointers are valid locals.
         unsafe {
             if ffi::occt_surf_periods(ptr.ptr(), &mut pu, &mut pv) != ffi::OK {
@@ -49,14 +54,42 @@ impl OcctSurface {
                 pv = 0.0;
             }
             if ffi::occt_surf_bounds(ptr.ptr(), nb.as_mut_ptr()) != ffi::OK {
-                nb = [f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY];
+                nb = [
+                    f64::NEG_INFINITY,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::INFINITY,
+                ];
             }
         }
-        let per = |p: f64| if p > 0.0 && p.is_finite() { Some(p) } else { None };
+        let per = |p: f64| {
+            if p > 0.0 && p.is_finite() {
+                Some(p)
+            } else {
+                None
+            }
+        };
         // OCCT reports "infinite" bounds as ±2e100 (Precision::Infinite).
-        let fin = |x: f64| if x.abs() >= 1e100 { x.signum() * f64::INFINITY } else { x };
-        let natural = Bounds2 { umin: fin(nb[0]), umax: fin(nb[1]), vmin: fin(nb[2]), vmax: fin(nb[3]) };
-        let mut s = OcctSurface { ptr, face_bounds, natural, periods: [per(pu), per(pv)], size: 1.0 };
+        let fin = |x: f64| {
+            if x.abs() >= 1e100 {
+                x.signum() * f64::INFINITY
+            } else {
+                x
+            }
+        };
+        let natural = Bounds2 {
+            umin: fin(nb[0]),
+            umax: fin(nb[1]),
+            vmin: fin(nb[2]),
+            vmax: fin(nb[3]),
+        };
+        let mut s = OcctSurface {
+            ptr,
+            face_bounds,
+            natural,
+            periods: [per(pu), per(pv)],
+            size: 1.0,
+        };
         s.size = s.sample_size();
         s
     }
@@ -67,7 +100,10 @@ impl OcctSurface {
         let mut hi = [f64::NEG_INFINITY; 3];
         for i in 0..=4 {
             for j in 0..=4 {
-                let p = self.eval([b.umin + (b.umax - b.umin) * i as f64 / 4.0, b.vmin + (b.vmax - b.vmin) * j as f64 / 4.0]);
+                let p = self.eval([
+                    b.umin + (b.umax - b.umin) * i as f64 / 4.0,
+                    b.vmin + (b.vmax - b.vmin) * j as f64 / 4.0,
+                ]);
                 for k in 0..3 {
                     if p[k].is_finite() {
                         lo[k] = lo[k].min(p[k]);
@@ -94,8 +130,16 @@ impl OcctSurface {
     /// Keeps a Newton iterate inside the natural bounds in non-periodic directions.
     fn clamp(&self, uv: [f64; 2]) -> [f64; 2] {
         let b = self.natural;
-        let u = if self.periods[0].is_some() { uv[0] } else { uv[0].clamp(b.umin, b.umax) };
-        let v = if self.periods[1].is_some() { uv[1] } else { uv[1].clamp(b.vmin, b.vmax) };
+        let u = if self.periods[0].is_some() {
+            uv[0]
+        } else {
+            uv[0].clamp(b.umin, b.umax)
+        };
+        let v = if self.periods[1].is_some() {
+            uv[1]
+        } else {
+            uv[1].clamp(b.vmin, b.vmax)
+        };
         [u, v]
     }
 
@@ -146,7 +190,10 @@ impl OcctSurface {
                 let du = -(c * g[0] - h01 * g[1]) / det;
                 let dv = -(a * g[1] - h01 * g[0]) / det;
                 let cand = self.clamp([uv[0] + du, uv[1] + dv]);
-                let step3 = norm3(add(scale(d.du, cand[0] - uv[0]), scale(d.dv, cand[1] - uv[1])));
+                let step3 = norm3(add(
+                    scale(d.du, cand[0] - uv[0]),
+                    scale(d.dv, cand[1] - uv[1]),
+                ));
                 let dc = self.derivs(cand);
                 let fc = dist(dc.point, p);
                 if fc.is_finite() && fc <= f {
@@ -173,10 +220,16 @@ impl OcctSurface {
     /// Best point of an n×n grid over the face bounds: a start for Newton.
     fn grid_seed(&self, p: Vec3, n: usize) -> ([f64; 2], f64) {
         let b = self.face_bounds;
-        let mut best = ([0.5 * (b.umin + b.umax), 0.5 * (b.vmin + b.vmax)], f64::INFINITY);
+        let mut best = (
+            [0.5 * (b.umin + b.umax), 0.5 * (b.vmin + b.vmax)],
+            f64::INFINITY,
+        );
         for i in 0..=n {
             for j in 0..=n {
-                let uv = [b.umin + (b.umax - b.umin) * i as f64 / n as f64, b.vmin + (b.vmax - b.vmin) * j as f64 / n as f64];
+                let uv = [
+                    b.umin + (b.umax - b.umin) * i as f64 / n as f64,
+                    b.vmin + (b.vmax - b.vmin) * j as f64 / n as f64,
+                ];
                 let dd = dist(self.eval(uv), p);
                 if dd < best.1 {
                     best = (uv, dd);
@@ -191,14 +244,41 @@ impl OcctSurface {
         let b = self.face_bounds;
         let (wu, wv) = (0.1 * (b.umax - b.umin), 0.1 * (b.vmax - b.vmin));
         let nb = self.natural;
-        let lo_u = if self.periods[0].is_some() { b.umin - wu } else { (b.umin - wu).max(nb.umin) };
-        let hi_u = if self.periods[0].is_some() { b.umax + wu } else { (b.umax + wu).min(nb.umax) };
-        let lo_v = if self.periods[1].is_some() { b.vmin - wv } else { (b.vmin - wv).max(nb.vmin) };
-        let hi_v = if self.periods[1].is_some() { b.vmax + wv } else { (b.vmax + wv).min(nb.vmax) };
+        let lo_u = if self.periods[0].is_some() {
+            b.umin - wu
+        } else {
+            (b.umin - wu).max(nb.umin)
+        };
+        let hi_u = if self.periods[0].is_some() {
+            b.umax + wu
+        } else {
+            (b.umax + wu).min(nb.umax)
+        };
+        let lo_v = if self.periods[1].is_some() {
+            b.vmin - wv
+        } else {
+            (b.vmin - wv).max(nb.vmin)
+        };
+        let hi_v = if self.periods[1].is_some() {
+            b.vmax + wv
+        } else {
+            (b.vmax + wv).min(nb.vmax)
+        };
         let mut uv = [0.0; 2];
         let mut q = [0.0; 3];
         // SAFETY: live surface; p, uv, q are valid buffers of the right size.
-        let rc = unsafe { ffi::occt_surf_project(self.ptr.ptr(), p.as_ptr(), lo_u, hi_u, lo_v, hi_v, uv.as_mut_ptr(), q.as_mut_ptr()) };
+        let rc = unsafe {
+            ffi::occt_surf_project(
+                self.ptr.ptr(),
+                p.as_ptr(),
+                lo_u,
+                hi_u,
+                lo_v,
+                hi_v,
+                uv.as_mut_ptr(),
+                q.as_mut_ptr(),
+            )
+        };
         (rc == ffi::OK && uv[0].is_finite() && uv[1].is_finite()).then_some((uv, q))
     }
 }
@@ -227,7 +307,14 @@ impl Surface for OcctSurface {
             o = [f64::NAN; 18];
         }
         let v = |i: usize| [o[3 * i], o[3 * i + 1], o[3 * i + 2]];
-        SurfaceDerivs { point: v(0), du: v(1), dv: v(2), duu: v(3), duv: v(4), dvv: v(5) }
+        SurfaceDerivs {
+            point: v(0),
+            du: v(1),
+            dv: v(2),
+            duu: v(3),
+            duv: v(4),
+            dvv: v(5),
+        }
     }
 
     /// `du × dv` normalised; at a singular point (a pole) the limit normal,
@@ -314,7 +401,11 @@ pub struct OcctCurve {
 impl OcctCurve {
     /// Wraps a shim curve used on `range`.
     pub(crate) fn new(ptr: CurvePtr, range: (f64, f64)) -> Self {
-        let mut c = OcctCurve { ptr, range, size: 1.0 };
+        let mut c = OcctCurve {
+            ptr,
+            range,
+            size: 1.0,
+        };
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
         for i in 0..=8 {
@@ -381,7 +472,9 @@ impl Curve for OcctCurve {
             let mut t = 0.0;
             let mut q = [0.0; 3];
             // SAFETY: live curve; p, q valid 3-element buffers.
-            let rc = unsafe { ffi::occt_curve_project(self.ptr.ptr(), p.as_ptr(), t0, t1, &mut t, q.as_mut_ptr()) };
+            let rc = unsafe {
+                ffi::occt_curve_project(self.ptr.ptr(), p.as_ptr(), t0, t1, &mut t, q.as_mut_ptr())
+            };
             if rc == ffi::OK && t.is_finite() {
                 let dq = dist(p, q);
                 if best.map(|b: (f64, Vec3, f64)| dq < b.2).unwrap_or(true) {
@@ -409,7 +502,14 @@ fn sample_seed(eval: impl Fn(f64) -> Vec3, p: Vec3, t0: f64, t1: f64, n: usize) 
 /// Damped Newton on ½|C(t) − p|² over [t0, t1]; `ev` gives C, C', C''.
 /// Converged when C(t) = p to round-off, at a stationary point, or stopped
 /// at an end of the range with the distance growing inwards.
-fn newton_1d(ev: impl Fn(f64) -> Option<[Vec3; 3]>, p: Vec3, start: f64, t0: f64, t1: f64, size: f64) -> Option<(f64, Vec3, bool)> {
+fn newton_1d(
+    ev: impl Fn(f64) -> Option<[Vec3; 3]>,
+    p: Vec3,
+    start: f64,
+    t0: f64,
+    t1: f64,
+    size: f64,
+) -> Option<(f64, Vec3, bool)> {
     let mut t = start.clamp(t0, t1);
     let mut d = ev(t)?;
     let mut f = dist(d[0], p);
@@ -468,8 +568,12 @@ impl OcctCurve2d {
     pub(crate) fn new(ptr: Curve2dPtr, pc_range: (f64, f64), edge_range: (f64, f64)) -> Self {
         let (e0, e1) = edge_range;
         let (p0, p1) = pc_range;
-        let same = (p0 - e0).abs() <= 1e-12 * (1.0 + e0.abs()) && (p1 - e1).abs() <= 1e-12 * (1.0 + e1.abs());
-        let map = if same || e1.partial_cmp(&e0) != Some(std::cmp::Ordering::Greater) || p1.partial_cmp(&p0) != Some(std::cmp::Ordering::Greater) {
+        let same = (p0 - e0).abs() <= 1e-12 * (1.0 + e0.abs())
+            && (p1 - e1).abs() <= 1e-12 * (1.0 + e1.abs());
+        let map = if same
+            || e1.partial_cmp(&e0) != Some(std::cmp::Ordering::Greater)
+            || p1.partial_cmp(&p0) != Some(std::cmp::Ordering::Greater)
+        {
             (0.0, 1.0)
         } else {
             let b = (p1 - p0) / (e1 - e0);
@@ -565,11 +669,26 @@ mod tests {
     /// range clamps (a point beyond the end projects to the end).
     #[test]
     fn newton_1d_on_a_circle() {
-        let ev = |t: f64| Some([[t.cos(), t.sin(), 0.0], [-t.sin(), t.cos(), 0.0], [-t.cos(), -t.sin(), 0.0]]);
-        let (t, q, conv) = newton_1d(ev, [2.0 * 0.7f64.cos(), 2.0 * 0.7f64.sin(), 0.5], 0.2, 0.0, 3.0, 2.0).unwrap();
+        let ev = |t: f64| {
+            Some([
+                [t.cos(), t.sin(), 0.0],
+                [-t.sin(), t.cos(), 0.0],
+                [-t.cos(), -t.sin(), 0.0],
+            ])
+        };
+        let (t, q, conv) = newton_1d(
+            ev,
+            [2.0 * 0.7f64.cos(), 2.0 * 0.7f64.sin(), 0.5],
+            0.2,
+            0.0,
+            3.0,
+            2.0,
+        )
+        .unwrap();
         assert!(conv && (t - 0.7).abs() < 1e-12, "{t}");
         assert!(dist(q, [0.7f64.cos(), 0.7f64.sin(), 0.0]) < 1e-12);
-        let (t, _, conv) = newton_1d(ev, [3.5f64.cos(), 3.5f64.sin(), 0.0], 2.5, 0.0, 3.0, 2.0).unwrap();
+        let (t, _, conv) =
+            newton_1d(ev, [3.5f64.cos(), 3.5f64.sin(), 0.0], 2.5, 0.0, 3.0, 2.0).unwrap();
         assert!(conv && t == 3.0, "{t}");
     }
 }

@@ -10,7 +10,9 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use geometry::{Bounds2, Corner, CornerId, Curve, CurveEntity, CurveId, CurveUse, Face, Loop, Model};
+use geometry::{
+    Bounds2, Corner, CornerId, Curve, CurveEntity, CurveId, CurveUse, Face, Loop, Model,
+};
 
 use crate::ffi::{self, Curve2dPtr, CurvePtr, EdgeInfo, ModelPtr, SurfPtr, UseInfo};
 use crate::geom::{OcctCurve, OcctCurve2d, OcctSurface, PcurveOnSurface};
@@ -41,7 +43,10 @@ pub(crate) fn counts(m: &ModelPtr) -> (usize, usize, usize) {
 
 /// Builds the model from a loaded shape.
 pub(crate) fn build(m: &ModelPtr, path: &Path) -> Result<Import, ImportError> {
-    let invalid = |detail: String| ImportError::Invalid { path: path.to_path_buf(), detail };
+    let invalid = |detail: String| ImportError::Invalid {
+        path: path.to_path_buf(),
+        detail,
+    };
     let (nf, ne, nv) = counts(m);
     if nf == 0 {
         return Err(ImportError::NoFace {
@@ -77,12 +82,21 @@ pub(crate) fn build(m: &ModelPtr, path: &Path) -> Result<Import, ImportError> {
         if rc != ffi::OK {
             return Err(invalid(format!("edge {} cannot be evaluated", i + 1)));
         }
-        let vid = |v: std::os::raw::c_long| (v >= 0 && (v as usize) < nv).then_some(CornerId(v as u32));
+        let vid =
+            |v: std::os::raw::c_long| (v >= 0 && (v as usize) < nv).then_some(CornerId(v as u32));
         let (Some(start), Some(end)) = (vid(info.v_start), vid(info.v_end)) else {
-            return Err(invalid(format!("edge {} lacks a start or end vertex", i + 1)));
+            return Err(invalid(format!(
+                "edge {} lacks a start or end vertex",
+                i + 1
+            )));
         };
         if !info.first.is_finite() || !info.last.is_finite() || info.first >= info.last {
-            return Err(invalid(format!("edge {} has an empty or infinite range [{}, {}]", i + 1, info.first, info.last)));
+            return Err(invalid(format!(
+                "edge {} has an empty or infinite range [{}, {}]",
+                i + 1,
+                info.first,
+                info.last
+            )));
         }
         let range = (info.first, info.last);
         let degenerate = info.degenerate != 0;
@@ -90,7 +104,13 @@ pub(crate) fn build(m: &ModelPtr, path: &Path) -> Result<Import, ImportError> {
             (false, Some(c)) => Some(Arc::new(OcctCurve::new(c, range))),
             _ => None,
         };
-        curves.push(CurveEntity { geom, range, start, end, degenerate });
+        curves.push(CurveEntity {
+            geom,
+            range,
+            start,
+            end,
+            degenerate,
+        });
         curve_tolerance.push(info.tolerance);
         curve_same_parameter.push(info.same_parameter != 0);
     }
@@ -100,10 +120,25 @@ pub(crate) fn build(m: &ModelPtr, path: &Path) -> Result<Import, ImportError> {
     for i in 0..nf {
         faces.push(build_face(m, i, &mut curves).map_err(invalid)?);
     }
-    if let Some(i) = curves.iter().position(|c| c.geom.is_none() && !c.degenerate) {
-        return Err(invalid(format!("edge {} has neither a 3D curve nor a pcurve", i + 1)));
+    if let Some(i) = curves
+        .iter()
+        .position(|c| c.geom.is_none() && !c.degenerate)
+    {
+        return Err(invalid(format!(
+            "edge {} has neither a 3D curve nor a pcurve",
+            i + 1
+        )));
     }
-    Ok(Import { model: Model { corners, curves, faces }, corner_tolerance, curve_tolerance, curve_same_parameter })
+    Ok(Import {
+        model: Model {
+            corners,
+            curves,
+            faces,
+        },
+        corner_tolerance,
+        curve_tolerance,
+        curve_same_parameter,
+    })
 }
 
 /// Builds face `i` (0-based); gives edges without a 3D curve one from this face.
@@ -121,7 +156,12 @@ fn build_face(m: &ModelPtr, i: usize, curves: &mut [CurveEntity]) -> Result<Face
     if !b.iter().all(|x| x.is_finite()) || b[0] > b[1] || b[2] > b[3] {
         return Err(format!("face {} has invalid uv bounds {:?}", i + 1, b));
     }
-    let uv_bounds = Bounds2 { umin: b[0], umax: b[1], vmin: b[2], vmax: b[3] };
+    let uv_bounds = Bounds2 {
+        umin: b[0],
+        umax: b[1],
+        vmin: b[2],
+        vmax: b[3],
+    };
     let surface = Arc::new(OcctSurface::new(sptr, uv_bounds));
 
     let mut n = 0usize;
@@ -139,14 +179,20 @@ fn build_face(m: &ModelPtr, i: usize, curves: &mut [CurveEntity]) -> Result<Face
         }
     }
     // Take ownership of every pcurve at once, so each is freed on any path.
-    let pcurves: Vec<Option<Curve2dPtr>> = buf[..got].iter().map(|u| Curve2dPtr::new(u.pcurve)).collect();
+    let pcurves: Vec<Option<Curve2dPtr>> = buf[..got]
+        .iter()
+        .map(|u| Curve2dPtr::new(u.pcurve))
+        .collect();
 
     let mut loops: Vec<Loop> = Vec::new();
     let mut wire_of_loop: Vec<i64> = Vec::new();
     for (u, pc) in buf[..got].iter().zip(pcurves) {
         let e = u.edge;
         if e < 0 || e as usize >= curves.len() {
-            return Err(format!("face {} uses an edge missing from the edge map", i + 1));
+            return Err(format!(
+                "face {} uses an edge missing from the edge map",
+                i + 1
+            ));
         }
         let e = e as usize;
         let Some(pc) = pc else {
@@ -155,16 +201,33 @@ fn build_face(m: &ModelPtr, i: usize, curves: &mut [CurveEntity]) -> Result<Face
         let pcurve = Arc::new(OcctCurve2d::new(pc, (u.first, u.last), curves[e].range));
         let c = &mut curves[e];
         if c.geom.is_none() && !c.degenerate {
-            c.geom = Some(Arc::new(PcurveOnSurface { surface: surface.clone(), pcurve: pcurve.clone(), range: c.range }));
+            c.geom = Some(Arc::new(PcurveOnSurface {
+                surface: surface.clone(),
+                pcurve: pcurve.clone(),
+                range: c.range,
+            }));
         }
-        let cu = CurveUse { curve: CurveId(e as u32), forward: u.orientation == ffi::TOPABS_FORWARD, pcurve, seam: u.seam != 0 };
+        let cu = CurveUse {
+            curve: CurveId(e as u32),
+            forward: u.orientation == ffi::TOPABS_FORWARD,
+            pcurve,
+            seam: u.seam != 0,
+        };
         if wire_of_loop.last() != Some(&{ u.wire }) {
             wire_of_loop.push(u.wire);
-            loops.push(Loop { uses: Vec::new(), outer: u.wire == 0 });
+            loops.push(Loop {
+                uses: Vec::new(),
+                outer: u.wire == 0,
+            });
         }
         if let Some(l) = loops.last_mut() {
             l.uses.push(cu);
         }
     }
-    Ok(Face { surface, reversed: reversed != 0, loops, uv_bounds })
+    Ok(Face {
+        surface,
+        reversed: reversed != 0,
+        loops,
+        uv_bounds,
+    })
 }

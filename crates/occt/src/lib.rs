@@ -176,13 +176,27 @@ pub enum ConvertError {
 /// format of `output`'s extension (STEP, IGES in B-rep mode, or BREP): a
 /// format converter, and a way to test every reader on the same shape.
 pub fn convert(input: &Path, output: &Path) -> Result<(), ConvertError> {
-    let write_err = |format: &'static str, detail: String| ConvertError::Write { path: output.to_path_buf(), format, detail };
-    let format = Format::from_path(output).ok_or_else(|| write_err("CAD", "unknown extension".into()))?;
+    let write_err = |format: &'static str, detail: String| ConvertError::Write {
+        path: output.to_path_buf(),
+        format,
+        detail,
+    };
+    let format =
+        Format::from_path(output).ok_or_else(|| write_err("CAD", "unknown extension".into()))?;
     let shape = open(input)?;
-    let cpath = CString::new(output.as_os_str().as_bytes()).map_err(|_| write_err(format.name(), "the path holds a NUL byte".into()))?;
+    let cpath = CString::new(output.as_os_str().as_bytes())
+        .map_err(|_| write_err(format.name(), "the path holds a NUL byte".into()))?;
     let mut err = vec![0u8; 1024];
     // SAFETY: live model, NUL-terminated path, err valid for its length.
-    let rc = unsafe { ffi::occt_write(shape.ptr(), cpath.as_ptr(), format.code(), err.as_mut_ptr().cast(), err.len()) };
+    let rc = unsafe {
+        ffi::occt_write(
+            shape.ptr(),
+            cpath.as_ptr(),
+            format.code(),
+            err.as_mut_ptr().cast(),
+            err.len(),
+        )
+    };
     if rc == ffi::OK {
         Ok(())
     } else {
@@ -205,45 +219,87 @@ fn open(path: &Path) -> Result<ffi::ModelPtr, ImportError> {
     let owned = || path.to_path_buf();
     let meta = match std::fs::metadata(path) {
         Ok(m) => m,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(ImportError::NotFound { path: owned() }),
-        Err(e) => return Err(ImportError::Io { path: owned(), detail: e.to_string() }),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(ImportError::NotFound { path: owned() })
+        }
+        Err(e) => {
+            return Err(ImportError::Io {
+                path: owned(),
+                detail: e.to_string(),
+            })
+        }
     };
     if meta.is_dir() {
-        return Err(ImportError::Io { path: owned(), detail: "it is a directory".into() });
+        return Err(ImportError::Io {
+            path: owned(),
+            detail: "it is a directory".into(),
+        });
     }
     let format = Format::from_path(path).ok_or_else(|| ImportError::UnknownExtension {
         path: owned(),
-        ext: path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default(),
+        ext: path
+            .extension()
+            .map(|e| e.to_string_lossy().into_owned())
+            .unwrap_or_default(),
     })?;
-    let (head, tail) = peek(path, meta.len()).map_err(|e| ImportError::Io { path: owned(), detail: e.to_string() })?;
+    let (head, tail) = peek(path, meta.len()).map_err(|e| ImportError::Io {
+        path: owned(),
+        detail: e.to_string(),
+    })?;
     if head.iter().all(|b| b.is_ascii_whitespace()) && meta.len() <= PEEK {
         return Err(ImportError::Empty { path: owned() });
     }
-    let unreadable = |detail: String| ImportError::Unreadable { path: owned(), format: format.name(), detail };
+    let unreadable = |detail: String| ImportError::Unreadable {
+        path: owned(),
+        format: format.name(),
+        detail,
+    };
     if head.contains(&0) || tail.contains(&0) {
         return Err(unreadable("it holds binary data, not text".into()));
     }
     if format == Format::Step {
         let start = String::from_utf8_lossy(&head);
-        if !start.trim_start_matches('\u{feff}').trim_start().starts_with("ISO-10303-21") {
-            return Err(unreadable("it does not start with the ISO-10303-21 header".into()));
+        if !start
+            .trim_start_matches('\u{feff}')
+            .trim_start()
+            .starts_with("ISO-10303-21")
+        {
+            return Err(unreadable(
+                "it does not start with the ISO-10303-21 header".into(),
+            ));
         }
         if !String::from_utf8_lossy(&tail).contains("END-ISO-10303-21") {
-            return Err(unreadable("it is truncated: no END-ISO-10303-21 terminator".into()));
+            return Err(unreadable(
+                "it is truncated: no END-ISO-10303-21 terminator".into(),
+            ));
         }
     }
-    let cpath = CString::new(path.as_os_str().as_bytes()).map_err(|_| unreadable("the path holds a NUL byte".into()))?;
+    let cpath = CString::new(path.as_os_str().as_bytes())
+        .map_err(|_| unreadable("the path holds a NUL byte".into()))?;
     let mut err = vec![0u8; 1024];
     let mut out: *mut ffi::OcctModel = std::ptr::null_mut();
     // SAFETY: cpath is NUL-terminated, out and err are valid for the call.
-    let rc = unsafe { ffi::occt_load(cpath.as_ptr(), format.code(), &mut out, err.as_mut_ptr().cast(), err.len()) };
+    let rc = unsafe {
+        ffi::occt_load(
+            cpath.as_ptr(),
+            format.code(),
+            &mut out,
+            err.as_mut_ptr().cast(),
+            err.len(),
+        )
+    };
     let model = ffi::ModelPtr::new(out);
     let msg = c_message(&err);
     match (rc, model) {
         (ffi::OK, Some(m)) => Ok(m),
-        (ffi::ERR_TRANSFER, _) => Err(ImportError::NoFace { path: owned(), detail: msg }),
+        (ffi::ERR_TRANSFER, _) => Err(ImportError::NoFace {
+            path: owned(),
+            detail: msg,
+        }),
         (ffi::ERR_OPEN, _) | (ffi::ERR_EXCEPTION, _) => Err(unreadable(msg)),
-        (rc, _) => Err(unreadable(format!("the OCCT shim failed with code {rc} {msg}"))),
+        (rc, _) => Err(unreadable(format!(
+            "the OCCT shim failed with code {rc} {msg}"
+        ))),
     }
 }
 

@@ -25,7 +25,10 @@ fn missing_file() {
     let e = load(p).unwrap_err();
     assert!(matches!(e, ImportError::NotFound { .. }), "{e:?}");
     message_names_file(&e, p);
-    assert!(matches!(topology_counts(p), Err(ImportError::NotFound { .. })));
+    assert!(matches!(
+        topology_counts(p),
+        Err(ImportError::NotFound { .. })
+    ));
 }
 
 #[test]
@@ -41,7 +44,10 @@ fn truncated_step() {
     let src = std::fs::read(Path::new(common::CAD_DIR).join("i01o_m1.step")).unwrap();
     let (_d, p) = tmp("half_of_m1.STEP", &src[..src.len() / 2]);
     let e = load(&p).unwrap_err();
-    assert!(matches!(e, ImportError::Unreadable { format: "STEP", .. }), "{e:?}");
+    assert!(
+        matches!(e, ImportError::Unreadable { format: "STEP", .. }),
+        "{e:?}"
+    );
     assert!(e.to_string().contains("truncated"), "{e}");
     message_names_file(&e, &p);
 }
@@ -69,7 +75,13 @@ fn text_garbage_that_looks_like_step_reaches_occt_and_fails_cleanly() {
     let text = "ISO-10303-21;\nHEADER;\nthis is ( not ; a STEP ' file #12=\nENDSEC;\nDATA;\n#1=FOO(#2,'x',;\n#2=;\nENDSEC;\nEND-ISO-10303-21;\n";
     let (_d, p) = tmp("text_garbage.stp", text.as_bytes());
     let e = load(&p).unwrap_err();
-    assert!(matches!(e, ImportError::Unreadable { .. } | ImportError::NoFace { .. }), "{e:?}");
+    assert!(
+        matches!(
+            e,
+            ImportError::Unreadable { .. } | ImportError::NoFace { .. }
+        ),
+        "{e:?}"
+    );
     message_names_file(&e, &p);
 }
 
@@ -99,7 +111,10 @@ fn step_without_face() {
 fn unknown_extension() {
     let (_d, p) = tmp("model.xyz", POINT_ONLY.as_bytes());
     let e = load(&p).unwrap_err();
-    assert!(matches!(&e, ImportError::UnknownExtension { ext, .. } if ext == "xyz"), "{e:?}");
+    assert!(
+        matches!(&e, ImportError::UnknownExtension { ext, .. } if ext == "xyz"),
+        "{e:?}"
+    );
     message_names_file(&e, &p);
     let (_d2, p2) = tmp("no_extension", b"x");
     let e = load(&p2).unwrap_err();
@@ -112,7 +127,13 @@ fn garbage_iges_and_brep_fail_cleanly() {
     for name in ["junk.igs", "junk.IGES", "junk.brep", "junk.brp"] {
         let (_d, p) = tmp(name, b"hello, I am not a CAD model\n1 2 3\n");
         let e = load(&p).unwrap_err();
-        assert!(matches!(e, ImportError::Unreadable { .. } | ImportError::NoFace { .. }), "{name}: {e:?}");
+        assert!(
+            matches!(
+                e,
+                ImportError::Unreadable { .. } | ImportError::NoFace { .. }
+            ),
+            "{name}: {e:?}"
+        );
         message_names_file(&e, &p);
     }
 }
@@ -139,7 +160,10 @@ fn truncated_step_with_forged_terminator_is_refused() {
         bytes.extend_from_slice(b"\nENDSEC;\nEND-ISO-10303-21;\n");
         let (_d, p) = tmp(&format!("half_m1_{label}.step"), &bytes);
         let e = load(&p).unwrap_err();
-        assert!(matches!(e, ImportError::Unreadable { .. }), "{label}: {e:?}");
+        assert!(
+            matches!(e, ImportError::Unreadable { .. }),
+            "{label}: {e:?}"
+        );
         assert!(e.to_string().contains("structural error"), "{label}: {e}");
         message_names_file(&e, &p);
     }

@@ -14,7 +14,12 @@ fn counts(m: &geometry::Model) -> (usize, usize, usize) {
 #[test]
 fn brep_and_step_round_trips_keep_the_topology() {
     let dir = tempfile::tempdir().unwrap();
-    for stem in ["i01o_m1.step", "s17o_sphere.stp", "n10o_qtorus_cyl.step", "wing_surface.step"] {
+    for stem in [
+        "i01o_m1.step",
+        "s17o_sphere.stp",
+        "n10o_qtorus_cyl.step",
+        "wing_surface.step",
+    ] {
         let src = Path::new(CAD_DIR).join(stem);
         let orig = occt::load(&src).unwrap();
         for ext in ["brep", "BRP", "step", "stp"] {
@@ -25,7 +30,10 @@ fn brep_and_step_round_trips_keep_the_topology() {
             assert_eq!(counts(&back), occt::topology_counts(&out).unwrap());
             // Same geometry: corner positions agree (same MapShapes order).
             for (a, b) in orig.corners.iter().zip(&back.corners) {
-                assert!(geometry::vec3::dist(a.point, b.point) <= 1e-9 * orig.diagonal(), "{stem} via .{ext}");
+                assert!(
+                    geometry::vec3::dist(a.point, b.point) <= 1e-9 * orig.diagonal(),
+                    "{stem} via .{ext}"
+                );
             }
         }
     }
@@ -41,7 +49,11 @@ fn iges_round_trip_keeps_faces_and_their_loops() {
             let out = dir.path().join(format!("copy_of_{stem}.{ext}"));
             occt::convert(&src, &out).unwrap();
             let back = occt::load(&out).unwrap_or_else(|e| panic!("{e}"));
-            assert_eq!(counts(&back), occt::topology_counts(&out).unwrap(), "{stem}");
+            assert_eq!(
+                counts(&back),
+                occt::topology_counts(&out).unwrap(),
+                "{stem}"
+            );
             assert_eq!(back.faces.len(), orig.faces.len(), "{stem} via .{ext}");
             let loops = |m: &geometry::Model| m.faces.iter().map(|f| f.loops.len()).sum::<usize>();
             assert_eq!(loops(&back), loops(&orig), "{stem} via .{ext}");

@@ -17,25 +17,48 @@ fn surface_projection_round_trips_inside_every_face() {
         let tol = 1e-7 * diag;
         for (f, face) in m.faces.iter().enumerate() {
             let pts = interior_points(m, f, 25);
-            assert!(pts.len() >= 25, "{name} face {f}: only {} interior points", pts.len());
+            assert!(
+                pts.len() >= 25,
+                "{name} face {f}: only {} interior points",
+                pts.len()
+            );
             let b = face.uv_bounds;
             let (eu, ev) = (b.umax - b.umin, b.vmax - b.vmin);
             let s = &face.surface;
             for uv in pts {
                 let p = s.eval(uv);
-                assert!(p.iter().all(|x| x.is_finite()), "{name} face {f}: S({uv:?}) = {p:?}");
-                let (uv2, q) = s.project(p, None).unwrap_or_else(|| panic!("{name} face {f}: projection of S({uv:?}) failed"));
-                assert!(dist(p, q) <= tol, "{name} face {f}: project(S({uv:?})) = S({uv2:?}) is {} away", dist(p, q));
-                assert!(dist(s.eval(uv2), q) <= tol, "{name} face {f}: returned point is not S(uv)");
+                assert!(
+                    p.iter().all(|x| x.is_finite()),
+                    "{name} face {f}: S({uv:?}) = {p:?}"
+                );
+                let (uv2, q) = s
+                    .project(p, None)
+                    .unwrap_or_else(|| panic!("{name} face {f}: projection of S({uv:?}) failed"));
+                assert!(
+                    dist(p, q) <= tol,
+                    "{name} face {f}: project(S({uv:?})) = S({uv2:?}) is {} away",
+                    dist(p, q)
+                );
+                assert!(
+                    dist(s.eval(uv2), q) <= tol,
+                    "{name} face {f}: returned point is not S(uv)"
+                );
                 // Periodic coordinates come back inside the face's range.
                 let slack = 1e-6 * eu.max(ev);
                 assert!(
-                    uv2[0] >= b.umin - slack && uv2[0] <= b.umax + slack && uv2[1] >= b.vmin - slack && uv2[1] <= b.vmax + slack,
+                    uv2[0] >= b.umin - slack
+                        && uv2[0] <= b.umax + slack
+                        && uv2[1] >= b.vmin - slack
+                        && uv2[1] <= b.vmax + slack,
                     "{name} face {f}: uv {uv2:?} outside the face bounds {b:?}"
                 );
                 let hint = [uv[0] + 0.02 * eu, uv[1] - 0.02 * ev];
                 let (_, q) = s.project(p, Some(hint)).unwrap();
-                assert!(dist(p, q) <= tol, "{name} face {f}: hinted projection is {} away", dist(p, q));
+                assert!(
+                    dist(p, q) <= tol,
+                    "{name} face {f}: hinted projection is {} away",
+                    dist(p, q)
+                );
                 n_points += 1;
             }
         }
@@ -59,8 +82,15 @@ fn off_surface_points_project_along_the_normal() {
                 let (_, q) = s.project(off, Some(uv)).unwrap();
                 // The foot is at most as far as p (p is a candidate) and, for a
                 // small offset on a smooth surface, essentially p itself.
-                assert!(dist(off, q) <= h * (1.0 + 1e-6), "{name} face {f}: foot farther than p");
-                assert!(dist(q, p) <= 1e-2 * h + 1e-9 * diag, "{name} face {f}: foot {} from p", dist(q, p));
+                assert!(
+                    dist(off, q) <= h * (1.0 + 1e-6),
+                    "{name} face {f}: foot farther than p"
+                );
+                assert!(
+                    dist(q, p) <= 1e-2 * h + 1e-9 * diag,
+                    "{name} face {f}: foot {} from p",
+                    dist(q, p)
+                );
             }
         }
     }
@@ -79,19 +109,35 @@ fn curve_projection_and_derivative() {
                 let t = t0 + (t1 - t0) * k as f64 / 10.0;
                 let p = g.eval(t);
                 let (t2, q) = g.project(p, None).unwrap();
-                assert!(dist(p, q) <= 1e-7 * diag, "{name} curve {i}: project(C({t})) = C({t2}) is {} away", dist(p, q));
-                assert!((t0..=t1).contains(&t2), "{name} curve {i}: {t2} outside {t0}..{t1}");
+                assert!(
+                    dist(p, q) <= 1e-7 * diag,
+                    "{name} curve {i}: project(C({t})) = C({t2}) is {} away",
+                    dist(p, q)
+                );
+                assert!(
+                    (t0..=t1).contains(&t2),
+                    "{name} curve {i}: {t2} outside {t0}..{t1}"
+                );
                 let (_, q) = g.project(p, Some(t + 0.01 * (t1 - t0))).unwrap();
-                assert!(dist(p, q) <= 1e-7 * diag, "{name} curve {i}: hinted projection");
+                assert!(
+                    dist(p, q) <= 1e-7 * diag,
+                    "{name} curve {i}: hinted projection"
+                );
                 let h = 1e-6 * (t1 - t0);
                 let (ta, tb) = ((t - h).max(t0), (t + h).min(t1));
-                let fd = geometry::vec3::scale(geometry::vec3::sub(g.eval(tb), g.eval(ta)), 1.0 / (tb - ta));
+                let fd = geometry::vec3::scale(
+                    geometry::vec3::sub(g.eval(tb), g.eval(ta)),
+                    1.0 / (tb - ta),
+                );
                 let d = g.deriv(t);
                 let err = dist(fd, d);
                 // Truncation error of the difference quotient: ≤ (tb − ta)·|C''|.
                 let c2 = dist(g.deriv(tb), g.deriv(ta)) / (tb - ta);
                 let tol = 1e-5 * (geometry::vec3::norm(d) + diag / (t1 - t0)) + (tb - ta) * c2;
-                assert!(err <= tol, "{name} curve {i}: C'({t}) = {d:?}, difference quotient {fd:?}");
+                assert!(
+                    err <= tol,
+                    "{name} curve {i}: C'({t}) = {d:?}, difference quotient {fd:?}"
+                );
             }
         }
     }
@@ -109,14 +155,50 @@ fn surface_derivatives_match_finite_differences() {
             for uv in interior_points(m, f, 3).into_iter().take(3) {
                 let s = &face.surface;
                 let d = s.derivs(uv);
-                assert!(dist(d.point, s.eval(uv)) <= 1e-12 * (1.0 + norm(d.point)), "{name} face {f}");
-                let fu = scale(sub(s.eval([uv[0] + hu, uv[1]]), s.eval([uv[0] - hu, uv[1]])), 0.5 / hu);
-                let fv = scale(sub(s.eval([uv[0], uv[1] + hv]), s.eval([uv[0], uv[1] - hv])), 0.5 / hv);
-                let fuu = scale(sub(s.derivs([uv[0] + hu, uv[1]]).du, s.derivs([uv[0] - hu, uv[1]]).du), 0.5 / hu);
-                let fvv = scale(sub(s.derivs([uv[0], uv[1] + hv]).dv, s.derivs([uv[0], uv[1] - hv]).dv), 0.5 / hv);
-                let fuv = scale(sub(s.derivs([uv[0], uv[1] + hv]).du, s.derivs([uv[0], uv[1] - hv]).du), 0.5 / hv);
-                for (what, a, e) in [("du", d.du, fu), ("dv", d.dv, fv), ("duu", d.duu, fuu), ("dvv", d.dvv, fvv), ("duv", d.duv, fuv)] {
-                    assert!(dist(a, e) <= 1e-4 * (1.0 + norm(a)), "{name} face {f} {what}: {a:?} vs {e:?}");
+                assert!(
+                    dist(d.point, s.eval(uv)) <= 1e-12 * (1.0 + norm(d.point)),
+                    "{name} face {f}"
+                );
+                let fu = scale(
+                    sub(s.eval([uv[0] + hu, uv[1]]), s.eval([uv[0] - hu, uv[1]])),
+                    0.5 / hu,
+                );
+                let fv = scale(
+                    sub(s.eval([uv[0], uv[1] + hv]), s.eval([uv[0], uv[1] - hv])),
+                    0.5 / hv,
+                );
+                let fuu = scale(
+                    sub(
+                        s.derivs([uv[0] + hu, uv[1]]).du,
+                        s.derivs([uv[0] - hu, uv[1]]).du,
+                    ),
+                    0.5 / hu,
+                );
+                let fvv = scale(
+                    sub(
+                        s.derivs([uv[0], uv[1] + hv]).dv,
+                        s.derivs([uv[0], uv[1] - hv]).dv,
+                    ),
+                    0.5 / hv,
+                );
+                let fuv = scale(
+                    sub(
+                        s.derivs([uv[0], uv[1] + hv]).du,
+                        s.derivs([uv[0], uv[1] - hv]).du,
+                    ),
+                    0.5 / hv,
+                );
+                for (what, a, e) in [
+                    ("du", d.du, fu),
+                    ("dv", d.dv, fv),
+                    ("duu", d.duu, fuu),
+                    ("dvv", d.dvv, fvv),
+                    ("duv", d.duv, fuv),
+                ] {
+                    assert!(
+                        dist(a, e) <= 1e-4 * (1.0 + norm(a)),
+                        "{name} face {f} {what}: {a:?} vs {e:?}"
+                    );
                 }
             }
         }
@@ -127,14 +209,21 @@ fn surface_derivatives_match_finite_differences() {
 /// bit-identical results to a single thread.
 #[test]
 fn concurrent_evaluation_matches_serial() {
-    let imp = &imports().iter().find(|(n, _)| n.starts_with("i04o_m4")).unwrap().1;
+    let imp = &imports()
+        .iter()
+        .find(|(n, _)| n.starts_with("i04o_m4"))
+        .unwrap()
+        .1;
     let m = &imp.model;
     let work = |f: usize| -> Vec<u64> {
         let face = &m.faces[f];
         let mut out = Vec::new();
         for uv in interior_points(m, f, 25) {
             let p = face.surface.eval(uv);
-            let (uv2, q) = face.surface.project([p[0] + 1e-3, p[1], p[2]], None).unwrap();
+            let (uv2, q) = face
+                .surface
+                .project([p[0] + 1e-3, p[1], p[2]], None)
+                .unwrap();
             let d = face.surface.derivs(uv);
             for x in [p[0], p[1], p[2], uv2[0], uv2[1], q[0], d.duu[0], d.dvv[2]] {
                 out.push(x.to_bits());
@@ -150,7 +239,9 @@ fn concurrent_evaluation_matches_serial() {
                 s.spawn(move || {
                     // Each thread runs over every face, starting at a different one.
                     let n = m.faces.len();
-                    (0..n).map(|i| ((i + k * n / 4) % n, work((i + k * n / 4) % n))).collect::<Vec<_>>()
+                    (0..n)
+                        .map(|i| ((i + k * n / 4) % n, work((i + k * n / 4) % n)))
+                        .collect::<Vec<_>>()
                 })
             })
             .collect();
@@ -165,12 +256,20 @@ fn concurrent_evaluation_matches_serial() {
 /// Normals: unit length, along du × dv, defined at sphere poles.
 #[test]
 fn normals_are_unit_and_exist_at_poles() {
-    let imp = &imports().iter().find(|(n, _)| n.starts_with("s17o_sphere")).unwrap().1;
+    let imp = &imports()
+        .iter()
+        .find(|(n, _)| n.starts_with("s17o_sphere"))
+        .unwrap()
+        .1;
     let m = &imp.model;
     let mut checked = 0;
     for face in &m.faces {
         let b = face.uv_bounds;
-        for uv in [[b.umin, b.vmin], [b.umax, b.vmax], [0.5 * (b.umin + b.umax), b.vmax]] {
+        for uv in [
+            [b.umin, b.vmin],
+            [b.umax, b.vmax],
+            [0.5 * (b.umin + b.umax), b.vmax],
+        ] {
             let n = face.surface.normal(uv).expect("limit normal at a pole");
             assert!((geometry::vec3::norm(n) - 1.0).abs() < 1e-12);
             checked += 1;

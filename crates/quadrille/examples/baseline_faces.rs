@@ -24,9 +24,17 @@ fn main() {
     };
     if args.get(3).map(String::as_str) == Some("full") {
         let t = Instant::now();
-        let opts = quadrille::MeshOptions { size: quadrille::Size::Factor(factor), threads: Some(1), progress: None };
+        let opts = quadrille::MeshOptions {
+            size: quadrille::Size::Factor(factor),
+            threads: Some(1),
+            progress: None,
+        };
         match quadrille::mesh_model(&model, &opts) {
-            Ok(m) => println!("{} quads in {:.2}s", m.quads.len(), t.elapsed().as_secs_f64()),
+            Ok(m) => println!(
+                "{} quads in {:.2}s",
+                m.quads.len(),
+                t.elapsed().as_secs_f64()
+            ),
             Err(e) => println!("error: {e} ({:.2}s)", t.elapsed().as_secs_f64()),
         }
         return;
@@ -43,10 +51,32 @@ fn main() {
         let face = &model.faces[f];
         let t = Instant::now();
         let r = mesh_face(&model, FaceId(f as u32), &cms, 2.0 * h);
-        let uses: Vec<String> = face.curve_uses().map(|u| format!("{}{}{}", u.curve.0, if u.forward { "+" } else { "-" }, if u.seam { "s" } else { "" })).collect();
+        let uses: Vec<String> = face
+            .curve_uses()
+            .map(|u| {
+                format!(
+                    "{}{}{}",
+                    u.curve.0,
+                    if u.forward { "+" } else { "-" },
+                    if u.seam { "s" } else { "" }
+                )
+            })
+            .collect();
         match r {
-            Ok(p) => println!("face {f}: {} quads {:.3}s  surf {:?} loops {} uses {:?}", p.quads.len(), t.elapsed().as_secs_f64(), face.surface, face.loops.len(), uses),
-            Err(e) => println!("face {f}: FAILED {e:?} {:.3}s surf {:?} uses {:?}", t.elapsed().as_secs_f64(), face.surface, uses),
+            Ok(p) => println!(
+                "face {f}: {} quads {:.3}s  surf {:?} loops {} uses {:?}",
+                p.quads.len(),
+                t.elapsed().as_secs_f64(),
+                face.surface,
+                face.loops.len(),
+                uses
+            ),
+            Err(e) => println!(
+                "face {f}: FAILED {e:?} {:.3}s surf {:?} uses {:?}",
+                t.elapsed().as_secs_f64(),
+                face.surface,
+                uses
+            ),
         }
     }
 }
@@ -57,9 +87,19 @@ fn dump(model: &geometry::Model, f: usize, cms: &[quadrille::curve_mesh::CurveMe
     let face = &model.faces[f];
     let b = face.uv_bounds;
     for (i, j) in [(0.5, 0.5), (0.0, 0.0), (1.0, 1.0)] {
-        let uv = [b.umin + i * (b.umax - b.umin), b.vmin + j * (b.vmax - b.vmin)];
+        let uv = [
+            b.umin + i * (b.umax - b.umin),
+            b.vmin + j * (b.vmax - b.vmin),
+        ];
         let d = face.surface.derivs(uv);
-        println!("uv {uv:?}: p {:?} du {:?} dv {:?} n {:?} reversed {}", d.point, d.du, d.dv, face.normal(uv), face.reversed);
+        println!(
+            "uv {uv:?}: p {:?} du {:?} dv {:?} n {:?} reversed {}",
+            d.point,
+            d.du,
+            d.dv,
+            face.normal(uv),
+            face.reversed
+        );
     }
     for l in &face.loops {
         println!("loop outer={} :", l.outer);
@@ -67,7 +107,10 @@ fn dump(model: &geometry::Model, f: usize, cms: &[quadrille::curve_mesh::CurveMe
             let ce = &model.curves[u.curve.idx()];
             let cm = &cms[u.curve.idx()];
             let uvs: Vec<[f64; 2]> = cm.params.iter().map(|&t| u.pcurve.eval(t)).collect();
-            println!("  curve {} fwd {} seam {} deg {} n {} uv {:?}", u.curve.0, u.forward, u.seam, ce.degenerate, cm.coarse, uvs);
+            println!(
+                "  curve {} fwd {} seam {} deg {} n {} uv {:?}",
+                u.curve.0, u.forward, u.seam, ce.degenerate, cm.coarse, uvs
+            );
         }
     }
     let mut ft = match FaceTriangulation::new(model, geometry::FaceId(f as u32), cms, 2.0 * h) {
@@ -91,7 +134,14 @@ fn dump(model: &geometry::Model, f: usize, cms: &[quadrille::curve_mesh::CurveMe
             }
             for &i in q {
                 let n = &p.nodes[i as usize];
-                println!("   node {i}: uv {:?} {:?} pole {:?} pos {:?} normal {:?}", n.uv, n.node, n.pole.is_some(), p.pos[i as usize], face.normal(n.uv));
+                println!(
+                    "   node {i}: uv {:?} {:?} pole {:?} pos {:?} normal {:?}",
+                    n.uv,
+                    n.node,
+                    n.pole.is_some(),
+                    p.pos[i as usize],
+                    face.normal(n.uv)
+                );
             }
         }
     }

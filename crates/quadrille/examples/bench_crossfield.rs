@@ -43,7 +43,11 @@ fn free_coords(topo: &FaceTopology, free: &[u32]) -> Vec<[f64; 3]> {
         .map(|&e| {
             let [a, b] = topo.edges[e as usize];
             let (p, q) = (topo.positions[a as usize], topo.positions[b as usize]);
-            [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0, (p[2] + q[2]) / 2.0]
+            [
+                (p[0] + q[0]) / 2.0,
+                (p[1] + q[1]) / 2.0,
+                (p[2] + q[2]) / 2.0,
+            ]
         })
         .collect()
 }
@@ -129,7 +133,15 @@ fn reference_scalar(topo: &FaceTopology, fixed: &[bool]) -> f64 {
 /// each ordering (geometric nested dissection, AMD) and factorization kind.
 fn solve_bench(mesh: &quadrille::crossfield::FaceMesh) {
     use faer::sparse::linalg::SupernodalThreshold;
-    let field = compute_cross_field(mesh, &CrossFieldOptions { max_iterations: 1, levels: 1, ..Default::default() }).unwrap();
+    let field = compute_cross_field(
+        mesh,
+        &CrossFieldOptions {
+            max_iterations: 1,
+            levels: 1,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let topo = &field.topology;
     let u = vec![[1.0, 0.0]; topo.edges.len()];
     let sys = assemble(topo, &vec![true; topo.triangles.len()], &field.fixed, &u).unwrap();
@@ -140,12 +152,20 @@ fn solve_bench(mesh: &quadrille::crossfield::FaceMesh) {
     }
     let coords = free_coords(topo, &sys.free);
     for (oname, ord) in [("ND", Some(&coords[..])), ("AMD", None)] {
-        for (kname, th) in [("supernodal", SupernodalThreshold::FORCE_SUPERNODAL), ("simplicial", SupernodalThreshold::FORCE_SIMPLICIAL)] {
-            let (t_sym, spd) = best_of(3, || SparseSpd::analyze_with(sys.spd.pattern.clone(), ord, th).unwrap());
+        for (kname, th) in [
+            ("supernodal", SupernodalThreshold::FORCE_SUPERNODAL),
+            ("simplicial", SupernodalThreshold::FORCE_SIMPLICIAL),
+        ] {
+            let (t_sym, spd) = best_of(3, || {
+                SparseSpd::analyze_with(sys.spd.pattern.clone(), ord, th).unwrap()
+            });
             let (t_num, f) = best_of(3, || spd.factor(&vals).unwrap());
             let mut rhs: Vec<c64> = sys.mass.iter().map(|&m| c64::new(m, 0.0)).collect();
             let (t_solve, _) = best_of(30, || f.solve_in_place(&mut rhs));
-            println!("{oname} {kname}: nnz(L) {} sym {t_sym:.4} num {t_num:.4} solve {t_solve:.4}", spd.factor_entries());
+            println!(
+                "{oname} {kname}: nnz(L) {} sym {t_sym:.4} num {t_num:.4} solve {t_solve:.4}",
+                spd.factor_entries()
+            );
         }
     }
 }
@@ -158,10 +178,12 @@ fn main() {
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut value = || {
-            args.next().and_then(|v| v.parse::<f64>().ok()).unwrap_or_else(|| {
-                eprintln!("bench_crossfield: {a} needs a number");
-                std::process::exit(2)
-            })
+            args.next()
+                .and_then(|v| v.parse::<f64>().ok())
+                .unwrap_or_else(|| {
+                    eprintln!("bench_crossfield: {a} needs a number");
+                    std::process::exit(2)
+                })
         };
         match a.as_str() {
             "--levels" => opts.levels = value() as usize,
@@ -197,21 +219,31 @@ fn main() {
     if let Some(&r) = rings.last() {
         // irregular pentagon with about as many triangles as the largest disk
         let n = ((6 * r * r) as f64 / 5.0).sqrt().round() as usize;
-        faces.push(("irregular pentagon".to_string(), fixtures::convex_polygon(&pentagon, n)));
+        faces.push((
+            "irregular pentagon".to_string(),
+            fixtures::convex_polygon(&pentagon, n),
+        ));
     }
     for (name, mesh) in faces {
         let (t_field, field) = best_of(runs, || compute_cross_field(&mesh, &opts).unwrap());
         let topo = &field.topology;
         let (t_sym, t_num, t_solve) = (0..runs.max(1))
             .map(|_| reference_complex(topo, &field.fixed))
-            .fold((f64::INFINITY, f64::INFINITY, f64::INFINITY), |a, b| (a.0.min(b.0), a.1.min(b.1), a.2.min(b.2)));
+            .fold((f64::INFINITY, f64::INFINITY, f64::INFINITY), |a, b| {
+                (a.0.min(b.0), a.1.min(b.1), a.2.min(b.2))
+            });
         let t_ref = t_sym + t_num + t_solve;
         let (t_scalar, _) = best_of(runs, || reference_scalar(topo, &field.fixed));
         let sing = extract_singularities(&field);
         let (t_scale, _) = best_of(runs, || conformal_scaling(&field).unwrap());
         // disks are centred on the origin: mean distance of the singularities to it
         let place = if name.starts_with("disk") && !sing.list.is_empty() {
-            let r: f64 = sing.list.iter().map(|s| s.position[0].hypot(s.position[1])).sum::<f64>() / sing.list.len() as f64;
+            let r: f64 = sing
+                .list
+                .iter()
+                .map(|s| s.position[0].hypot(s.position[1]))
+                .sum::<f64>()
+                / sing.list.len() as f64;
             format!("r = {r:.3}")
         } else if let [s] = &sing.list[..] {
             format!("({:.3}, {:.3})", s.position[0], s.position[1])
@@ -220,11 +252,18 @@ fn main() {
         };
         if verbose {
             for s in &sing.list {
-                eprintln!("{name}: index {} at ({:.4}, {:.4}, {:.4})", s.index, s.position[0], s.position[1], s.position[2]);
+                eprintln!(
+                    "{name}: index {} at ({:.4}, {:.4}, {:.4})",
+                    s.index, s.position[0], s.position[1], s.position[2]
+                );
             }
         }
         let t_levels: f64 = field.levels.iter().map(|l| l.seconds).sum();
-        let its: Vec<String> = field.levels.iter().map(|l| l.iterations.to_string()).collect();
+        let its: Vec<String> = field
+            .levels
+            .iter()
+            .map(|l| l.iterations.to_string())
+            .collect();
         println!(
             "| {} | {} | {} | {} ({}) | {:.3} [{:.3} / {:.3}] | {:.3} [{:.3} / {:.3} / {:.4}] | {:.2} | {:.3} | {} (sum {}) | {} | {:.3} |",
             name,

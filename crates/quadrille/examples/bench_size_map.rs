@@ -20,7 +20,10 @@ fn main() {
     let mut files: Vec<PathBuf> = match std::fs::read_dir(&dir) {
         Ok(d) => d.filter_map(|e| e.ok().map(|e| e.path())).collect(),
         Err(e) => {
-            eprintln!("usage: bench_size_map [folder of CAD models]: {}: {e}", dir.display());
+            eprintln!(
+                "usage: bench_size_map [folder of CAD models]: {}: {e}",
+                dir.display()
+            );
             std::process::exit(2);
         }
     };
@@ -28,11 +31,18 @@ fn main() {
     println!("| model | faces | background vertices | fields s | size map s | size min / h | size max / h | curve edges uniform | curve edges sized |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for path in files {
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
         if !["step", "stp", "iges", "igs", "brep"].contains(&ext.as_str()) {
             continue;
         }
-        let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let model = match occt::load(&path) {
             Ok(m) => m,
             Err(e) => {
@@ -52,13 +62,34 @@ fn main() {
         let inputs: Vec<FaceBackground<'_>> = fields
             .faces
             .iter()
-            .filter_map(|r| r.outcome.as_ref().ok().map(|f| FaceBackground { face: r.face, topo: &f.field.topology, refs: &f.refs, scaling: f.scaling.as_deref() }))
+            .filter_map(|r| {
+                r.outcome.as_ref().ok().map(|f| FaceBackground {
+                    face: r.face,
+                    topo: &f.field.topology,
+                    refs: &f.refs,
+                    scaling: f.scaling.as_deref(),
+                })
+            })
             .collect();
         let t1 = Instant::now();
-        let map = build_size_map(&model, &fields.curves, &inputs, fields.size, &SizeMapOptions::default()).expect("default options are valid");
+        let map = build_size_map(
+            &model,
+            &fields.curves,
+            &inputs,
+            fields.size,
+            &SizeMapOptions::default(),
+        )
+        .expect("default options are valid");
         let t_map = t1.elapsed().as_secs_f64();
-        let (lo, hi) = map.size.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &s| (a.min(s), b.max(s)));
-        let uniform: usize = plan_curves(&model, fields.size).counts.iter().map(|n| 2 * n).sum();
+        let (lo, hi) = map
+            .size
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), &s| (a.min(s), b.max(s)));
+        let uniform: usize = plan_curves(&model, fields.size)
+            .counts
+            .iter()
+            .map(|n| 2 * n)
+            .sum();
         let sized: usize = fields.curve_plan(&model).counts.iter().map(|n| 2 * n).sum();
         println!(
             "| {name} | {} | {} | {t_fields:.2} | {t_map:.3} | {:.3} | {:.2} | {uniform} | {sized} |",

@@ -16,13 +16,27 @@ use quadrille::field_report::{model_fields, FieldOptions, BACKGROUND_REFINE};
 fn main() {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "data/cad".into()));
     // background size = default quad size / `refine` (second argument)
-    let refine: f64 = std::env::args().nth(2).and_then(|a| a.parse().ok()).unwrap_or(BACKGROUND_REFINE);
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir).expect("model folder").filter_map(|e| e.ok().map(|e| e.path())).collect();
+    let refine: f64 = std::env::args()
+        .nth(2)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(BACKGROUND_REFINE);
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("model folder")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .collect();
     files.sort();
     let (mut ok, mut bad, mut skipped) = (0usize, 0usize, 0usize);
-    let opts = FieldOptions { refine, size_map: false, ..Default::default() };
+    let opts = FieldOptions {
+        refine,
+        size_map: false,
+        ..Default::default()
+    };
     for path in files {
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
         if !["step", "stp", "iges", "igs", "brep"].contains(&ext.as_str()) {
             continue;
         }
@@ -48,7 +62,11 @@ fn main() {
                 Ok(ff) => {
                     m_bad += 1;
                     let s = &ff.singularities;
-                    let corners: Vec<String> = s.corners.iter().map(|c| format!("{:.0}°", c.angle.to_degrees())).collect();
+                    let corners: Vec<String> = s
+                        .corners
+                        .iter()
+                        .map(|c| format!("{:.0}°", c.angle.to_degrees()))
+                        .collect();
                     println!(
                         "  {} face {f}: Σk = {} but 4χ − Σ(2 − n̄) = {} (χ = {}, corners [{}], {} triangles)",
                         path.display(),
@@ -65,10 +83,18 @@ fn main() {
                 }
             }
         }
-        println!("{}: {m_ok}/{} faces satisfy Eq. (2), {m_skip} skipped", path.display(), m_ok + m_bad);
+        println!(
+            "{}: {m_ok}/{} faces satisfy Eq. (2), {m_skip} skipped",
+            path.display(),
+            m_ok + m_bad
+        );
         ok += m_ok;
         bad += m_bad;
         skipped += m_skip;
     }
-    println!("TOTAL: {ok}/{} faces satisfy Eq. (2) ({:.1} %), {skipped} faces skipped", ok + bad, 100.0 * ok as f64 / (ok + bad).max(1) as f64);
+    println!(
+        "TOTAL: {ok}/{} faces satisfy Eq. (2) ({:.1} %), {skipped} faces skipped",
+        ok + bad,
+        100.0 * ok as f64 / (ok + bad).max(1) as f64
+    );
 }

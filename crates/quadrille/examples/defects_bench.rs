@@ -23,8 +23,15 @@ fn counts(p: &QuadPatch) -> (usize, usize, usize) {
             val[v as usize] += 1;
         }
     }
-    let interior: Vec<usize> = (0..p.nodes.len()).filter(|&i| p.nodes[i].node == NodeRef::Interior && val[i] > 0).map(|i| val[i]).collect();
-    (interior.len(), interior.iter().filter(|&&k| k != 4).count(), interior.iter().filter(|&&k| k >= 6 || k <= 2).count())
+    let interior: Vec<usize> = (0..p.nodes.len())
+        .filter(|&i| p.nodes[i].node == NodeRef::Interior && val[i] > 0)
+        .map(|i| val[i])
+        .collect();
+    (
+        interior.len(),
+        interior.iter().filter(|&&k| k != 4).count(),
+        interior.iter().filter(|&&k| k >= 6 || k <= 2).count(),
+    )
 }
 
 fn main() {
@@ -32,7 +39,10 @@ fn main() {
     let mut files: Vec<PathBuf> = match std::fs::read_dir(&dir) {
         Ok(d) => d.filter_map(|e| e.ok().map(|e| e.path())).collect(),
         Err(e) => {
-            eprintln!("usage: defects_bench [folder of CAD models]: {}: {e}", dir.display());
+            eprintln!(
+                "usage: defects_bench [folder of CAD models]: {}: {e}",
+                dir.display()
+            );
             std::process::exit(2);
         }
     };
@@ -40,21 +50,38 @@ fn main() {
     println!("| model | interior vertices | defects before → after | irregular % before → after | replaced / undone | min SICN before → after | s |");
     println!("|---|---:|---|---|---|---|---:|");
     for path in files {
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
         if !["step", "stp"].contains(&ext.as_str()) {
             continue;
         }
-        let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-        let Ok(model) = occt::load(&path) else { continue };
+        let name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let Ok(model) = occt::load(&path) else {
+            continue;
+        };
         let h = quadrille::default_size(&model);
         let cms = discretize_all(&model, &plan_curves(&model, h));
-        let (mut n0, mut irr0, mut def0, mut irr1, mut def1, mut rep, mut und) = (0, 0, 0, 0, 0, 0, 0);
+        let (mut n0, mut irr0, mut def0, mut irr1, mut def1, mut rep, mut und) =
+            (0, 0, 0, 0, 0, 0, 0);
         let (mut w0, mut w1) = (f64::INFINITY, f64::INFINITY);
         let mut secs = 0.0;
         for f in 0..model.faces.len() {
-            let Ok(mut p) = mesh_face(&model, FaceId(f as u32), &cms, 2.0 * h) else { continue };
+            let Ok(mut p) = mesh_face(&model, FaceId(f as u32), &cms, 2.0 * h) else {
+                continue;
+            };
             let face = &model.faces[f];
-            let worst = |p: &QuadPatch| p.quads.iter().map(|q| quad_quality(face, &p.nodes, &p.pos, q)).fold(f64::INFINITY, f64::min);
+            let worst = |p: &QuadPatch| {
+                p.quads
+                    .iter()
+                    .map(|q| quad_quality(face, &p.nodes, &p.pos, q))
+                    .fold(f64::INFINITY, f64::min)
+            };
             let (n, i, d) = counts(&p);
             w0 = w0.min(worst(&p));
             let t = Instant::now();

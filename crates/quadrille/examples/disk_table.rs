@@ -12,7 +12,10 @@ fn main() {
     let write = std::env::args().any(|a| a == "--write");
     let args: Vec<String> = std::env::args().filter(|a| a != "--write").collect();
     let arg = |i: usize, d: usize| args.get(i).and_then(|a| a.parse().ok()).unwrap_or(d);
-    let (b, i) = (arg(1, quadrille::disk_quads::TABLE_MAX_BOUNDARY), arg(2, quadrille::disk_quads::TABLE_MAX_INTERIOR));
+    let (b, i) = (
+        arg(1, quadrille::disk_quads::TABLE_MAX_BOUNDARY),
+        arg(2, quadrille::disk_quads::TABLE_MAX_INTERIOR),
+    );
     let t = Instant::now();
     let disks = quadrille::disk_quads::enumerate(b, i);
     let secs = t.elapsed().as_secs_f64();
@@ -34,10 +37,18 @@ fn main() {
         }
         println!();
     }
-    println!("\n{} disk quadrangulations (b ≤ {b}, n_int ≤ {i}) in {secs:.2} s", disks.len());
+    println!(
+        "\n{} disk quadrangulations (b ≤ {b}, n_int ≤ {i}) in {secs:.2} s",
+        disks.len()
+    );
     if write {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/src/disk_quads/table.txt");
-        if (b, i) != (quadrille::disk_quads::TABLE_MAX_BOUNDARY, quadrille::disk_quads::TABLE_MAX_INTERIOR) {
+        if (b, i)
+            != (
+                quadrille::disk_quads::TABLE_MAX_BOUNDARY,
+                quadrille::disk_quads::TABLE_MAX_INTERIOR,
+            )
+        {
             eprintln!("--write needs the default sizes");
             std::process::exit(2);
         }

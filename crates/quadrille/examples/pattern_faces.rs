@@ -19,7 +19,10 @@ fn main() {
     let mut files: Vec<PathBuf> = match std::fs::read_dir(&dir) {
         Ok(d) => d.filter_map(|e| e.ok().map(|e| e.path())).collect(),
         Err(e) => {
-            eprintln!("usage: pattern_faces [folder of CAD models]: {}: {e}", dir.display());
+            eprintln!(
+                "usage: pattern_faces [folder of CAD models]: {}: {e}",
+                dir.display()
+            );
             std::process::exit(2);
         }
     };
@@ -28,12 +31,21 @@ fn main() {
     println!("|---|---:|---:|---|---:|---|");
     let (mut total, mut matched) = (0, 0);
     for path in files {
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
         if !["step", "stp", "iges", "igs", "brep"].contains(&ext.as_str()) {
             continue;
         }
-        let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-        let Ok(model) = occt::load(&path) else { continue };
+        let name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let Ok(model) = occt::load(&path) else {
+            continue;
+        };
         let h = quadrille::default_size(&model);
         let cms = discretize_all(&model, &plan_curves(&model, h));
         let mut used: BTreeMap<String, usize> = BTreeMap::new();
@@ -44,13 +56,27 @@ fn main() {
                 Ok((p, n)) => {
                     *used.entry(n).or_default() += 1;
                     let face = &model.faces[f];
-                    worst = p.quads.iter().map(|q| quad_quality(face, &p.nodes, &p.pos, q)).fold(worst, f64::min);
+                    worst = p
+                        .quads
+                        .iter()
+                        .map(|q| quad_quality(face, &p.nodes, &p.pos, q))
+                        .fold(worst, f64::min);
                 }
                 Err(e) => {
                     // the reason without its numbers (`n` for a count)
                     let cut = e.find(|c: char| c == '[' || c == '(').unwrap_or(e.len());
                     let cut = e.find("SICN").map_or(cut, |i| i + 4).min(cut);
-                    let key: String = e[..cut].split_whitespace().map(|w| if w.chars().all(|c| c.is_ascii_digit()) { "n" } else { w }).collect::<Vec<_>>().join(" ");
+                    let key: String = e[..cut]
+                        .split_whitespace()
+                        .map(|w| {
+                            if w.chars().all(|c| c.is_ascii_digit()) {
+                                "n"
+                            } else {
+                                w
+                            }
+                        })
+                        .collect::<Vec<_>>()
+                        .join(" ");
                     *why.entry(key).or_default() += 1;
                 }
             }
@@ -58,8 +84,26 @@ fn main() {
         let n: usize = used.values().sum();
         total += model.faces.len();
         matched += n;
-        let fmt = |m: &BTreeMap<String, usize>| m.iter().map(|(k, v)| format!("{k}: {v}")).collect::<Vec<_>>().join(", ");
-        println!("| {name} | {} | {n} | {} | {} | {} |", model.faces.len(), fmt(&used), if worst.is_finite() { format!("{worst:.3}") } else { "–".into() }, fmt(&why));
+        let fmt = |m: &BTreeMap<String, usize>| {
+            m.iter()
+                .map(|(k, v)| format!("{k}: {v}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        println!(
+            "| {name} | {} | {n} | {} | {} | {} |",
+            model.faces.len(),
+            fmt(&used),
+            if worst.is_finite() {
+                format!("{worst:.3}")
+            } else {
+                "–".into()
+            },
+            fmt(&why)
+        );
     }
-    println!("\n{matched} of {total} faces meshed by a pattern ({:.1} %)", 100.0 * matched as f64 / total.max(1) as f64);
+    println!(
+        "\n{matched} of {total} faces meshed by a pattern ({:.1} %)",
+        100.0 * matched as f64 / total.max(1) as f64
+    );
 }

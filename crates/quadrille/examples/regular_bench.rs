@@ -29,7 +29,10 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for a in &args {
         let path = Path::new(a);
-        let name = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
+        let name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().to_string())
+            .unwrap_or_default();
         let model = match occt::load(path) {
             Ok(m) => m,
             Err(e) => {
@@ -54,15 +57,27 @@ fn main() {
         if let Some(dir) = &pictures {
             let _ = std::fs::create_dir_all(dir);
             let title = format!("{name}: triangle split (before)");
-            let o = mesh::render::RenderOptions { title: Some(&title), ..Default::default() };
-            if let Err(e) = mesh::render::render_png(&mesh, &o, &dir.join(format!("regular_{name}_before.png"))) {
+            let o = mesh::render::RenderOptions {
+                title: Some(&title),
+                ..Default::default()
+            };
+            if let Err(e) =
+                mesh::render::render_png(&mesh, &o, &dir.join(format!("regular_{name}_before.png")))
+            {
                 eprintln!("{name}: picture failed: {e}");
             }
         }
         let t1 = Instant::now();
-        let env = |k: &str, d: usize| std::env::var(k).ok().and_then(|v| v.parse().ok()).unwrap_or(d);
+        let env = |k: &str, d: usize| {
+            std::env::var(k)
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(d)
+        };
         let d = RegularizeOptions::default();
-        let ropts = RegularizeOptions { max_sequence: env("QR_DEPTH", d.max_sequence), search_budget: env("QR_BUDGET", d.search_budget),
+        let ropts = RegularizeOptions {
+            max_sequence: env("QR_DEPTH", d.max_sequence),
+            search_budget: env("QR_BUDGET", d.search_budget),
             translation_steps: env("QR_TRANSLATION", d.translation_steps),
             sweep_orders: env("QR_ORDERS", d.sweep_orders),
             order_budget: env("QR_ORDER_BUDGET", d.order_budget),
@@ -71,7 +86,10 @@ fn main() {
             pair_depth: env("QR_PAIR_DEPTH", d.pair_depth),
             pair_beam: env("QR_PAIR_BEAM", d.pair_beam),
             pair_budget: env("QR_PAIR_BUDGET", d.pair_budget),
-            quad_target: match std::env::var("QR_QUAD_RATIO").ok().and_then(|v| v.parse::<f64>().ok()) {
+            quad_target: match std::env::var("QR_QUAD_RATIO")
+                .ok()
+                .and_then(|v| v.parse::<f64>().ok())
+            {
                 Some(r) if r > 0.0 => quadrille::regularize::QuadTarget::Ratio(r),
                 Some(_) => quadrille::regularize::QuadTarget::Off,
                 None => d.quad_target,
@@ -89,8 +107,13 @@ fn main() {
         let s1 = MeshStats::compute(&mesh, Some(&model));
         if let Some(dir) = &pictures {
             let title = format!("{name}: regularized (after)");
-            let o = mesh::render::RenderOptions { title: Some(&title), ..Default::default() };
-            if let Err(e) = mesh::render::render_png(&mesh, &o, &dir.join(format!("regular_{name}_after.png"))) {
+            let o = mesh::render::RenderOptions {
+                title: Some(&title),
+                ..Default::default()
+            };
+            if let Err(e) =
+                mesh::render::render_png(&mesh, &o, &dir.join(format!("regular_{name}_after.png")))
+            {
                 eprintln!("{name}: picture failed: {e}");
             }
         }
@@ -131,8 +154,14 @@ fn main() {
         if std::env::var("QR_DIAG").is_ok() {
             let sicn = mesh::stats::quad_sicn_values(&mesh, Some(&model));
             if let Some((q, s)) = sicn.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1)) {
-                let classes: Vec<String> = mesh.quads[q].iter().map(|&n| format!("{:?}", mesh.node_class[n as usize])).collect();
-                eprintln!("  worst quad {q} (face {}): SICN {s:.3}, nodes {classes:?}", mesh.quad_face[q].0 + 1);
+                let classes: Vec<String> = mesh.quads[q]
+                    .iter()
+                    .map(|&n| format!("{:?}", mesh.node_class[n as usize]))
+                    .collect();
+                eprintln!(
+                    "  worst quad {q} (face {}): SICN {s:.3}, nodes {classes:?}",
+                    mesh.quad_face[q].0 + 1
+                );
             }
             diagnose(&model, &mesh);
         }
@@ -143,13 +172,22 @@ fn main() {
             eprintln!("{name}: face {} skipped: {why}", f.0 + 1);
         }
         for f in rep.faces.iter().filter(|f| f.strict && !f.reverted) {
-            eprintln!("{name}: face {} redone in strict mode (the first result had more inverted quads)", f.face.0 + 1);
+            eprintln!(
+                "{name}: face {} redone in strict mode (the first result had more inverted quads)",
+                f.face.0 + 1
+            );
         }
         for f in rep.faces.iter().filter(|f| f.reverted) {
-            eprintln!("{name}: face {} reverted to its input (the result had more inverted quads)", f.face.0 + 1);
+            eprintln!(
+                "{name}: face {} reverted to its input (the result had more inverted quads)",
+                f.face.0 + 1
+            );
         }
         let o = rep.ops();
-        eprintln!("{name}: ops swaps {} collapses {} splits {} compositions {} rejected {} sweeps {}", o.swaps, o.collapses, o.splits, o.compositions, o.rejected, o.sweeps);
+        eprintln!(
+            "{name}: ops swaps {} collapses {} splits {} compositions {} rejected {} sweeps {}",
+            o.swaps, o.collapses, o.splits, o.compositions, o.rejected, o.sweeps
+        );
     }
 }
 
@@ -163,17 +201,28 @@ fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
     let mut hist: BTreeMap<String, usize> = BTreeMap::new();
     let (mut floor, mut irr, mut nv) = (0i64, 0usize, 0usize);
     for (fid, qids) in quads_by_face(mesh) {
-        let Ok(fq) = extract_face(model, mesh, fid, &qids) else { continue };
+        let Ok(fq) = extract_face(model, mesh, fid, &qids) else {
+            continue;
+        };
         let n = fq.verts.len() as u32;
         // the index sum Σ (ideal − valence) is invariant under every operation:
         // at least |Σ| / 2 irregular vertices remain (a vertex rarely carries more than 2)
-        let index: i64 = (0..n).filter(|&v| fq.verts[v as usize].alive).map(|v| fq.verts[v as usize].ideal as i64 - fq.valence(v) as i64).sum();
+        let index: i64 = (0..n)
+            .filter(|&v| fq.verts[v as usize].alive)
+            .map(|v| fq.verts[v as usize].ideal as i64 - fq.valence(v) as i64)
+            .sum();
         let face_irr = fq.irregular_count();
         floor += index.abs();
         irr += face_irr;
         nv += fq.num_verts();
         if std::env::var("QR_DIAG").as_deref() == Ok("2") {
-            eprintln!("  face {}: verts {} irregular {} index sum {}", fid.0 + 1, fq.num_verts(), face_irr, index);
+            eprintln!(
+                "  face {}: verts {} irregular {} index sum {}",
+                fid.0 + 1,
+                fq.num_verts(),
+                face_irr,
+                index
+            );
             for v in 0..n {
                 let x = &fq.verts[v as usize];
                 if x.alive && x.fixed && (fq.valence(v) > 4 || fq.is_irregular(v)) {
@@ -183,7 +232,9 @@ fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
         }
         // hop distance to the boundary
         let mut dist = vec![u32::MAX; n as usize];
-        let mut front: Vec<u32> = (0..n).filter(|&v| fq.verts[v as usize].alive && fq.verts[v as usize].fixed).collect();
+        let mut front: Vec<u32> = (0..n)
+            .filter(|&v| fq.verts[v as usize].alive && fq.verts[v as usize].fixed)
+            .collect();
         for &v in &front {
             dist[v as usize] = 0;
         }
@@ -214,8 +265,14 @@ fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
                 };
                 format!("boundary {kind} {:+}", val as i64 - x.ideal as i64)
             } else {
-                let near_excess = fq.links(v).into_iter().any(|l| fq.verts[l as usize].fixed && fq.valence(l) > fq.verts[l as usize].ideal);
-                let near_irr = fq.links(v).into_iter().filter(|&l| fq.is_irregular(l)).count();
+                let near_excess = fq.links(v).into_iter().any(|l| {
+                    fq.verts[l as usize].fixed && fq.valence(l) > fq.verts[l as usize].ideal
+                });
+                let near_irr = fq
+                    .links(v)
+                    .into_iter()
+                    .filter(|&l| fq.is_irregular(l))
+                    .count();
                 // hop distance to the nearest vertex of opposite index
                 let sign = |w: u32| -> i64 {
                     let y = &fq.verts[w as usize];
@@ -243,7 +300,20 @@ fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
                     }
                     fr = nx;
                 }
-                format!("interior val {val} hops {} partner {partner} {}{}", dist[v as usize].min(3), if near_excess { "next to bdry excess" } else { "" }, if near_irr > 0 { format!(" irr-links {near_irr}") } else { String::new() })
+                format!(
+                    "interior val {val} hops {} partner {partner} {}{}",
+                    dist[v as usize].min(3),
+                    if near_excess {
+                        "next to bdry excess"
+                    } else {
+                        ""
+                    },
+                    if near_irr > 0 {
+                        format!(" irr-links {near_irr}")
+                    } else {
+                        String::new()
+                    }
+                )
             };
             *hist.entry(key).or_default() += 1;
         }
@@ -262,11 +332,14 @@ fn face_pictures(model: &geometry::Model, mesh: &mesh::QuadMesh, dir: &Path, nam
     use quadrille::face_quads::extract::{extract_face, quads_by_face};
     let _ = std::fs::create_dir_all(dir);
     for (fid, qids) in quads_by_face(mesh) {
-        let Ok(fq) = extract_face(model, mesh, fid, &qids) else { continue };
+        let Ok(fq) = extract_face(model, mesh, fid, &qids) else {
+            continue;
+        };
         let mut m = mesh::QuadMesh::default();
         for v in &fq.verts {
             m.nodes.push([v.uv[0], v.uv[1], 0.0]);
-            m.node_class.push(mesh::NodeClass::Curve(geometry::CurveId(0), None));
+            m.node_class
+                .push(mesh::NodeClass::Curve(geometry::CurveId(0), None));
         }
         for q in fq.live_quads() {
             m.quads.push(fq.quads[q as usize]);
@@ -279,11 +352,31 @@ fn face_pictures(model: &geometry::Model, mesh: &mesh::QuadMesh, dir: &Path, nam
             }
             let x = &fq.verts[v as usize];
             let d = fq.valence(v) as i64 - x.ideal as i64;
-            let color = if d < 0 { [30, 80, 255] } else if d == 1 { [230, 20, 20] } else { [220, 0, 220] };
-            ov.points.push(OverlayPoint { position: [x.uv[0], x.uv[1], 0.0], color });
+            let color = if d < 0 {
+                [30, 80, 255]
+            } else if d == 1 {
+                [230, 20, 20]
+            } else {
+                [220, 0, 220]
+            };
+            ov.points.push(OverlayPoint {
+                position: [x.uv[0], x.uv[1], 0.0],
+                color,
+            });
         }
-        let title = format!("{name} face {}: {} irregular", fid.0 + 1, fq.irregular_count());
-        let o = RenderOptions { eye_dir: [0.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], title: Some(&title), overlay: Some(&ov), show_irregular: false, ..Default::default() };
+        let title = format!(
+            "{name} face {}: {} irregular",
+            fid.0 + 1,
+            fq.irregular_count()
+        );
+        let o = RenderOptions {
+            eye_dir: [0.0, 0.0, 1.0],
+            up: [0.0, 1.0, 0.0],
+            title: Some(&title),
+            overlay: Some(&ov),
+            show_irregular: false,
+            ..Default::default()
+        };
         let _ = mesh::render::render_png(&m, &o, &dir.join(format!("{name}_f{}.png", fid.0 + 1)));
     }
 }

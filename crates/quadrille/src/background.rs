@@ -63,10 +63,17 @@ impl<'a> Background<'a> {
     pub fn new(field: &'a CrossField, size: &'a [f64]) -> Result<Self, BackgroundError> {
         let topo: &FaceTopology = &field.topology;
         if size.len() != topo.positions.len() {
-            return Err(BackgroundError::Size(format!("{} values for {} vertices", size.len(), topo.positions.len())));
+            return Err(BackgroundError::Size(format!(
+                "{} values for {} vertices",
+                size.len(),
+                topo.positions.len()
+            )));
         }
         if let Some(i) = size.iter().position(|s| !(s.is_finite() && *s > 0.0)) {
-            return Err(BackgroundError::Size(format!("value {} at vertex {i} is not a positive number", size[i])));
+            return Err(BackgroundError::Size(format!(
+                "value {} at vertex {i} is not a positive number",
+                size[i]
+            )));
         }
         if topo.triangles.is_empty() {
             return Err(BackgroundError::Triangulation("no triangles".into()));
@@ -74,7 +81,9 @@ impl<'a> Background<'a> {
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
         for p in &topo.positions {
             if p.iter().any(|c| !c.is_finite()) {
-                return Err(BackgroundError::Triangulation("non-finite vertex position".into()));
+                return Err(BackgroundError::Triangulation(
+                    "non-finite vertex position".into(),
+                ));
             }
             for k in 0..3 {
                 lo[k] = lo[k].min(p[k]);
@@ -93,13 +102,26 @@ impl<'a> Background<'a> {
             }
             s / topo.triangles.len() as f64
         };
-        let vol_cell = (ext[0].max(1e-9 * diag) * ext[1].max(1e-9 * diag) * ext[2].max(1e-9 * diag) / ncells).cbrt();
-        let mut cell = vol_cell.max(mean_edge).max(diag / MAX_CELLS_PER_AXIS as f64);
+        let vol_cell =
+            (ext[0].max(1e-9 * diag) * ext[1].max(1e-9 * diag) * ext[2].max(1e-9 * diag) / ncells)
+                .cbrt();
+        let mut cell = vol_cell
+            .max(mean_edge)
+            .max(diag / MAX_CELLS_PER_AXIS as f64);
         if !(cell.is_finite() && cell > 0.0) {
             cell = diag;
         }
-        let dims = [0, 1, 2].map(|k| ((ext[k] / cell).floor() as usize + 1).min(MAX_CELLS_PER_AXIS));
-        let mut bg = Background { field, size, lo, cell, dims, start: Vec::new(), items: Vec::new() };
+        let dims =
+            [0, 1, 2].map(|k| ((ext[k] / cell).floor() as usize + 1).min(MAX_CELLS_PER_AXIS));
+        let mut bg = Background {
+            field,
+            size,
+            lo,
+            cell,
+            dims,
+            start: Vec::new(),
+            items: Vec::new(),
+        };
         let total = dims[0] * dims[1] * dims[2];
         let mut count = vec![0u32; total + 1];
         let ranges: Vec<[[usize; 3]; 2]> = topo
@@ -184,12 +206,15 @@ impl<'a> Background<'a> {
             for i in i0..=i1 {
                 for j in j0..=j1 {
                     for k in k0..=k1 {
-                        let on_shell = i.abs_diff(c[0]) == r || j.abs_diff(c[1]) == r || k.abs_diff(c[2]) == r;
+                        let on_shell =
+                            i.abs_diff(c[0]) == r || j.abs_diff(c[1]) == r || k.abs_diff(c[2]) == r;
                         if !on_shell {
                             continue;
                         }
                         let cell = self.index([i, j, k]);
-                        for &t in &self.items[self.start[cell] as usize..self.start[cell + 1] as usize] {
+                        for &t in
+                            &self.items[self.start[cell] as usize..self.start[cell + 1] as usize]
+                        {
                             let tri = topo.triangles[t as usize];
                             let q = tri.map(|v| topo.positions[v as usize]);
                             let (bary, x) = closest_on_triangle(p, q);
@@ -219,13 +244,24 @@ impl<'a> Background<'a> {
         let (t, bary, distance) = self.locate(p)?;
         let topo = &self.field.topology;
         let tri = topo.triangles[t];
-        let size = (0..3).map(|k| bary[k] * self.size[tri[k] as usize]).sum::<f64>();
-        let cross = self.field.cross_at(t, bary).or_else(|| self.field.triangle_cross(t)).unwrap_or_else(|| {
-            // at a singularity the interpolant vanishes: any tangent frame will do
-            let x = topo.edge_dir[topo.tri_edges[t][0] as usize];
-            [x, vec3::cross(topo.normals[t], x)]
-        });
-        Some(Sample { cross, normal: vec3::cross(cross[0], cross[1]), size, distance })
+        let size = (0..3)
+            .map(|k| bary[k] * self.size[tri[k] as usize])
+            .sum::<f64>();
+        let cross = self
+            .field
+            .cross_at(t, bary)
+            .or_else(|| self.field.triangle_cross(t))
+            .unwrap_or_else(|| {
+                // at a singularity the interpolant vanishes: any tangent frame will do
+                let x = topo.edge_dir[topo.tri_edges[t][0] as usize];
+                [x, vec3::cross(topo.normals[t], x)]
+            });
+        Some(Sample {
+            cross,
+            normal: vec3::cross(cross[0], cross[1]),
+            size,
+            distance,
+        })
     }
 
     /// Alignment of a polygon with the cross field (spec §7.3): at the
@@ -247,7 +283,11 @@ impl<'a> Background<'a> {
         for k in 0..n {
             let e = vec3::sub(pts[(k + 1) % n], pts[k]);
             let (x, y) = (vec3::dot(e, s.cross[0]), vec3::dot(e, s.cross[1]));
-            let a = if x == 0.0 && y == 0.0 { 0.0 } else { (1.0 + (4.0 * y.atan2(x)).cos()) / 2.0 };
+            let a = if x == 0.0 && y == 0.0 {
+                0.0
+            } else {
+                (1.0 + (4.0 * y.atan2(x)).cos()) / 2.0
+            };
             sum += a;
         }
         Some(sum / n as f64)
@@ -290,7 +330,10 @@ pub fn closest_on_triangle(p: Vec3, q: [Vec3; 3]) -> ([f64; 3], Vec3) {
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
         let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return ([0.0, 1.0 - w, w], vec3::add(b, vec3::scale(vec3::sub(c, b), w)));
+        return (
+            [0.0, 1.0 - w, w],
+            vec3::add(b, vec3::scale(vec3::sub(c, b), w)),
+        );
     }
     let denom = va + vb + vc;
     if !(denom.abs() > 0.0) {
@@ -298,7 +341,10 @@ pub fn closest_on_triangle(p: Vec3, q: [Vec3; 3]) -> ([f64; 3], Vec3) {
     }
     let v = vb / denom;
     let w = vc / denom;
-    ([1.0 - v - w, v, w], vec3::add(a, vec3::add(vec3::scale(ab, v), vec3::scale(ac, w))))
+    (
+        [1.0 - v - w, v, w],
+        vec3::add(a, vec3::add(vec3::scale(ab, v), vec3::scale(ac, w))),
+    )
 }
 
 #[cfg(test)]
@@ -311,7 +357,9 @@ mod tests {
     fn closest_point_regions() {
         let q = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         let (b, x) = closest_on_triangle([0.25, 0.25, 3.0], q);
-        assert!((b[0] - 0.5).abs() < 1e-12 && (b[1] - 0.25).abs() < 1e-12 && x == [0.25, 0.25, 0.0]);
+        assert!(
+            (b[0] - 0.5).abs() < 1e-12 && (b[1] - 0.25).abs() < 1e-12 && x == [0.25, 0.25, 0.0]
+        );
         assert_eq!(closest_on_triangle([-1.0, -1.0, 0.0], q).0, [1.0, 0.0, 0.0]);
         assert_eq!(closest_on_triangle([2.0, -0.5, 0.0], q).0, [0.0, 1.0, 0.0]);
         let (b, _) = closest_on_triangle([1.0, 1.0, 0.0], q);
@@ -321,11 +369,23 @@ mod tests {
     #[test]
     fn square_background_gives_the_sides_and_the_size() {
         let model = geometry::primitives::square(2.0);
-        let fields = model_fields(&model, &FieldOptions { size: Size::Absolute(0.5), ..Default::default() }).unwrap();
+        let fields = model_fields(
+            &model,
+            &FieldOptions {
+                size: Size::Absolute(0.5),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let ff = fields.faces[0].outcome.as_ref().unwrap();
         let size = ff.size.as_ref().unwrap();
         let bg = Background::new(&ff.field, size).unwrap();
-        for p in [[0.3, 0.4, 0.0], [1.9, 1.2, 0.0], [1.0, 1.0, 0.2], [-0.5, 3.0, 0.0]] {
+        for p in [
+            [0.3, 0.4, 0.0],
+            [1.9, 1.2, 0.0],
+            [1.0, 1.0, 0.2],
+            [-0.5, 3.0, 0.0],
+        ] {
             let s = bg.sample(p).unwrap();
             assert!((s.size - 0.5).abs() < 0.03, "size {}", s.size);
             let c = s.cross[0][0].abs().max(s.cross[0][1].abs());
@@ -336,9 +396,19 @@ mod tests {
         assert!((bg.sample([1.0, 1.0, 0.2]).unwrap().distance - 0.2).abs() < 1e-12);
         assert!((bg.sample([-0.5, 3.0, 0.0]).unwrap().distance - 0.5f64.hypot(1.0)).abs() < 1e-12);
         // an axis-aligned square is perfectly aligned, a 45°-turned one not at all
-        let sq = [[0.5, 0.5, 0.0], [1.0, 0.5, 0.0], [1.0, 1.0, 0.0], [0.5, 1.0, 0.0]];
+        let sq = [
+            [0.5, 0.5, 0.0],
+            [1.0, 0.5, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.5, 1.0, 0.0],
+        ];
         assert!(bg.alignment(&sq).unwrap() > 0.99);
-        let diamond = [[1.0, 0.5, 0.0], [1.5, 1.0, 0.0], [1.0, 1.5, 0.0], [0.5, 1.0, 0.0]];
+        let diamond = [
+            [1.0, 0.5, 0.0],
+            [1.5, 1.0, 0.0],
+            [1.0, 1.5, 0.0],
+            [0.5, 1.0, 0.0],
+        ];
         assert!(bg.alignment(&diamond).unwrap() < 0.01);
         // bad size arrays are refused
         assert!(Background::new(&ff.field, &size[1..]).is_err());

@@ -88,7 +88,11 @@ pub struct CavityOptions {
 
 impl Default for CavityOptions {
     fn default() -> Self {
-        CavityOptions { steps: [true; 4], max_passes: 8, max_work: None }
+        CavityOptions {
+            steps: [true; 4],
+            max_passes: 8,
+            max_work: None,
+        }
     }
 }
 
@@ -228,7 +232,10 @@ impl<'a> Work<'a> {
                 let v = q[k] as usize;
                 if matches!(p.nodes[v].node, NodeRef::Corner(_)) {
                     let x = p.pos[v];
-                    let (a, b) = (vec3::sub(p.pos[q[(k + 1) % 4] as usize], x), vec3::sub(p.pos[q[(k + 3) % 4] as usize], x));
+                    let (a, b) = (
+                        vec3::sub(p.pos[q[(k + 1) % 4] as usize], x),
+                        vec3::sub(p.pos[q[(k + 3) % 4] as usize], x),
+                    );
                     let c = vec3::dot(a, b) / (vec3::norm(a) * vec3::norm(b));
                     if c.is_finite() {
                         angle[v] += c.clamp(-1.0, 1.0).acos();
@@ -245,7 +252,9 @@ impl<'a> Work<'a> {
                 match nd.node {
                     NodeRef::Interior => Kind::Inner,
                     NodeRef::Curve(..) => Kind::Bound(2),
-                    NodeRef::Corner(_) => Kind::Bound(crate::singularities::ideal_corner_valence(angle[v]).clamp(1, 4) as u8),
+                    NodeRef::Corner(_) => Kind::Bound(
+                        crate::singularities::ideal_corner_valence(angle[v]).clamp(1, 4) as u8,
+                    ),
                 }
             })
             .collect();
@@ -292,11 +301,15 @@ impl<'a> Work<'a> {
 
     /// Face-interior irregular vertices.
     fn inner_irregular(&self) -> usize {
-        (0..self.at.len() as u32).filter(|&v| self.kind[v as usize] == Kind::Inner && self.irregular(v)).count()
+        (0..self.at.len() as u32)
+            .filter(|&v| self.kind[v as usize] == Kind::Inner && self.irregular(v))
+            .count()
     }
 
     fn all_irregular(&self) -> usize {
-        (0..self.at.len() as u32).filter(|&v| self.irregular(v)).count()
+        (0..self.at.len() as u32)
+            .filter(|&v| self.irregular(v))
+            .count()
     }
 
     /// Flags singular vertices (spec §10.2).
@@ -344,7 +357,11 @@ impl<'a> Work<'a> {
 
     fn nin(&self, v: u32) -> usize {
         let (s, c) = self.nin[v as usize];
-        if s == self.stamp { c as usize } else { 0 }
+        if s == self.stamp {
+            c as usize
+        } else {
+            0
+        }
     }
 
     fn role(&self, v: u32) -> Role {
@@ -385,7 +402,9 @@ impl<'a> Work<'a> {
         self.at[a as usize].iter().copied().find(|&r| {
             r != q && {
                 let o = self.p.quads[r as usize];
-                (0..4).any(|i| (o[i] == b && o[(i + 1) % 4] == a) || (o[i] == a && o[(i + 1) % 4] == b))
+                (0..4).any(|i| {
+                    (o[i] == b && o[(i + 1) % 4] == a) || (o[i] == a && o[(i + 1) % 4] == b)
+                })
             }
         })
     }
@@ -394,9 +413,17 @@ impl<'a> Work<'a> {
     /// cavity along one path of 1 to 3 of its edges and nowhere else.
     fn keeps_disk(&self, q: u32) -> bool {
         let quad = self.p.quads[q as usize];
-        let shared: Vec<bool> = (0..4).map(|k| self.across(q, k).is_some_and(|r| self.in_c(r))).collect();
+        let shared: Vec<bool> = (0..4)
+            .map(|k| self.across(q, k).is_some_and(|r| self.in_c(r)))
+            .collect();
         let n = shared.iter().filter(|&&s| s).count();
-        if n == 0 || n == 4 || (0..4).filter(|&k| shared[k] && !shared[(k + 3) % 4]).count() != 1 {
+        if n == 0
+            || n == 4
+            || (0..4)
+                .filter(|&k| shared[k] && !shared[(k + 3) % 4])
+                .count()
+                != 1
+        {
             return false;
         }
         (0..4).all(|k| (self.nin(quad[k]) > 0) == (shared[k] || shared[(k + 3) % 4]))
@@ -475,7 +502,13 @@ impl<'a> Work<'a> {
 
     /// Absorbs the outside quad of every concave vertex with one outside
     /// quad; false when one of them is forbidden.
-    fn convexify(&mut self, todo: &mut Vec<u32>, queue: &mut VecDeque<u32>, seed: Option<u32>, cap: usize) -> bool {
+    fn convexify(
+        &mut self,
+        todo: &mut Vec<u32>,
+        queue: &mut VecDeque<u32>,
+        seed: Option<u32>,
+        cap: usize,
+    ) -> bool {
         while let Some(v) = todo.pop() {
             let ni = self.nin(v);
             let no = self.deg(v) - ni;
@@ -490,7 +523,9 @@ impl<'a> Work<'a> {
             if !concave {
                 continue;
             }
-            let Some(q) = self.at[v as usize].iter().copied().find(|&q| !self.in_c(q)) else { continue };
+            let Some(q) = self.at[v as usize].iter().copied().find(|&q| !self.in_c(q)) else {
+                continue;
+            };
             if self.forbidden(q, seed) || self.order.len() >= cap {
                 return false;
             }
@@ -505,12 +540,16 @@ impl<'a> Work<'a> {
         for &q in &self.order {
             let quad = self.p.quads[q as usize];
             for k in 0..4 {
-                if !self.across(q, k).is_some_and(|r| self.in_c(r)) && next.insert(quad[k], quad[(k + 1) % 4]).is_some() {
+                if !self.across(q, k).is_some_and(|r| self.in_c(r))
+                    && next.insert(quad[k], quad[(k + 1) % 4]).is_some()
+                {
                     return false;
                 }
             }
         }
-        let Some((&start, _)) = next.iter().min() else { return false };
+        let Some((&start, _)) = next.iter().min() else {
+            return false;
+        };
         let (mut v, mut len) = (start, 0);
         loop {
             v = match next.get(&v) {
@@ -548,7 +587,9 @@ impl<'a> Work<'a> {
             }
         }
         self.units += order.len() as u64;
-        let Some(start) = first else { return (false, None) };
+        let Some(start) = first else {
+            return (false, None);
+        };
         let mut ring = vec![start];
         let mut v = next[&start];
         while v != start {
@@ -562,7 +603,10 @@ impl<'a> Work<'a> {
             return (false, None);
         }
         // Euler: V − E + F = 1
-        let mut verts: Vec<u32> = order.iter().flat_map(|&q| self.p.quads[q as usize]).collect();
+        let mut verts: Vec<u32> = order
+            .iter()
+            .flat_map(|&q| self.p.quads[q as usize])
+            .collect();
         verts.sort_unstable();
         verts.dedup();
         let edges = inner_edges / 2 + ring.len();
@@ -579,22 +623,42 @@ impl<'a> Work<'a> {
         }
         let m = corners.len();
         let nb = ring.len();
-        let sides: Vec<u32> = (0..m).map(|i| ((corners[(i + 1) % m] + nb - corners[i]) % nb) as u32).collect();
+        let sides: Vec<u32> = (0..m)
+            .map(|i| ((corners[(i + 1) % m] + nb - corners[i]) % nb) as u32)
+            .collect();
         if !(3..=5).contains(&m) {
             return (true, None);
         }
         let found = match_pattern_where(&sides, |p| target.keeps(p));
-        (true, found.map(|found| Candidate { quads: order, ring, corners, found }))
+        (
+            true,
+            found.map(|found| Candidate {
+                quads: order,
+                ring,
+                corners,
+                found,
+            }),
+        )
     }
 
     /// Grows cavities from the quads around `seed` (spec §10.3) and returns
     /// the remeshable ones worth trying, best first.
-    fn grow(&mut self, seed: u32, target: Target, minimal: bool, seed_may_be_interior: bool) -> Vec<Candidate> {
+    fn grow(
+        &mut self,
+        seed: u32,
+        target: Target,
+        minimal: bool,
+        seed_may_be_interior: bool,
+    ) -> Vec<Candidate> {
         self.stamp += 1;
         self.order.clear();
         self.absorbed = false;
         let allow = seed_may_be_interior.then_some(seed);
-        let cap = if minimal { MAX_MINIMAL_QUADS } else { MAX_MAXIMAL_QUADS };
+        let cap = if minimal {
+            MAX_MINIMAL_QUADS
+        } else {
+            MAX_MAXIMAL_QUADS
+        };
         let mut todo = Vec::new();
         let mut queue = VecDeque::new();
         self.disk_rule = false;
@@ -675,10 +739,20 @@ impl<'a> Work<'a> {
 
     /// Replaces the cavity by its refined pattern if every acceptance rule
     /// holds (see the module documentation); otherwise leaves the patch as it was.
-    fn replace(&mut self, cand: &Candidate, keep: f64, report: &mut CavityReport) -> Option<Vec<u32>> {
+    fn replace(
+        &mut self,
+        cand: &Candidate,
+        keep: f64,
+        report: &mut CavityReport,
+    ) -> Option<Vec<u32>> {
         let mut key: Vec<u32> = cand.quads.clone();
         key.sort_unstable();
-        key.extend([u32::MAX, cand.found.pattern as u32, cand.found.shift as u32, cand.found.mirror as u32]);
+        key.extend([
+            u32::MAX,
+            cand.found.pattern as u32,
+            cand.found.shift as u32,
+            cand.found.mirror as u32,
+        ]);
         key.extend_from_slice(&cand.found.subdivisions);
         if self.undone.contains(&key) {
             return None;
@@ -691,7 +765,13 @@ impl<'a> Work<'a> {
             return None;
         }
         let f = &cand.found;
-        let ring_of = |k: usize| if f.mirror { (corners[(f.shift + 1) % m] + nb - k % nb) % nb } else { (corners[f.shift] + k) % nb };
+        let ring_of = |k: usize| {
+            if f.mirror {
+                (corners[(f.shift + 1) % m] + nb - k % nb) % nb
+            } else {
+                (corners[f.shift] + k) % nb
+            }
+        };
         let nv = refined.coords.len();
         let first_new = self.p.nodes.len() as u32;
         let mut local = vec![u32::MAX; nv];
@@ -712,11 +792,16 @@ impl<'a> Work<'a> {
             .iter()
             .map(|q| {
                 let l = q.map(|v| local[v as usize]);
-                if f.mirror { [l[0], l[3], l[2], l[1]] } else { l }
+                if f.mirror {
+                    [l[0], l[3], l[2], l[1]]
+                } else {
+                    l
+                }
             })
             .collect();
         // (a) no new edge between two boundary vertices already linked outside
-        let pos_in_ring: HashMap<u32, usize> = ring.iter().enumerate().map(|(i, &v)| (v, i)).collect();
+        let pos_in_ring: HashMap<u32, usize> =
+            ring.iter().enumerate().map(|(i, &v)| (v, i)).collect();
         let mut sorted_quads = cand.quads.clone();
         sorted_quads.sort_unstable();
         let in_cav = |q: u32| sorted_quads.binary_search(&q).is_ok();
@@ -745,7 +830,11 @@ impl<'a> Work<'a> {
             }
         }
         // (d) fewer irregular vertices in the closure
-        let mut closure: Vec<u32> = cand.quads.iter().flat_map(|&q| self.p.quads[q as usize]).collect();
+        let mut closure: Vec<u32> = cand
+            .quads
+            .iter()
+            .flat_map(|&q| self.p.quads[q as usize])
+            .collect();
         closure.sort_unstable();
         closure.dedup();
         let before = closure.iter().filter(|&&v| self.irregular(v)).count();
@@ -777,7 +866,12 @@ impl<'a> Work<'a> {
         for &v in ring.iter() {
             for &q in &self.at[v as usize] {
                 if !in_cav(q) {
-                    movable_ring.extend(self.p.quads[q as usize].iter().copied().filter(|&x| self.kind[x as usize] == Kind::Inner));
+                    movable_ring.extend(
+                        self.p.quads[q as usize]
+                            .iter()
+                            .copied()
+                            .filter(|&x| self.kind[x as usize] == Kind::Inner),
+                    );
                 }
             }
         }
@@ -789,34 +883,72 @@ impl<'a> Work<'a> {
         }
         region_old.sort_unstable();
         region_old.dedup();
-        let old_worst = region_old.iter().map(|&q| self.quality(q)).fold(f64::INFINITY, f64::min);
-        let region_old_avg = region_old.iter().map(|&q| self.quality(q)).sum::<f64>() / region_old.len().max(1) as f64;
+        let old_worst = region_old
+            .iter()
+            .map(|&q| self.quality(q))
+            .fold(f64::INFINITY, f64::min);
+        let region_old_avg = region_old.iter().map(|&q| self.quality(q)).sum::<f64>()
+            / region_old.len().max(1) as f64;
         // apply
         let saved_quads = self.p.quads.len();
         let saved_nodes = self.p.nodes.len();
-        let saved_ring: Vec<([f64; 2], Vec3)> = movable_ring.iter().map(|&v| (self.p.nodes[v as usize].uv, self.p.pos[v as usize])).collect();
+        let saved_ring: Vec<([f64; 2], Vec3)> = movable_ring
+            .iter()
+            .map(|&v| (self.p.nodes[v as usize].uv, self.p.pos[v as usize]))
+            .collect();
         let mut uv: Vec<[f64; 2]> = vec![[0.0, 0.0]; nv];
         let centre = {
-            let s = ring.iter().fold([0.0, 0.0], |a, &v| [a[0] + self.p.nodes[v as usize].uv[0], a[1] + self.p.nodes[v as usize].uv[1]]);
+            let s = ring.iter().fold([0.0, 0.0], |a, &v| {
+                [
+                    a[0] + self.p.nodes[v as usize].uv[0],
+                    a[1] + self.p.nodes[v as usize].uv[1],
+                ]
+            });
             [s[0] / nb as f64, s[1] / nb as f64]
         };
         for v in 0..nv {
-            uv[v] = if fixed[v] { self.p.nodes[local[v] as usize].uv } else { centre };
+            uv[v] = if fixed[v] {
+                self.p.nodes[local[v] as usize].uv
+            } else {
+                centre
+            };
         }
         crate::pattern_face::harmonic_uv(&refined.quads, &mut uv, &fixed);
         let mut ok = true;
-        let mut new_nodes = vec![(LocalNode { uv: centre, node: NodeRef::Interior, pole: None }, [0.0; 3]); fresh as usize];
+        let mut new_nodes = vec![
+            (
+                LocalNode {
+                    uv: centre,
+                    node: NodeRef::Interior,
+                    pole: None
+                },
+                [0.0; 3]
+            );
+            fresh as usize
+        ];
         for v in 0..nv {
             if !fixed[v] {
                 let x = self.face.surface.eval(uv[v]);
                 ok &= x.iter().all(|c| c.is_finite()) && uv[v].iter().all(|c| c.is_finite());
-                new_nodes[(local[v] - first_new) as usize] = (LocalNode { uv: uv[v], node: NodeRef::Interior, pole: None }, x);
+                new_nodes[(local[v] - first_new) as usize] = (
+                    LocalNode {
+                        uv: uv[v],
+                        node: NodeRef::Interior,
+                        pole: None,
+                    },
+                    x,
+                );
             }
         }
         if !ok {
             return None;
         }
-        let origin = self.p.quad_tri.get(cand.quads[0] as usize).copied().unwrap_or(0);
+        let origin = self
+            .p
+            .quad_tri
+            .get(cand.quads[0] as usize)
+            .copied()
+            .unwrap_or(0);
         for &q in &cand.quads {
             self.alive[q as usize] = false;
             for &v in &self.p.quads[q as usize] {
@@ -844,18 +976,31 @@ impl<'a> Work<'a> {
             self.barred.push(0);
         }
         // geometry: the new vertices and the boundary's face-interior ones
-        let movable: Vec<u32> = (first_new..first_new + fresh).chain(movable_ring.iter().copied()).collect();
+        let movable: Vec<u32> = (first_new..first_new + fresh)
+            .chain(movable_ring.iter().copied())
+            .collect();
         let region_new = self.smooth_region(&movable);
         let mut region_new = region_new;
         region_new.extend(saved_quads as u32..self.p.quads.len() as u32);
         region_new.sort_unstable();
         region_new.dedup();
-        let new_worst = region_new.iter().map(|&q| self.quality(q)).fold(f64::INFINITY, f64::min);
-        let target = if old_worst > 0.0 { keep * old_worst.min(1.0) } else { 0.0 };
-        let new_avg = region_new.iter().map(|&q| self.quality(q)).sum::<f64>() / region_new.len().max(1) as f64;
-        let accept = new_worst > 0.0 && new_worst >= target && new_avg >= region_old_avg - AVG_SLACK;
+        let new_worst = region_new
+            .iter()
+            .map(|&q| self.quality(q))
+            .fold(f64::INFINITY, f64::min);
+        let target = if old_worst > 0.0 {
+            keep * old_worst.min(1.0)
+        } else {
+            0.0
+        };
+        let new_avg = region_new.iter().map(|&q| self.quality(q)).sum::<f64>()
+            / region_new.len().max(1) as f64;
+        let accept =
+            new_worst > 0.0 && new_worst >= target && new_avg >= region_old_avg - AVG_SLACK;
         if crate::pipeline::debug_enabled() {
-            let avg = |qs: &[u32]| qs.iter().map(|&q| self.quality(q)).sum::<f64>() / qs.len().max(1) as f64;
+            let avg = |qs: &[u32]| {
+                qs.iter().map(|&q| self.quality(q)).sum::<f64>() / qs.len().max(1) as f64
+            };
             eprintln!(
                 "  cavity {} {:?} sides {:?}: {} → {} quads, irregular {before} → {after}, worst {old_worst:.3} → {new_worst:.3}, avg region {:.3} → {:.3}: {}",
                 library()[cand.found.pattern].name,
@@ -910,14 +1055,22 @@ impl<'a> Work<'a> {
     }
 
     fn quality(&self, q: u32) -> f64 {
-        quad_quality(self.face, &self.p.nodes, &self.p.pos, &self.p.quads[q as usize])
+        quad_quality(
+            self.face,
+            &self.p.nodes,
+            &self.p.pos,
+            &self.p.quads[q as usize],
+        )
     }
 
     /// Smooths the vertices `movable` on a copy of the quads around them
     /// (the other vertices fixed) and writes their new positions back;
     /// returns those quads.
     fn smooth_region(&mut self, movable: &[u32]) -> Vec<u32> {
-        let mut quads: Vec<u32> = movable.iter().flat_map(|&v| self.at[v as usize].iter().copied()).collect();
+        let mut quads: Vec<u32> = movable
+            .iter()
+            .flat_map(|&v| self.at[v as usize].iter().copied())
+            .collect();
         quads.sort_unstable();
         quads.dedup();
         let mut map: HashMap<u32, u32> = HashMap::new();
@@ -948,8 +1101,19 @@ impl<'a> Work<'a> {
             sub.quad_tri.push(q);
         }
         crate::smoothing::smooth(self.face, &mut sub, 8);
-        crate::smoothing::optimize(self.face, &mut sub, &crate::smoothing::OptimizeOptions { max_sweeps: SMOOTHING_SWEEPS, ..Default::default() });
-        let worst = sub.quads.iter().map(|q| quad_quality(self.face, &sub.nodes, &sub.pos, q)).fold(f64::INFINITY, f64::min);
+        crate::smoothing::optimize(
+            self.face,
+            &mut sub,
+            &crate::smoothing::OptimizeOptions {
+                max_sweeps: SMOOTHING_SWEEPS,
+                ..Default::default()
+            },
+        );
+        let worst = sub
+            .quads
+            .iter()
+            .map(|q| quad_quality(self.face, &sub.nodes, &sub.pos, q))
+            .fold(f64::INFINITY, f64::min);
         if worst < UNTANGLE_BELOW {
             crate::smoothing::untangle(self.face, &mut sub, UNTANGLE_BELOW, 4, 5000);
         }
@@ -964,9 +1128,19 @@ impl<'a> Work<'a> {
     }
 
     /// Step 1 / 3 / 4: cavities around the unnecessary irregular vertices.
-    fn rect_step(&mut self, target: Target, minimal: bool, keep: f64, step: usize, cap: u64, report: &mut CavityReport) {
+    fn rect_step(
+        &mut self,
+        target: Target,
+        minimal: bool,
+        keep: f64,
+        step: usize,
+        cap: u64,
+        report: &mut CavityReport,
+    ) {
         // face-interior seeds first, then the boundary's
-        let mut seeds: Vec<u32> = (0..self.at.len() as u32).filter(|&v| self.irregular(v) && !self.singular[v as usize]).collect();
+        let mut seeds: Vec<u32> = (0..self.at.len() as u32)
+            .filter(|&v| self.irregular(v) && !self.singular[v as usize])
+            .collect();
         seeds.sort_by_key(|&v| (self.kind[v as usize] != Kind::Inner, v));
         for seed in seeds {
             if self.units >= cap {
@@ -993,7 +1167,9 @@ impl<'a> Work<'a> {
 
     /// Step 2: minimal triangle / pentagon cavities around singular vertices.
     fn star_step(&mut self, cap: u64, report: &mut CavityReport) {
-        let seeds: Vec<u32> = (0..self.at.len() as u32).filter(|&v| self.singular[v as usize]).collect();
+        let seeds: Vec<u32> = (0..self.at.len() as u32)
+            .filter(|&v| self.singular[v as usize])
+            .collect();
         for seed in seeds {
             if self.units >= cap {
                 report.capped = true;
@@ -1041,17 +1217,33 @@ impl<'a> Work<'a> {
 /// Quads stay counter-clockwise; curve and corner nodes never move; replaced
 /// quads are dropped and new nodes appended (old interior nodes of a
 /// replaced cavity stay in `p.nodes`, unused).
-pub fn remesh_cavities(face: &Face, p: &mut QuadPatch, singularities: &[Singularity], opts: &CavityOptions) -> CavityReport {
+pub fn remesh_cavities(
+    face: &Face,
+    p: &mut QuadPatch,
+    singularities: &[Singularity],
+    opts: &CavityOptions,
+) -> CavityReport {
     let mut report = CavityReport::default();
-    if p.quads.is_empty() || p.pos.len() != p.nodes.len() || p.quad_tri.len() != p.quads.len() || p.quads.iter().flatten().any(|&v| v as usize >= p.nodes.len()) {
+    if p.quads.is_empty()
+        || p.pos.len() != p.nodes.len()
+        || p.quad_tri.len() != p.quads.len()
+        || p.quads
+            .iter()
+            .flatten()
+            .any(|&v| v as usize >= p.nodes.len())
+    {
         return report;
     }
-    let cap = opts.max_work.unwrap_or_else(|| default_work_cap(p.quads.len()));
+    let cap = opts
+        .max_work
+        .unwrap_or_else(|| default_work_cap(p.quads.len()));
     let mut w = Work::new(face, p);
     w.match_singularities(singularities);
     report.singular = w.singular.iter().filter(|&&s| s).count();
     report.irregular_before = w.inner_irregular();
-    let maximal_grid = |w: &mut Work, step: usize, report: &mut CavityReport| w.rect_step(Target::Grid, false, KEEP, step, cap, report);
+    let maximal_grid = |w: &mut Work, step: usize, report: &mut CavityReport| {
+        w.rect_step(Target::Grid, false, KEEP, step, cap, report)
+    };
     for _ in 0..opts.max_passes {
         let before = w.all_irregular();
         if opts.steps[0] {

@@ -70,7 +70,13 @@ pub fn chord_counts(classes: &[usize], ideal: &[f64]) -> Vec<usize> {
         sum[classes[i]] += ideal[i];
         num[classes[i]] += 1;
     }
-    (0..n).map(|i| (sum[classes[i]] / num[classes[i]] as f64).round().clamp(1.0, 1.0e6) as usize).collect()
+    (0..n)
+        .map(|i| {
+            (sum[classes[i]] / num[classes[i]] as f64)
+                .round()
+                .clamp(1.0, 1.0e6) as usize
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -130,15 +130,26 @@ fn sample(model: &Model, c: CurveId) -> (Vec<f64>, Vec<Vec3>) {
         return (ts, pts);
     }
     let min_len = 1e-9 * model.diagonal().max(1e-300);
-    let mut ts: Vec<f64> = (0..=SAMPLES).map(|i| t0 + (t1 - t0) * i as f64 / SAMPLES as f64).collect();
+    let mut ts: Vec<f64> = (0..=SAMPLES)
+        .map(|i| t0 + (t1 - t0) * i as f64 / SAMPLES as f64)
+        .collect();
     let mut pts: Vec<Vec3> = ts.iter().map(|&t| ce.eval(model, t)).collect();
-    let turn = |a: Vec3, b: Vec3, c: Vec3| match (vec3::normalize(vec3::sub(b, a)), vec3::normalize(vec3::sub(c, b))) {
+    let turn = |a: Vec3, b: Vec3, c: Vec3| match (
+        vec3::normalize(vec3::sub(b, a)),
+        vec3::normalize(vec3::sub(c, b)),
+    ) {
         (Some(d), Some(e)) => vec3::dot(d, e).clamp(-1.0, 1.0).acos(),
         _ => 0.0,
     };
     for _ in 0..SAMPLE_DEPTH {
         let n = pts.len();
-        let turn_at = |i: usize| if i == 0 || i + 1 >= n { 0.0 } else { turn(pts[i - 1], pts[i], pts[i + 1]) };
+        let turn_at = |i: usize| {
+            if i == 0 || i + 1 >= n {
+                0.0
+            } else {
+                turn(pts[i - 1], pts[i], pts[i + 1])
+            }
+        };
         let mut nts = Vec::with_capacity(n);
         let mut npts = Vec::with_capacity(n);
         let mut changed = false;
@@ -150,7 +161,9 @@ fn sample(model: &Model, c: CurveId) -> (Vec<f64>, Vec<Vec3>) {
             }
             let tm = 0.5 * (ts[j] + ts[j + 1]);
             let pm = ce.eval(model, tm);
-            if turn_at(j).max(turn_at(j + 1)) > SAMPLE_TURN || turn(pts[j], pm, pts[j + 1]) > SAMPLE_TURN {
+            if turn_at(j).max(turn_at(j + 1)) > SAMPLE_TURN
+                || turn(pts[j], pm, pts[j + 1]) > SAMPLE_TURN
+            {
                 nts.push(tm);
                 npts.push(pm);
                 changed = true;
@@ -170,7 +183,14 @@ fn sample(model: &Model, c: CurveId) -> (Vec<f64>, Vec<Vec3>) {
 /// Bisects the sample intervals longer than the size at their middle, so
 /// that ∫ dl / s is integrated finely wherever the size map is small.
 /// Sizes below `floor` count as `floor`; at most [`MAX_SIZED_SAMPLES`] samples.
-fn resample_to_sizes(model: &Model, c: CurveId, mut ts: Vec<f64>, mut pts: Vec<Vec3>, sizes: &[[f64; 2]], floor: f64) -> (Vec<f64>, Vec<Vec3>) {
+fn resample_to_sizes(
+    model: &Model,
+    c: CurveId,
+    mut ts: Vec<f64>,
+    mut pts: Vec<Vec3>,
+    sizes: &[[f64; 2]],
+    floor: f64,
+) -> (Vec<f64>, Vec<Vec3>) {
     let ce = &model.curves[c.idx()];
     for _ in 0..SAMPLE_DEPTH {
         if ts.len() > MAX_SIZED_SAMPLES {
@@ -211,7 +231,11 @@ fn size_at(profile: &[[f64; 2]], t: f64) -> f64 {
         return profile[k - 1][1];
     }
     let ([ta, sa], [tb, sb]) = (profile[k - 1], profile[k]);
-    if tb > ta { sa + (sb - sa) * (t - ta) / (tb - ta) } else { sa.min(sb) }
+    if tb > ta {
+        sa + (sb - sa) * (t - ta) / (tb - ta)
+    } else {
+        sa.min(sb)
+    }
 }
 
 /// Profile of curve `c` for final size `h`: spacing `min(2s, radius × MAX_TURN)`
@@ -225,11 +249,19 @@ fn profile(model: &Model, c: CurveId, h: f64, sizes: Option<&[[f64; 2]]>) -> Pro
         (ts, pts) = resample_to_sizes(model, c, ts, pts, p, MIN_SPACING_FRACTION * h);
     }
     let ns = pts.len() - 1;
-    let len: Vec<f64> = (0..ns).map(|j| {
-        let l = vec3::dist(pts[j], pts[j + 1]);
-        if l.is_finite() { l } else { 0.0 }
-    }).collect();
-    let dirs: Vec<Option<Vec3>> = (0..ns).map(|j| vec3::normalize(vec3::sub(pts[j + 1], pts[j]))).collect();
+    let len: Vec<f64> = (0..ns)
+        .map(|j| {
+            let l = vec3::dist(pts[j], pts[j + 1]);
+            if l.is_finite() {
+                l
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let dirs: Vec<Option<Vec3>> = (0..ns)
+        .map(|j| vec3::normalize(vec3::sub(pts[j + 1], pts[j])))
+        .collect();
     let closed = ce.start == ce.end && ns > 1;
     // curvature at each sample point (turn over the mean length of its two intervals)
     let kappa_at = |i: usize| -> f64 {
@@ -247,7 +279,11 @@ fn profile(model: &Model, c: CurveId, h: f64, sizes: Option<&[[f64; 2]]>) -> Pro
                 let turn = vec3::dot(da, db).clamp(-1.0, 1.0).acos();
                 // a turn the sampling could not spread out is a kink, not a bend:
                 // no spacing resolves it, so it asks for none
-                if l > 0.0 && turn <= KINK_TURN { turn / l } else { 0.0 }
+                if l > 0.0 && turn <= KINK_TURN {
+                    turn / l
+                } else {
+                    0.0
+                }
             }
             _ => 0.0,
         }
@@ -261,7 +297,11 @@ fn profile(model: &Model, c: CurveId, h: f64, sizes: Option<&[[f64; 2]]>) -> Pro
                 _ => smax,
             };
             let k = kappa_at(j).max(kappa_at(j + 1));
-            if k > 0.0 { (MAX_TURN_PER_SEGMENT / k).clamp(smin, base) } else { base }
+            if k > 0.0 {
+                (MAX_TURN_PER_SEGMENT / k).clamp(smin, base)
+            } else {
+                base
+            }
         })
         .collect();
     // grading: spacing(j) ≤ spacing(i) + GRADING × distance; two laps for a closed curve
@@ -299,7 +339,10 @@ pub fn curve_lengths(model: &Model) -> Vec<f64> {
                 return 0.0;
             }
             let (_, pts) = sample(model, CurveId(i as u32));
-            pts.windows(2).map(|w| vec3::dist(w[0], w[1])).filter(|l| l.is_finite()).sum()
+            pts.windows(2)
+                .map(|w| vec3::dist(w[0], w[1]))
+                .filter(|l| l.is_finite())
+                .sum()
         })
         .collect()
 }
@@ -326,10 +369,20 @@ pub fn plan_curves_sized(model: &Model, h: f64, sizes: &[Option<Vec<[f64; 2]>>])
         .into_par_iter()
         .map(|i| {
             let own = sizes.get(i).and_then(|s| s.as_deref());
-            if model.curves[i].degenerate { None } else { Some(profile(model, CurveId(i as u32), h, own)) }
+            if model.curves[i].degenerate {
+                None
+            } else {
+                Some(profile(model, CurveId(i as u32), h, own))
+            }
         })
         .collect();
-    let ideal: Vec<f64> = profiles.iter().map(|p| p.as_ref().map_or(1.0, |p| p.budget.last().copied().unwrap_or(0.0))).collect();
+    let ideal: Vec<f64> = profiles
+        .iter()
+        .map(|p| {
+            p.as_ref()
+                .map_or(1.0, |p| p.budget.last().copied().unwrap_or(0.0))
+        })
+        .collect();
     let chords = chord_classes(model, &ideal);
     let mut counts = chord_counts(&chords, &ideal);
     let mut plan_chords = vec![Vec::new(); model.curves.len()];
@@ -344,7 +397,10 @@ pub fn plan_curves_sized(model: &Model, h: f64, sizes: &[Option<Vec<[f64; 2]>>])
             }
         }
     }
-    let lengths: Vec<f64> = profiles.iter().map(|p| p.as_ref().map_or(0.0, |p| *p.cum.last().unwrap_or(&0.0))).collect();
+    let lengths: Vec<f64> = profiles
+        .iter()
+        .map(|p| p.as_ref().map_or(0.0, |p| *p.cum.last().unwrap_or(&0.0)))
+        .collect();
     for f in &model.faces {
         for l in &f.loops {
             loop {
@@ -368,7 +424,12 @@ pub fn plan_curves_sized(model: &Model, h: f64, sizes: &[Option<Vec<[f64; 2]>>])
             }
         }
     }
-    CurvePlan { counts, profiles, chords, ideal }
+    CurvePlan {
+        counts,
+        profiles,
+        chords,
+        ideal,
+    }
 }
 
 /// Discretizes curve `c` with `plan.counts[c]` coarse segments: `2n + 1`
@@ -388,7 +449,10 @@ pub fn discretize_curve(model: &Model, plan: &CurvePlan, c: CurveId) -> CurveMes
             Some(p) if total > 0.0 && i > 0 && i < m => {
                 let target = s * total;
                 // first sample with budget >= target
-                let k = p.budget.partition_point(|&x| x < target).clamp(1, p.budget.len() - 1);
+                let k = p
+                    .budget
+                    .partition_point(|&x| x < target)
+                    .clamp(1, p.budget.len() - 1);
                 let (a, b) = (p.budget[k - 1], p.budget[k]);
                 let w = if b > a { (target - a) / (b - a) } else { 0.0 };
                 p.ts[k - 1] + w * (p.ts[k] - p.ts[k - 1])
@@ -412,14 +476,21 @@ pub fn discretize_curve(model: &Model, plan: &CurvePlan, c: CurveId) -> CurveMes
             }
         })
         .collect();
-    CurveMesh { coarse: n, params, points }
+    CurveMesh {
+        coarse: n,
+        params,
+        points,
+    }
 }
 
 /// Discretizes every curve as planned (in parallel; the result does not
 /// depend on the thread count).
 pub fn discretize_all(model: &Model, plan: &CurvePlan) -> Vec<CurveMesh> {
     use rayon::prelude::*;
-    (0..model.curves.len()).into_par_iter().map(|i| discretize_curve(model, plan, CurveId(i as u32))).collect()
+    (0..model.curves.len())
+        .into_par_iter()
+        .map(|i| discretize_curve(model, plan, CurveId(i as u32)))
+        .collect()
 }
 #[cfg(test)]
 mod tests {
@@ -453,7 +524,10 @@ mod tests {
         let target = 2.0 * std::f64::consts::PI * 2.0 / 10.0;
         for i in 1..cm.points.len() {
             let arc = 2.0 * (cm.params[i] - cm.params[i - 1]);
-            assert!((arc - target).abs() < 1e-3 * target, "arc {arc} vs {target}");
+            assert!(
+                (arc - target).abs() < 1e-3 * target,
+                "arc {arc} vs {target}"
+            );
         }
         assert_eq!(cm.points[0], m.corners[0].point);
         assert_eq!(cm.points[10], m.corners[0].point);
@@ -494,13 +568,21 @@ mod tests {
                 Some((0..self.0.len()).map(|i| i as f64).collect())
             }
         }
-        let pts: Vec<Vec3> = (0..=64).map(|i| {
-            let a = std::f64::consts::TAU * i as f64 / 64.0;
-            [a.cos(), a.sin(), 0.0]
-        }).collect();
+        let pts: Vec<Vec3> = (0..=64)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / 64.0;
+                [a.cos(), a.sin(), 0.0]
+            })
+            .collect();
         let model = Model {
             corners: vec![Corner { point: pts[0] }],
-            curves: vec![CurveEntity { geom: Some(Arc::new(Polygon(pts))), range: (0.0, 64.0), start: geometry::CornerId(0), end: geometry::CornerId(0), degenerate: false }],
+            curves: vec![CurveEntity {
+                geom: Some(Arc::new(Polygon(pts))),
+                range: (0.0, 64.0),
+                start: geometry::CornerId(0),
+                end: geometry::CornerId(0),
+                degenerate: false,
+            }],
             faces: vec![],
         };
         for (h, want) in [(0.5, 6..=7), (0.1, 31..=32)] {
@@ -536,20 +618,38 @@ mod tests {
             }
         }
         let model = Model {
-            corners: vec![Corner { point: [5.0, 0.0, 0.0] }],
-            curves: vec![CurveEntity { geom: Some(Arc::new(Ellipse)), range: (0.0, std::f64::consts::TAU), start: geometry::CornerId(0), end: geometry::CornerId(0), degenerate: false }],
+            corners: vec![Corner {
+                point: [5.0, 0.0, 0.0],
+            }],
+            curves: vec![CurveEntity {
+                geom: Some(Arc::new(Ellipse)),
+                range: (0.0, std::f64::consts::TAU),
+                start: geometry::CornerId(0),
+                end: geometry::CornerId(0),
+                degenerate: false,
+            }],
             faces: vec![],
         };
         let h = 0.5;
         let plan = plan_curves(&model, h);
         let cm = discretize_curve(&model, &plan, CurveId(0));
         // coarse segments: points 0, 2, 4, ...
-        let coarse: Vec<f64> = cm.points.iter().step_by(2).collect::<Vec<_>>().windows(2).map(|w| vec3::dist(*w[0], *w[1])).collect();
+        let coarse: Vec<f64> = cm
+            .points
+            .iter()
+            .step_by(2)
+            .collect::<Vec<_>>()
+            .windows(2)
+            .map(|w| vec3::dist(*w[0], *w[1]))
+            .collect();
         let shortest = coarse.iter().cloned().fold(f64::INFINITY, f64::min);
         let longest = coarse.iter().cloned().fold(0.0, f64::max);
         // the tips (radius 0.008) ask for coarse spacing ≤ 0.008 × π/2
         assert!(shortest < 0.0126, "shortest coarse segment {shortest}");
-        assert!(longest <= 2.0 * h * 1.05, "longest coarse segment {longest}");
+        assert!(
+            longest <= 2.0 * h * 1.05,
+            "longest coarse segment {longest}"
+        );
         // neighbours (cyclically) differ by a bounded ratio
         let n = coarse.len();
         for i in 0..n {
@@ -557,6 +657,10 @@ mod tests {
             assert!(a.max(b) / a.min(b) < 1.6, "segments {i}: {a} then {b}");
         }
         // a uniform split would need ~20 / 1 segments; grading adds a few dozen, not thousands
-        assert!(plan.counts[0] > 20 && plan.counts[0] < 80, "count {}", plan.counts[0]);
+        assert!(
+            plan.counts[0] > 20 && plan.counts[0] < 80,
+            "count {}",
+            plan.counts[0]
+        );
     }
 }

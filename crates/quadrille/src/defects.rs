@@ -57,15 +57,22 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
     let mut report = DefectReport::default();
     let mut at = incidence(p);
     let mut alive = vec![true; p.quads.len()];
-    let candidates: Vec<u32> = (0..p.nodes.len() as u32).filter(|&v| p.nodes[v as usize].node == NodeRef::Interior && is_defect(at[v as usize].len())).collect();
+    let candidates: Vec<u32> = (0..p.nodes.len() as u32)
+        .filter(|&v| {
+            p.nodes[v as usize].node == NodeRef::Interior && is_defect(at[v as usize].len())
+        })
+        .collect();
     report.found = candidates.len();
-    let quality = |p: &QuadPatch, q: u32| quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize]);
+    let quality =
+        |p: &QuadPatch, q: u32| quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize]);
     for v in candidates {
         let star = at[v as usize].clone();
         if !is_defect(star.len()) {
             continue;
         }
-        let Some(ring) = one_ring(&p.quads, v, &star) else { continue };
+        let Some(ring) = one_ring(&p.quads, v, &star) else {
+            continue;
+        };
         if ring.len() > crate::disk_quads::TABLE_MAX_BOUNDARY {
             continue;
         }
@@ -74,31 +81,58 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
             .iter()
             .map(|&w| {
                 let total = at[w as usize].len() as u8;
-                let inside = star.iter().filter(|&&q| p.quads[q as usize].contains(&w)).count() as u8;
+                let inside = star
+                    .iter()
+                    .filter(|&&q| p.quads[q as usize].contains(&w))
+                    .count() as u8;
                 let (ideal, allowed) = match p.nodes[w as usize].node {
                     NodeRef::Interior => (4, (3, 5)),
                     NodeRef::Curve(..) => (2, (total.min(2), total.max(2))),
                     NodeRef::Corner(_) => (total, (total, total)),
                 };
-                CavityVertex { ideal, outside: total - inside, allowed }
+                CavityVertex {
+                    ideal,
+                    outside: total - inside,
+                    allowed,
+                }
             })
             .collect();
-        let current: u32 = cavity.iter().zip(&ring).map(|(c, &w)| (c.ideal as i32 - at[w as usize].len() as i32).pow(2) as u32).sum::<u32>() + (4 - star.len() as i32).pow(2) as u32;
-        let Some(best) = best_replacement(table(), &cavity) else { continue };
+        let current: u32 = cavity
+            .iter()
+            .zip(&ring)
+            .map(|(c, &w)| (c.ideal as i32 - at[w as usize].len() as i32).pow(2) as u32)
+            .sum::<u32>()
+            + (4 - star.len() as i32).pow(2) as u32;
+        let Some(best) = best_replacement(table(), &cavity) else {
+            continue;
+        };
         if best.irregularity >= current {
             continue;
         }
         let disk = &table()[best.disk];
         // the enlarged cavity (quads around the ring) and its worst quad, before
-        let mut region: Vec<u32> = ring.iter().flat_map(|&w| at[w as usize].iter().copied()).collect();
+        let mut region: Vec<u32> = ring
+            .iter()
+            .flat_map(|&w| at[w as usize].iter().copied())
+            .collect();
         region.sort_unstable();
         region.dedup();
-        let old_worst = region.iter().map(|&q| quality(p, q)).fold(f64::INFINITY, f64::min);
+        let old_worst = region
+            .iter()
+            .map(|&q| quality(p, q))
+            .fold(f64::INFINITY, f64::min);
         // what an undo restores
         let saved_nodes = p.nodes.len();
         let saved_quads = p.quads.len();
-        let movable_ring: Vec<u32> = ring.iter().copied().filter(|&w| p.nodes[w as usize].node == NodeRef::Interior).collect();
-        let saved_ring: Vec<([f64; 2], geometry::vec3::Vec3)> = movable_ring.iter().map(|&w| (p.nodes[w as usize].uv, p.pos[w as usize])).collect();
+        let movable_ring: Vec<u32> = ring
+            .iter()
+            .copied()
+            .filter(|&w| p.nodes[w as usize].node == NodeRef::Interior)
+            .collect();
+        let saved_ring: Vec<([f64; 2], geometry::vec3::Vec3)> = movable_ring
+            .iter()
+            .map(|&w| (p.nodes[w as usize].uv, p.pos[w as usize]))
+            .collect();
         let centre = {
             let uv0 = p.nodes[v as usize].uv;
             let s = ring.iter().fold([0.0, 0.0], |a, &w| {
@@ -109,7 +143,11 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
         };
         let fresh: Vec<u32> = (0..disk.interior)
             .map(|_| {
-                p.nodes.push(LocalNode { uv: centre, node: NodeRef::Interior, pole: None });
+                p.nodes.push(LocalNode {
+                    uv: centre,
+                    node: NodeRef::Interior,
+                    pole: None,
+                });
                 p.pos.push(face.surface.eval(centre));
                 at.push(Vec::new());
                 (p.nodes.len() - 1) as u32
@@ -133,7 +171,11 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
             alive.push(true);
         }
         // smooth the new vertices and the ring's interior vertices in (u, v)
-        let movable: Vec<u32> = fresh.iter().copied().chain(movable_ring.iter().copied()).collect();
+        let movable: Vec<u32> = fresh
+            .iter()
+            .copied()
+            .chain(movable_ring.iter().copied())
+            .collect();
         let neighbours = |p: &QuadPatch, at: &[Vec<u32>], m: u32| -> Vec<u32> {
             let mut ns = Vec::new();
             for &q in &at[m as usize] {
@@ -166,10 +208,16 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
             finite &= x.iter().all(|c| c.is_finite());
             p.pos[m as usize] = x;
         }
-        let mut touched: Vec<u32> = movable.iter().flat_map(|&m| at[m as usize].iter().copied()).collect();
+        let mut touched: Vec<u32> = movable
+            .iter()
+            .flat_map(|&m| at[m as usize].iter().copied())
+            .collect();
         touched.sort_unstable();
         touched.dedup();
-        let new_worst = touched.iter().map(|&q| quality(p, q)).fold(f64::INFINITY, f64::min);
+        let new_worst = touched
+            .iter()
+            .map(|&q| quality(p, q))
+            .fold(f64::INFINITY, f64::min);
         if finite && new_worst > 0.0 && new_worst >= KEEP_QUALITY * old_worst.min(1.0) {
             report.replaced += 1;
             continue;
@@ -207,7 +255,6 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
     report
 }
 
-
 /// Drops the quads (and their source triangles) whose `alive` flag is false,
 /// keeping the order of the others: the last step of a local replacement.
 pub(crate) fn drop_dead_quads(p: &mut QuadPatch, alive: &[bool]) {
@@ -234,20 +281,42 @@ mod tests {
     fn valence_six_patch() -> QuadPatch {
         let mut p = QuadPatch::default();
         let add = |uv: [f64; 2], node: NodeRef, p: &mut QuadPatch| {
-            p.nodes.push(LocalNode { uv, node, pole: None });
+            p.nodes.push(LocalNode {
+                uv,
+                node,
+                pole: None,
+            });
             p.pos.push([uv[0], uv[1], 0.0]);
             (p.nodes.len() - 1) as u32
         };
         let c = add([0.0, 0.0], NodeRef::Interior, &mut p);
         let polar = |r: f64, deg: f64| [r * deg.to_radians().cos(), r * deg.to_radians().sin()];
         // ring: edge neighbours at radius 1 (angles 0, 60, …), diagonals at radius 1.6 (30, 90, …)
-        let ring: Vec<u32> = (0..12).map(|j| add(polar(if j % 2 == 0 { 1.0 } else { 1.6 }, 30.0 * j as f64), NodeRef::Interior, &mut p)).collect();
-        let outer: Vec<u32> = (0..12).map(|j| add(polar(3.0, 30.0 * j as f64), NodeRef::Curve(geometry::CurveId(0), j as u32 + 1), &mut p)).collect();
+        let ring: Vec<u32> = (0..12)
+            .map(|j| {
+                add(
+                    polar(if j % 2 == 0 { 1.0 } else { 1.6 }, 30.0 * j as f64),
+                    NodeRef::Interior,
+                    &mut p,
+                )
+            })
+            .collect();
+        let outer: Vec<u32> = (0..12)
+            .map(|j| {
+                add(
+                    polar(3.0, 30.0 * j as f64),
+                    NodeRef::Curve(geometry::CurveId(0), j as u32 + 1),
+                    &mut p,
+                )
+            })
+            .collect();
         for i in 0..6 {
-            p.quads.push([c, ring[2 * i], ring[2 * i + 1], ring[(2 * i + 2) % 12]]);
+            p.quads
+                .push([c, ring[2 * i], ring[2 * i + 1], ring[(2 * i + 2) % 12]]);
         }
         for j in 0..12 {
-            p.quads.push([ring[(j + 1) % 12], ring[j], outer[j], outer[(j + 1) % 12]]);
+            p.quads
+                .push([ring[(j + 1) % 12], ring[j], outer[j], outer[(j + 1) % 12]]);
         }
         p.quad_tri = (0..p.quads.len() as u32).collect();
         p
@@ -259,20 +328,34 @@ mod tests {
         let face = &model.faces[0];
         let mut p = valence_six_patch();
         for q in &p.quads {
-            assert!(quad_quality(face, &p.nodes, &p.pos, q) > 0.0, "the test patch is valid");
+            assert!(
+                quad_quality(face, &p.nodes, &p.pos, q) > 0.0,
+                "the test patch is valid"
+            );
         }
-        let outer_before: Vec<([f64; 2], [f64; 3])> = (13..25).map(|i| (p.nodes[i].uv, p.pos[i])).collect();
+        let outer_before: Vec<([f64; 2], [f64; 3])> =
+            (13..25).map(|i| (p.nodes[i].uv, p.pos[i])).collect();
         let r = remove_defects(face, &mut p);
         assert_eq!(r.found, 1);
         assert_eq!(r.replaced, 1, "{r:?}");
         let at = incidence(&p);
-        let interior_valences: Vec<usize> = (0..p.nodes.len()).filter(|&i| p.nodes[i].node == NodeRef::Interior && !at[i].is_empty()).map(|i| at[i].len()).collect();
-        assert!(interior_valences.iter().all(|&k| (3..=5).contains(&k)), "{interior_valences:?}");
+        let interior_valences: Vec<usize> = (0..p.nodes.len())
+            .filter(|&i| p.nodes[i].node == NodeRef::Interior && !at[i].is_empty())
+            .map(|i| at[i].len())
+            .collect();
+        assert!(
+            interior_valences.iter().all(|&k| (3..=5).contains(&k)),
+            "{interior_valences:?}"
+        );
         for q in &p.quads {
-            assert!(quad_quality(face, &p.nodes, &p.pos, q) > 0.0, "quad {q:?} invalid after the replacement");
+            assert!(
+                quad_quality(face, &p.nodes, &p.pos, q) > 0.0,
+                "quad {q:?} invalid after the replacement"
+            );
         }
         // fixed curve vertices did not move
-        let outer_after: Vec<([f64; 2], [f64; 3])> = (13..25).map(|i| (p.nodes[i].uv, p.pos[i])).collect();
+        let outer_after: Vec<([f64; 2], [f64; 3])> =
+            (13..25).map(|i| (p.nodes[i].uv, p.pos[i])).collect();
         assert_eq!(outer_before, outer_after);
         // Euler characteristic of the disk patch is still 1
         let used = at.iter().filter(|a| !a.is_empty()).count();
@@ -293,9 +376,22 @@ mod tests {
         model.faces[0].reversed = true;
         let face = &model.faces[0];
         let mut p = valence_six_patch();
-        let before = (p.quads.clone(), p.nodes.iter().map(|n| n.uv).collect::<Vec<_>>(), p.pos.clone(), p.nodes.len());
+        let before = (
+            p.quads.clone(),
+            p.nodes.iter().map(|n| n.uv).collect::<Vec<_>>(),
+            p.pos.clone(),
+            p.nodes.len(),
+        );
         let r = remove_defects(face, &mut p);
         assert_eq!((r.found, r.replaced, r.undone), (1, 0, 1));
-        assert_eq!(before, (p.quads.clone(), p.nodes.iter().map(|n| n.uv).collect::<Vec<_>>(), p.pos.clone(), p.nodes.len()));
+        assert_eq!(
+            before,
+            (
+                p.quads.clone(),
+                p.nodes.iter().map(|n| n.uv).collect::<Vec<_>>(),
+                p.pos.clone(),
+                p.nodes.len()
+            )
+        );
     }
 }

@@ -80,12 +80,19 @@ struct Disk {
 
 impl Disk {
     fn single_quad() -> Disk {
-        Disk { quads: vec![[0, 1, 2, 3]], boundary: vec![0, 1, 2, 3], quads_at: vec![1; 4], interior: 0 }
+        Disk {
+            quads: vec![[0, 1, 2, 3]],
+            boundary: vec![0, 1, 2, 3],
+            quads_at: vec![1; 4],
+            interior: 0,
+        }
     }
 
     /// True when an edge joins `a` and `b`.
     fn adjacent(&self, a: u16, b: u16) -> bool {
-        self.quads.iter().any(|q| (0..4).any(|k| (q[k] == a && q[(k + 1) % 4] == b) || (q[k] == b && q[(k + 1) % 4] == a)))
+        self.quads.iter().any(|q| {
+            (0..4).any(|k| (q[k] == a && q[(k + 1) % 4] == b) || (q[k] == b && q[(k + 1) % 4] == a))
+        })
     }
 
     /// Attaches a quad along the `k` boundary edges that start at boundary
@@ -160,7 +167,14 @@ impl Disk {
         let mut queue: std::collections::VecDeque<(u16, u16)> = std::collections::VecDeque::new();
         let mut code = Vec::with_capacity(2 + 4 * self.quads.len());
         for mirror in [false, true] {
-            let quads: Vec<[u16; 4]> = if mirror { self.quads.iter().map(|q| [q[0], q[3], q[2], q[1]]).collect() } else { self.quads.clone() };
+            let quads: Vec<[u16; 4]> = if mirror {
+                self.quads
+                    .iter()
+                    .map(|q| [q[0], q[3], q[2], q[1]])
+                    .collect()
+            } else {
+                self.quads.clone()
+            };
             // the quad (and local edge) on the left of each directed edge
             let mut left = vec![(u16::MAX, 0u8); nv * nv];
             for (qi, q) in quads.iter().enumerate() {
@@ -169,7 +183,13 @@ impl Disk {
                 }
             }
             for root in 0..b {
-                let bnd = |i: usize| if mirror { self.boundary[(root + b - i) % b] } else { self.boundary[(root + i) % b] };
+                let bnd = |i: usize| {
+                    if mirror {
+                        self.boundary[(root + b - i) % b]
+                    } else {
+                        self.boundary[(root + i) % b]
+                    }
+                };
                 label.iter_mut().for_each(|l| *l = NONE);
                 seen.iter_mut().for_each(|x| *x = false);
                 for i in 0..b {
@@ -227,8 +247,16 @@ impl Disk {
 fn table_entry(code: &[u16]) -> DiskQuadrangulation {
     let b = code[0] as usize;
     let interior = code[1] as usize;
-    let quads: Vec<[u8; 4]> = code[2..].chunks(4).map(|c| [c[0] as u8, c[1] as u8, c[2] as u8, c[3] as u8]).collect();
-    let mut d = DiskQuadrangulation { boundary: b, interior, quads, boundary_quads: Vec::new() };
+    let quads: Vec<[u8; 4]> = code[2..]
+        .chunks(4)
+        .map(|c| [c[0] as u8, c[1] as u8, c[2] as u8, c[3] as u8])
+        .collect();
+    let mut d = DiskQuadrangulation {
+        boundary: b,
+        interior,
+        quads,
+        boundary_quads: Vec::new(),
+    };
     d.boundary_quads = d.valences()[..b].to_vec();
     d
 }
@@ -246,7 +274,11 @@ pub fn enumerate(max_boundary: usize, max_interior: usize) -> Vec<DiskQuadrangul
     let mut level: Vec<(Disk, Vec<u16>)> = vec![(first.clone(), first.canonical())];
     let mut out: Vec<(Vec<u16>, DiskQuadrangulation)> = Vec::new();
     let keep = |d: &Disk, code: &[u16], out: &mut Vec<(Vec<u16>, DiskQuadrangulation)>| {
-        if d.boundary.len() <= max_boundary && d.boundary.iter().all(|&v| d.quads_at[v as usize] <= MAX_BOUNDARY_QUADS) {
+        if d.boundary.len() <= max_boundary
+            && d.boundary
+                .iter()
+                .all(|&v| d.quads_at[v as usize] <= MAX_BOUNDARY_QUADS)
+        {
             out.push((code.to_vec(), table_entry(code)));
         }
     };
@@ -306,14 +338,28 @@ pub fn parse_table(text: &str) -> Option<Vec<DiskQuadrangulation>> {
     text.lines()
         .filter(|l| !l.trim().is_empty())
         .map(|line| {
-            let v: Vec<usize> = line.split_whitespace().map(|x| x.parse().ok()).collect::<Option<_>>()?;
+            let v: Vec<usize> = line
+                .split_whitespace()
+                .map(|x| x.parse().ok())
+                .collect::<Option<_>>()?;
             let (b, ni) = (*v.first()?, *v.get(1)?);
             let rest = &v[2..];
-            if rest.len() % 4 != 0 || rest.len() / 4 != (b.checked_sub(2)?) / 2 + ni || rest.iter().any(|&x| x >= b + ni) {
+            if rest.len() % 4 != 0
+                || rest.len() / 4 != (b.checked_sub(2)?) / 2 + ni
+                || rest.iter().any(|&x| x >= b + ni)
+            {
                 return None;
             }
-            let quads: Vec<[u8; 4]> = rest.chunks(4).map(|c| [c[0] as u8, c[1] as u8, c[2] as u8, c[3] as u8]).collect();
-            let mut d = DiskQuadrangulation { boundary: b, interior: ni, quads, boundary_quads: Vec::new() };
+            let quads: Vec<[u8; 4]> = rest
+                .chunks(4)
+                .map(|c| [c[0] as u8, c[1] as u8, c[2] as u8, c[3] as u8])
+                .collect();
+            let mut d = DiskQuadrangulation {
+                boundary: b,
+                interior: ni,
+                quads,
+                boundary_quads: Vec::new(),
+            };
             d.boundary_quads = d.valences()[..b].to_vec();
             Some(d)
         })
@@ -325,7 +371,10 @@ pub fn parse_table(text: &str) -> Option<Vec<DiskQuadrangulation>> {
 /// enumerator's output should the stored copy ever fail to read.
 pub fn table() -> &'static [DiskQuadrangulation] {
     static TABLE: OnceLock<Vec<DiskQuadrangulation>> = OnceLock::new();
-    TABLE.get_or_init(|| parse_table(STORED_TABLE).unwrap_or_else(|| enumerate(TABLE_MAX_BOUNDARY, TABLE_MAX_INTERIOR)))
+    TABLE.get_or_init(|| {
+        parse_table(STORED_TABLE)
+            .unwrap_or_else(|| enumerate(TABLE_MAX_BOUNDARY, TABLE_MAX_INTERIOR))
+    })
 }
 
 /// One vertex of a cavity boundary, as the choice of a replacement sees it.
@@ -357,22 +406,42 @@ pub struct Placement {
 impl Placement {
     /// Cavity position of the disk's boundary vertex `i` (`b` boundary vertices).
     pub fn position(&self, i: usize, b: usize) -> usize {
-        if self.mirror { (self.rotation + b - i % b) % b } else { (self.rotation + i) % b }
+        if self.mirror {
+            (self.rotation + b - i % b) % b
+        } else {
+            (self.rotation + i) % b
+        }
     }
 
     /// The replacement quads on mesh vertex ids: `boundary` the cavity's
     /// vertices (counter-clockwise), `interior` ids for the disk's interior
     /// vertices (as many as it has). Quads come out counter-clockwise.
-    pub fn quads(&self, disk: &DiskQuadrangulation, boundary: &[u32], interior: &[u32]) -> Vec<[u32; 4]> {
+    pub fn quads(
+        &self,
+        disk: &DiskQuadrangulation,
+        boundary: &[u32],
+        interior: &[u32],
+    ) -> Vec<[u32; 4]> {
         let b = boundary.len();
         let id = |v: u8| {
             let v = v as usize;
-            if v < disk.boundary { boundary[self.position(v, b)] } else { interior[v - disk.boundary] }
+            if v < disk.boundary {
+                boundary[self.position(v, b)]
+            } else {
+                interior[v - disk.boundary]
+            }
         };
-        disk.quads.iter().map(|q| {
-            let m = q.map(id);
-            if self.mirror { [m[0], m[3], m[2], m[1]] } else { m }
-        }).collect()
+        disk.quads
+            .iter()
+            .map(|q| {
+                let m = q.map(id);
+                if self.mirror {
+                    [m[0], m[3], m[2], m[1]]
+                } else {
+                    m
+                }
+            })
+            .collect()
     }
 }
 
@@ -383,14 +452,25 @@ impl Placement {
 /// `I_r = Σ_boundary (n̄ − n^out − n^in)² + Σ_interior (4 − n^in)²`; ties go to
 /// the fewest interior vertices, then to the first found. `None` when no
 /// disk fits.
-pub fn best_replacement(disks: &[DiskQuadrangulation], cavity: &[CavityVertex]) -> Option<Placement> {
+pub fn best_replacement(
+    disks: &[DiskQuadrangulation],
+    cavity: &[CavityVertex],
+) -> Option<Placement> {
     let b = cavity.len();
     let mut best: Option<(u32, usize, Placement)> = None;
     for (di, d) in disks.iter().enumerate().filter(|(_, d)| d.boundary == b) {
-        let inner: u32 = d.valences()[b..].iter().map(|&k| (4 - k as i32).pow(2) as u32).sum();
+        let inner: u32 = d.valences()[b..]
+            .iter()
+            .map(|&k| (4 - k as i32).pow(2) as u32)
+            .sum();
         for mirror in [false, true] {
             'rot: for rotation in 0..b {
-                let p = Placement { disk: di, rotation, mirror, irregularity: 0 };
+                let p = Placement {
+                    disk: di,
+                    rotation,
+                    mirror,
+                    irregularity: 0,
+                };
                 let mut ir = inner;
                 for (i, &n_in) in d.boundary_quads.iter().enumerate() {
                     let c = cavity[p.position(i, b)];
@@ -402,7 +482,14 @@ pub fn best_replacement(disks: &[DiskQuadrangulation], cavity: &[CavityVertex]) 
                 }
                 let key = (ir, d.interior);
                 if best.as_ref().is_none_or(|(bi, bn, _)| key < (*bi, *bn)) {
-                    best = Some((ir, d.interior, Placement { irregularity: ir, ..p }));
+                    best = Some((
+                        ir,
+                        d.interior,
+                        Placement {
+                            irregularity: ir,
+                            ..p
+                        },
+                    ));
                 }
             }
         }

@@ -24,14 +24,16 @@ use geometry::{FaceId, Model};
 use mesh::field::{CrossFieldMesh, FieldSingularity};
 use rayon::prelude::*;
 
-use crate::crossfield::{compute_cross_field, CrossField, CrossFieldError, CrossFieldOptions, FaceMesh};
+use crate::crossfield::{
+    compute_cross_field, CrossField, CrossFieldError, CrossFieldOptions, FaceMesh,
+};
 use crate::curve_mesh::{discretize_all, plan_curves, CurveMesh};
+use crate::curve_mesh::{plan_curves_sized, CurvePlan};
 use crate::face_triangulation::{FaceTriangulation, NodeRef};
 use crate::pipeline::{resolve_size, MeshError, ProgressFn, Size};
 use crate::scaling::{conformal_scaling, scaling_constant};
-use crate::size_map::{build_size_map, FaceBackground, SizeMap, SizeMapError, SizeMapOptions};
-use crate::curve_mesh::{plan_curves_sized, CurvePlan};
 use crate::singularities::{extract_singularities, Singularities};
+use crate::size_map::{build_size_map, FaceBackground, SizeMap, SizeMapError, SizeMapOptions};
 
 /// Default ratio between the quad size and the background triangle size
 /// (the background triangulation has edges of about a quarter of the quad size).
@@ -127,13 +129,19 @@ impl FaceField {
     /// One unit branch direction of the cross at the barycentre of each
     /// background triangle (`None` where the interpolated cross vanishes).
     pub fn triangle_directions(&self) -> Vec<Option<[Vec3; 2]>> {
-        (0..self.triangles()).map(|t| self.field.triangle_cross(t)).collect()
+        (0..self.triangles())
+            .map(|t| self.field.triangle_cross(t))
+            .collect()
     }
 
     /// Index of each boundary CAD corner in relation (2): `2 − n̄` for the
     /// ideal valence `n̄` (a 90° corner gives +1, 180° 0, 270° −1).
     pub fn corner_indices(&self) -> Vec<i64> {
-        self.singularities.corners.iter().map(|c| 2 - c.ideal_valence as i64).collect()
+        self.singularities
+            .corners
+            .iter()
+            .map(|c| 2 - c.ideal_valence as i64)
+            .collect()
     }
 }
 
@@ -149,7 +157,9 @@ pub struct FaceFieldReport {
 impl FaceFieldReport {
     /// True when the face has a field whose singularities satisfy relation (2).
     pub fn euler_ok(&self) -> bool {
-        self.outcome.as_ref().is_ok_and(|f| f.singularities.satisfies_eq2())
+        self.outcome
+            .as_ref()
+            .is_ok_and(|f| f.singularities.satisfies_eq2())
     }
 }
 
@@ -187,14 +197,22 @@ impl ModelFields {
 
     /// Total number of background triangles over the faces that have a field.
     pub fn triangles(&self) -> usize {
-        self.faces.iter().filter_map(|f| f.outcome.as_ref().ok()).map(FaceField::triangles).sum()
+        self.faces
+            .iter()
+            .filter_map(|f| f.outcome.as_ref().ok())
+            .map(FaceField::triangles)
+            .sum()
     }
 
     /// Curve quantization against the size map (paper §4.3): each curve's
     /// count from ∫ dl / s, chords of 4-sided faces equalized; without a
     /// size map, the uniform plan for the quad size.
     pub fn curve_plan(&self, model: &Model) -> CurvePlan {
-        let sizes = self.size_map.as_ref().map(|m| m.curve_sizes(model, &self.curves)).unwrap_or_default();
+        let sizes = self
+            .size_map
+            .as_ref()
+            .map(|m| m.curve_sizes(model, &self.curves))
+            .unwrap_or_default();
         plan_curves_sized(model, self.size, &sizes)
     }
 
@@ -206,13 +224,19 @@ impl ModelFields {
     /// is present when at least one face has a size map; NaN elsewhere).
     pub fn to_field_mesh(&self, model: &Model) -> CrossFieldMesh {
         let mut out = CrossFieldMesh::default();
-        let any_size = self.faces.iter().any(|f| f.outcome.as_ref().is_ok_and(|f| f.size.is_some()));
+        let any_size = self
+            .faces
+            .iter()
+            .any(|f| f.outcome.as_ref().is_ok_and(|f| f.size.is_some()));
         let mut sizes = Vec::new();
         for report in &self.faces {
             let Ok(ff) = &report.outcome else { continue };
             let topo = &ff.field.topology;
             let base = out.nodes.len() as u32;
-            let flip = model.faces.get(report.face.idx()).is_some_and(|f| f.reversed);
+            let flip = model
+                .faces
+                .get(report.face.idx())
+                .is_some_and(|f| f.reversed);
             out.nodes.extend_from_slice(&topo.positions);
             for (t, tri) in topo.triangles.iter().enumerate() {
                 let tri = if flip { [tri[0], tri[2], tri[1]] } else { *tri };
@@ -220,10 +244,17 @@ impl ModelFields {
                 out.triangle_face.push(report.face);
                 out.cross.push(ff.field.triangle_cross(t).map(|d| d[0]));
                 if any_size {
-                    sizes.push(ff.size.as_ref().map_or(f64::NAN, |s| tri.iter().map(|&v| s[v as usize]).sum::<f64>() / 3.0));
+                    sizes.push(ff.size.as_ref().map_or(f64::NAN, |s| {
+                        tri.iter().map(|&v| s[v as usize]).sum::<f64>() / 3.0
+                    }));
                 }
             }
-            out.singularities.extend(ff.singularities.list.iter().map(|s| FieldSingularity { position: s.position, index: s.index, face: report.face }));
+            out.singularities
+                .extend(ff.singularities.list.iter().map(|s| FieldSingularity {
+                    position: s.position,
+                    index: s.index,
+                    face: report.face,
+                }));
         }
         out.size = any_size.then_some(sizes);
         out
@@ -253,9 +284,24 @@ pub fn face_field(
         }
     }
     let singularities = extract_singularities(&field);
-    let scaling = if opts.size_map { conformal_scaling(&field).ok().map(|s| s.h).filter(|h| h.iter().all(|x| x.is_finite())) } else { None };
-    let size = scaling.as_ref().and_then(|h| face_conformal_size(&field, h, quad_size));
-    Ok(FaceField { field, singularities, refs, scaling, size })
+    let scaling = if opts.size_map {
+        conformal_scaling(&field)
+            .ok()
+            .map(|s| s.h)
+            .filter(|h| h.iter().all(|x| x.is_finite()))
+    } else {
+        None
+    };
+    let size = scaling
+        .as_ref()
+        .and_then(|h| face_conformal_size(&field, h, quad_size));
+    Ok(FaceField {
+        field,
+        singularities,
+        refs,
+        scaling,
+        size,
+    })
 }
 
 /// `e^{H + C}` per welded vertex, `C` set for `area / quad_size²` quads;
@@ -280,7 +326,8 @@ pub fn model_fields(model: &Model, opts: &FieldOptions) -> Result<ModelFields, M
     if !(opts.refine.is_finite() && opts.refine > 0.0) {
         return Err(MeshError::InvalidSize(opts.refine));
     }
-    let h_bg = (h / opts.refine).max(crate::pipeline::default_size(model) / MAX_BACKGROUND_DIVISIONS);
+    let h_bg =
+        (h / opts.refine).max(crate::pipeline::default_size(model) / MAX_BACKGROUND_DIVISIONS);
     let cms = discretize_all(model, &plan_curves(model, h_bg));
     let nf = model.faces.len();
     let done = AtomicUsize::new(0);
@@ -296,7 +343,13 @@ pub fn model_fields(model: &Model, opts: &FieldOptions) -> Result<ModelFields, M
             FaceFieldReport { face, outcome }
         })
         .collect();
-    let mut fields = ModelFields { size: h, background_size: h_bg, faces, curves: cms, size_map: None };
+    let mut fields = ModelFields {
+        size: h,
+        background_size: h_bg,
+        faces,
+        curves: cms,
+        size_map: None,
+    };
     if opts.size_map {
         fields.apply_size_map(model, &opts.sizing)?;
     }
@@ -307,15 +360,23 @@ impl ModelFields {
     /// Builds the model's size map from the faces' fields and stores it,
     /// replacing each face's conformal size with it.
     fn apply_size_map(&mut self, model: &Model, sizing: &SizeMapOptions) -> Result<(), MeshError> {
-        let ok: Vec<usize> = (0..self.faces.len()).filter(|&i| self.faces[i].outcome.is_ok()).collect();
+        let ok: Vec<usize> = (0..self.faces.len())
+            .filter(|&i| self.faces[i].outcome.is_ok())
+            .collect();
         let inputs: Vec<FaceBackground<'_>> = ok
             .iter()
             .map(|&i| {
                 let f = self.faces[i].outcome.as_ref().expect("filtered on ok");
-                FaceBackground { face: self.faces[i].face, topo: &f.field.topology, refs: &f.refs, scaling: f.scaling.as_deref() }
+                FaceBackground {
+                    face: self.faces[i].face,
+                    topo: &f.field.topology,
+                    refs: &f.refs,
+                    scaling: f.scaling.as_deref(),
+                }
             })
             .collect();
-        let map = build_size_map(model, &self.curves, &inputs, self.size, sizing).map_err(|e: SizeMapError| MeshError::Sizing(e.to_string()))?;
+        let map = build_size_map(model, &self.curves, &inputs, self.size, sizing)
+            .map_err(|e: SizeMapError| MeshError::Sizing(e.to_string()))?;
         for (k, &i) in ok.iter().enumerate() {
             if let Ok(f) = &mut self.faces[i].outcome {
                 f.size = Some(map.face_sizes(k));
@@ -336,22 +397,53 @@ mod tests {
         let model = geometry::primitives::square(2.0);
         let default = crate::pipeline::default_size(&model);
         // a coarse quad size: h / 8
-        let f = model_fields(&model, &FieldOptions { size: Size::Absolute(0.5), size_map: false, ..Default::default() }).unwrap();
+        let f = model_fields(
+            &model,
+            &FieldOptions {
+                size: Size::Absolute(0.5),
+                size_map: false,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         assert!((f.background_size - 0.5 / BACKGROUND_REFINE).abs() < 1e-12);
         // a quad size 16 × finer than the default: the background stops at default / 32
-        let f = model_fields(&model, &FieldOptions { size: Size::Factor(1.0 / 16.0), size_map: false, ..Default::default() }).unwrap();
-        assert!((f.background_size - default / MAX_BACKGROUND_DIVISIONS).abs() < 1e-12, "{}", f.background_size);
+        let f = model_fields(
+            &model,
+            &FieldOptions {
+                size: Size::Factor(1.0 / 16.0),
+                size_map: false,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            (f.background_size - default / MAX_BACKGROUND_DIVISIONS).abs() < 1e-12,
+            "{}",
+            f.background_size
+        );
         assert!(f.faces[0].outcome.is_ok());
     }
 
     #[test]
     fn square_model_has_a_regular_field_and_a_uniform_size() {
         let model = geometry::primitives::square(2.0);
-        let fields = model_fields(&model, &FieldOptions { size: Size::Absolute(0.5), ..Default::default() }).unwrap();
+        let fields = model_fields(
+            &model,
+            &FieldOptions {
+                size: Size::Absolute(0.5),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         assert_eq!(fields.faces.len(), 1);
         assert!((fields.background_size - 0.5 / BACKGROUND_REFINE).abs() < 1e-12);
         let f = fields.faces[0].outcome.as_ref().expect("field");
-        assert!(f.singularities.list.is_empty(), "{:?}", f.singularities.list);
+        assert!(
+            f.singularities.list.is_empty(),
+            "{:?}",
+            f.singularities.list
+        );
         assert_eq!(f.corner_indices(), [1, 1, 1, 1]);
         assert!(fields.faces[0].euler_ok());
         assert_eq!(fields.faces_euler_ok(), 1);
@@ -364,7 +456,11 @@ mod tests {
         }
         // about 16 quads of side 0.5: the size map is ≈ 0.5 everywhere
         let s = f.size.as_ref().expect("size map");
-        assert!(s.iter().all(|&x| (x - 0.5).abs() < 0.02), "sizes {:?}", &s[..4]);
+        assert!(
+            s.iter().all(|&x| (x - 0.5).abs() < 0.02),
+            "sizes {:?}",
+            &s[..4]
+        );
         // as one mesh for files and pictures
         let fm = fields.to_field_mesh(&model);
         assert!(fm.check().is_ok());
@@ -378,13 +474,24 @@ mod tests {
         for reversed in [false, true] {
             let mut model = geometry::primitives::square(1.0);
             model.faces[0].reversed = reversed;
-            let fields = model_fields(&model, &FieldOptions { size: Size::Absolute(0.5), size_map: false, ..Default::default() }).unwrap();
+            let fields = model_fields(
+                &model,
+                &FieldOptions {
+                    size: Size::Absolute(0.5),
+                    size_map: false,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
             let fm = fields.to_field_mesh(&model);
             assert!(fm.size.is_none());
             let want = model.faces[0].normal([0.5, 0.5]).unwrap();
             for t in &fm.triangles {
                 let p = t.map(|v| fm.nodes[v as usize]);
-                let n = geometry::vec3::cross(geometry::vec3::sub(p[1], p[0]), geometry::vec3::sub(p[2], p[0]));
+                let n = geometry::vec3::cross(
+                    geometry::vec3::sub(p[1], p[0]),
+                    geometry::vec3::sub(p[2], p[0]),
+                );
                 assert!(geometry::vec3::dot(n, want) > 0.0, "reversed = {reversed}");
             }
         }
@@ -393,8 +500,22 @@ mod tests {
     #[test]
     fn bad_sizes_are_refused() {
         let model = geometry::primitives::square(1.0);
-        assert!(model_fields(&model, &FieldOptions { size: Size::Absolute(-1.0), ..Default::default() }).is_err());
-        assert!(model_fields(&model, &FieldOptions { refine: 0.0, ..Default::default() }).is_err());
+        assert!(model_fields(
+            &model,
+            &FieldOptions {
+                size: Size::Absolute(-1.0),
+                ..Default::default()
+            }
+        )
+        .is_err());
+        assert!(model_fields(
+            &model,
+            &FieldOptions {
+                refine: 0.0,
+                ..Default::default()
+            }
+        )
+        .is_err());
     }
 
     #[test]
@@ -406,10 +527,26 @@ mod tests {
             assert!(d <= n);
             l.fetch_max(d, Ordering::Relaxed);
         });
-        let fields = model_fields(&model, &FieldOptions { progress: Some(progress), size_map: false, ..Default::default() }).unwrap();
+        let fields = model_fields(
+            &model,
+            &FieldOptions {
+                progress: Some(progress),
+                size_map: false,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         assert_eq!(last.load(Ordering::Relaxed), model.faces.len());
-        let sum: i64 = fields.faces.iter().filter_map(|f| f.outcome.as_ref().ok()).map(|f| f.singularities.index_sum()).sum();
+        let sum: i64 = fields
+            .faces
+            .iter()
+            .filter_map(|f| f.outcome.as_ref().ok())
+            .map(|f| f.singularities.index_sum())
+            .sum();
         assert_eq!(sum, 8, "a sphere's indices add up to 4χ = 8");
-        assert!(fields.faces.iter().all(|f| f.outcome.as_ref().unwrap().size.is_none()));
+        assert!(fields
+            .faces
+            .iter()
+            .all(|f| f.outcome.as_ref().unwrap().size.is_none()));
     }
 }

@@ -43,7 +43,11 @@ pub struct FrontalOptions {
 
 impl Default for FrontalOptions {
     fn default() -> Self {
-        FrontalOptions { factor: 2.0, kappa: 0.7, max_points: 400_000 }
+        FrontalOptions {
+            factor: 2.0,
+            kappa: 0.7,
+            max_points: 400_000,
+        }
     }
 }
 
@@ -81,7 +85,11 @@ impl PointGrid {
         for k in 1..LEVELS {
             c[k] = c[k - 1] * LEVEL_RATIO;
         }
-        PointGrid { cell: c, cells: vec![HashMap::new(); LEVELS], pts: Vec::new() }
+        PointGrid {
+            cell: c,
+            cells: vec![HashMap::new(); LEVELS],
+            pts: Vec::new(),
+        }
     }
 
     fn key(&self, level: usize, p: Vec3) -> [i64; 3] {
@@ -116,7 +124,10 @@ impl PointGrid {
                 for j in lo[1]..=hi[1] {
                     for k in lo[2]..=hi[2] {
                         if let Some(list) = self.cells[level].get(&[i, j, k]) {
-                            if list.iter().any(|&q| in_box(p, self.pts[q as usize], frame, r)) {
+                            if list
+                                .iter()
+                                .any(|&q| in_box(p, self.pts[q as usize], frame, r))
+                            {
                                 return true;
                             }
                         }
@@ -138,7 +149,11 @@ fn in_box(p: Vec3, q: Vec3, frame: &[Vec3; 3], r: f64) -> bool {
 /// to the 3D vector `w` (least squares), or `None` where the Jacobian is singular.
 pub fn uv_step(face: &Face, uv: [f64; 2], w: Vec3) -> Option<[f64; 2]> {
     let d = face.surface.derivs(uv);
-    let (a, b, c) = (vec3::dot(d.du, d.du), vec3::dot(d.du, d.dv), vec3::dot(d.dv, d.dv));
+    let (a, b, c) = (
+        vec3::dot(d.du, d.du),
+        vec3::dot(d.du, d.dv),
+        vec3::dot(d.dv, d.dv),
+    );
     let det = a * c - b * b;
     if !(det.is_finite() && det > 1e-20 * (a * c).max(1e-300)) {
         return None;
@@ -151,7 +166,12 @@ pub fn uv_step(face: &Face, uv: [f64; 2], w: Vec3) -> Option<[f64; 2]> {
 /// Runs frontal insertion on `ft` (which holds only its boundary nodes, or
 /// more), guided by the cross field and size map of `bg`. Every node already
 /// in `ft` is a seed and blocks proposals near it.
-pub fn insert_frontal_points(ft: &mut FaceTriangulation<'_>, face: &Face, bg: &Background<'_>, opts: &FrontalOptions) -> FrontalStats {
+pub fn insert_frontal_points(
+    ft: &mut FaceTriangulation<'_>,
+    face: &Face,
+    bg: &Background<'_>,
+    opts: &FrontalOptions,
+) -> FrontalStats {
     let mut stats = FrontalStats::default();
     // grid cell: the smallest exclusion radius seen on the boundary
     let mut min_r = f64::INFINITY;
@@ -171,7 +191,8 @@ pub fn insert_frontal_points(ft: &mut FaceTriangulation<'_>, face: &Face, bg: &B
     }
     // the midpoints of boundary edges block too: no point lands on (or right
     // beside) a boundary edge between two boundary nodes
-    let mut mids: Vec<(&(u32, u32), Vec3)> = ft.boundary_mid.iter().map(|(k, m)| (k, m.pos)).collect();
+    let mut mids: Vec<(&(u32, u32), Vec3)> =
+        ft.boundary_mid.iter().map(|(k, m)| (k, m.pos)).collect();
     mids.sort_by_key(|m| *m.0);
     for (_, p) in mids {
         grid.add(p);
@@ -188,9 +209,16 @@ pub fn insert_frontal_points(ft: &mut FaceTriangulation<'_>, face: &Face, bg: &B
         let Some(sx) = bg.sample(x) else { continue };
         let len = opts.factor * sx.size;
         let frame = [sx.cross[0], sx.cross[1], sx.normal];
-        let dirs = [sx.cross[0], sx.cross[1], vec3::scale(sx.cross[0], -1.0), vec3::scale(sx.cross[1], -1.0)];
+        let dirs = [
+            sx.cross[0],
+            sx.cross[1],
+            vec3::scale(sx.cross[0], -1.0),
+            vec3::scale(sx.cross[1], -1.0),
+        ];
         for d in dirs {
-            let Some(step) = uv_step(face, node.uv, vec3::scale(d, len)) else { continue };
+            let Some(step) = uv_step(face, node.uv, vec3::scale(d, len)) else {
+                continue;
+            };
             let mut uv = [node.uv[0] + step[0], node.uv[1] + step[1]];
             let mut p = face.surface.eval(uv);
             // one correction of the step length so that |p − x| = len
@@ -203,7 +231,10 @@ pub fn insert_frontal_points(ft: &mut FaceTriangulation<'_>, face: &Face, bg: &B
                 }
             }
             // never on a singular point of the surface (an apex, a pole)
-            if p.iter().any(|c| !c.is_finite()) || face.surface.normal(uv).is_none() || face.is_singular(uv) {
+            if p.iter().any(|c| !c.is_finite())
+                || face.surface.normal(uv).is_none()
+                || face.is_singular(uv)
+            {
                 continue;
             }
             let sp = bg.sample(p).map_or(sx.size, |s| s.size);
@@ -237,7 +268,14 @@ mod tests {
         // unit square, final size 0.05: coarse spacing 0.1, a 10 × 10 grid of cells
         let h = 0.05;
         let model = primitives::square(1.0);
-        let fields = model_fields(&model, &FieldOptions { size: Size::Absolute(h), ..Default::default() }).unwrap();
+        let fields = model_fields(
+            &model,
+            &FieldOptions {
+                size: Size::Absolute(h),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let ff = fields.faces[0].outcome.as_ref().unwrap();
         let size = ff.size.as_ref().unwrap();
         let bg = Background::new(&ff.field, size).unwrap();
@@ -253,11 +291,16 @@ mod tests {
         // instead: nearest neighbour of every interior point ≈ 0.1
         for i in nb..ft.nodes.len() {
             let p = ft.pos[i];
-            let d = (0..ft.nodes.len()).filter(|&j| j != i).map(|j| vec3::dist(p, ft.pos[j])).fold(f64::INFINITY, f64::min);
+            let d = (0..ft.nodes.len())
+                .filter(|&j| j != i)
+                .map(|j| vec3::dist(p, ft.pos[j]))
+                .fold(f64::INFINITY, f64::min);
             assert!(d > 0.06 && d < 0.13, "node {i} at {p:?}: nearest {d}");
         }
         // all inside the square
-        assert!(ft.pos[nb..].iter().all(|p| p[0] > 0.0 && p[0] < 1.0 && p[1] > 0.0 && p[1] < 1.0));
+        assert!(ft.pos[nb..]
+            .iter()
+            .all(|p| p[0] > 0.0 && p[0] < 1.0 && p[1] > 0.0 && p[1] < 1.0));
     }
 
     #[test]
@@ -268,6 +311,9 @@ mod tests {
         let d = face.surface.derivs(uv);
         let w = vec3::add(vec3::scale(d.du, 0.01), vec3::scale(d.dv, -0.02));
         let s = uv_step(face, uv, w).unwrap();
-        assert!((s[0] - 0.01).abs() < 1e-12 && (s[1] + 0.02).abs() < 1e-12, "{s:?}");
+        assert!(
+            (s[0] - 0.01).abs() < 1e-12 && (s[1] + 0.02).abs() < 1e-12,
+            "{s:?}"
+        );
     }
 }

@@ -48,4 +48,7 @@ pub mod split;
 pub mod subdivide;
 pub mod unstructured;
 
-pub use pipeline::{default_size, mesh_model, mesh_model_stages, mesh_model_with, resolve_size, MeshError, MeshMethod, MeshOptions, MeshReport, ProgressFn, Size, StageTimes, Stages};
+pub use pipeline::{
+    default_size, mesh_model, mesh_model_stages, mesh_model_with, resolve_size, MeshError,
+    MeshMethod, MeshOptions, MeshReport, ProgressFn, Size, StageTimes, Stages,
+};

@@ -39,7 +39,11 @@ fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, 
         return Err(format!("{} boundary loops", face.loops.len()));
     }
     let lp = &face.loops[0];
-    let mut ring = Ring { nodes: Vec::new(), pos: Vec::new(), corners: Vec::new() };
+    let mut ring = Ring {
+        nodes: Vec::new(),
+        pos: Vec::new(),
+        corners: Vec::new(),
+    };
     let n = lp.uses.len();
     let degenerate = |k: usize| model.curves[lp.uses[k % n].curve.idx()].degenerate;
     if (0..n).all(degenerate) {
@@ -57,7 +61,11 @@ fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, 
             let seg = [u.pcurve.eval(ce.range.0), u.pcurve.eval(ce.range.1)];
             let mid = [0.5 * (seg[0][0] + seg[1][0]), 0.5 * (seg[0][1] + seg[1][1])];
             ring.corners.push((ring.nodes.len(), f64::NAN));
-            ring.nodes.push(LocalNode { uv: mid, node: NodeRef::Corner(ce.start), pole: Some(seg) });
+            ring.nodes.push(LocalNode {
+                uv: mid,
+                node: NodeRef::Corner(ce.start),
+                pole: Some(seg),
+            });
             ring.pos.push(model.corners[ce.start.idx()].point);
             continue;
         }
@@ -67,7 +75,11 @@ fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, 
             // the corner where this use starts: angle between the previous use's end and this use's start
             let prev = &lp.uses[(k + n - 1) % n];
             let pce = &model.curves[prev.curve.idx()];
-            let t_prev = if prev.forward { pce.range.1 } else { pce.range.0 };
+            let t_prev = if prev.forward {
+                pce.range.1
+            } else {
+                pce.range.0
+            };
             let t_here = if u.forward { ce.range.0 } else { ce.range.1 };
             let uv = u.pcurve.eval(t_here);
             let sgn = |fwd: bool| if fwd { 1.0 } else { -1.0 };
@@ -77,7 +89,8 @@ fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, 
             let lift = |t: [f64; 2]| vec3::add(vec3::scale(d.du, t[0]), vec3::scale(d.dv, t[1]));
             let (a, b) = (lift(d_in), lift(d_out));
             let normal = vec3::cross(d.du, d.dv);
-            let turn = vec3::dot(normal, vec3::cross(a, b)).atan2(vec3::dot(a, b) * vec3::norm(normal));
+            let turn =
+                vec3::dot(normal, vec3::cross(a, b)).atan2(vec3::dot(a, b) * vec3::norm(normal));
             let angle = std::f64::consts::PI - turn;
             if !angle.is_finite() {
                 return Err("corner angle undefined".into());
@@ -98,7 +111,11 @@ fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, 
             if !(uv[0].is_finite() && uv[1].is_finite()) {
                 return Err(format!("pcurve of curve {} is not finite", u.curve.0 + 1));
             }
-            ring.nodes.push(LocalNode { uv, node, pole: None });
+            ring.nodes.push(LocalNode {
+                uv,
+                node,
+                pole: None,
+            });
             ring.pos.push(cm.points[i]);
         }
     }
@@ -108,8 +125,13 @@ fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, 
     }
     for c in ring.corners.iter_mut().filter(|c| c.1.is_nan()) {
         let p = ring.pos[c.0];
-        let (a, b) = (vec3::sub(ring.pos[(c.0 + len - 1) % len], p), vec3::sub(ring.pos[(c.0 + 1) % len], p));
-        c.1 = (vec3::dot(a, b) / (vec3::norm(a) * vec3::norm(b))).clamp(-1.0, 1.0).acos();
+        let (a, b) = (
+            vec3::sub(ring.pos[(c.0 + len - 1) % len], p),
+            vec3::sub(ring.pos[(c.0 + 1) % len], p),
+        );
+        c.1 = (vec3::dot(a, b) / (vec3::norm(a) * vec3::norm(b)))
+            .clamp(-1.0, 1.0)
+            .acos();
         if !c.1.is_finite() {
             return Err("corner angle at a pole undefined".into());
         }
@@ -156,7 +178,16 @@ pub(crate) fn harmonic_uv(quads: &[[u32; 4]], uv: &mut [[f64; 2]], fixed: &[bool
     };
     let max_iter = CG_ITERATIONS_PER_ROOT * ((m as f64).sqrt() as usize + 1);
     for c in 0..2 {
-        let b: Vec<f64> = free.iter().map(|&v| nbrs[v].iter().filter(|&&w| fixed[w as usize]).map(|&w| uv[w as usize][c]).sum()).collect();
+        let b: Vec<f64> = free
+            .iter()
+            .map(|&v| {
+                nbrs[v]
+                    .iter()
+                    .filter(|&&w| fixed[w as usize])
+                    .map(|&w| uv[w as usize][c])
+                    .sum()
+            })
+            .collect();
         let mut x: Vec<f64> = free.iter().map(|&v| uv[v][c]).collect();
         let mut ax = vec![0.0; m];
         apply(&x, &mut ax);
@@ -195,7 +226,11 @@ pub(crate) fn harmonic_uv(quads: &[[u32; 4]], uv: &mut [[f64; 2]], fixed: &[bool
 /// Meshes face `fid` with a library pattern against the curve meshes `cms`
 /// (every curve point is a boundary node). Returns the patch and the
 /// pattern's name, or why the face is not meshed that way.
-pub fn mesh_face_pattern(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<(QuadPatch, String), String> {
+pub fn mesh_face_pattern(
+    model: &Model,
+    fid: FaceId,
+    cms: &[CurveMesh],
+) -> Result<(QuadPatch, String), String> {
     let face = &model.faces[fid.idx()];
     let ring = boundary_ring(model, fid, cms)?;
     let nb = ring.nodes.len();
@@ -213,7 +248,9 @@ pub fn mesh_face_pattern(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Resul
         return Err(format!("{} convex corners", corners.len()));
     }
     let m = corners.len();
-    let sides: Vec<u32> = (0..m).map(|i| ((corners[(i + 1) % m] + nb - corners[i]) % nb) as u32).collect();
+    let sides: Vec<u32> = (0..m)
+        .map(|i| ((corners[(i + 1) % m] + nb - corners[i]) % nb) as u32)
+        .collect();
     let found = match_pattern(&sides).ok_or_else(|| format!("no pattern for sides {sides:?}"))?;
     let pattern = &library()[found.pattern];
     let refined = refine(pattern, &found.subdivisions);
@@ -236,10 +273,21 @@ pub fn mesh_face_pattern(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Resul
     }
     // interior (u, v): harmonic in the pattern's connectivity, starting from the ring's centroid
     let centroid = {
-        let s = ring.nodes.iter().fold([0.0, 0.0], |a, n| [a[0] + n.uv[0], a[1] + n.uv[1]]);
+        let s = ring
+            .nodes
+            .iter()
+            .fold([0.0, 0.0], |a, n| [a[0] + n.uv[0], a[1] + n.uv[1]]);
         [s[0] / nb as f64, s[1] / nb as f64]
     };
-    let mut uv: Vec<[f64; 2]> = (0..nv).map(|v| if fixed[v] { ring.nodes[local[v] as usize].uv } else { centroid }).collect();
+    let mut uv: Vec<[f64; 2]> = (0..nv)
+        .map(|v| {
+            if fixed[v] {
+                ring.nodes[local[v] as usize].uv
+            } else {
+                centroid
+            }
+        })
+        .collect();
     harmonic_uv(&refined.quads, &mut uv, &fixed);
     for v in 0..nv {
         if !fixed[v] {
@@ -248,7 +296,11 @@ pub fn mesh_face_pattern(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Resul
                 return Err("a pattern vertex falls outside the surface".into());
             }
             local[v] = nodes.len() as u32;
-            nodes.push(LocalNode { uv: uv[v], node: NodeRef::Interior, pole: None });
+            nodes.push(LocalNode {
+                uv: uv[v],
+                node: NodeRef::Interior,
+                pole: None,
+            });
             pos.push(p);
         }
     }
@@ -258,14 +310,34 @@ pub fn mesh_face_pattern(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Resul
         .map(|q| {
             let l = q.map(|v| local[v as usize]);
             // counter-clockwise in (u, v), then about the oriented normal
-            if found.mirror != face.reversed { [l[0], l[3], l[2], l[1]] } else { l }
+            if found.mirror != face.reversed {
+                [l[0], l[3], l[2], l[1]]
+            } else {
+                l
+            }
         })
         .collect();
-    let mut patch = QuadPatch { quad_tri: (0..quads.len() as u32).collect(), nodes, pos, quads };
-    crate::smoothing::optimize(face, &mut patch, &crate::smoothing::OptimizeOptions::default());
-    let worst = patch.quads.iter().map(|q| quad_quality(face, &patch.nodes, &patch.pos, q)).fold(f64::INFINITY, f64::min);
+    let mut patch = QuadPatch {
+        quad_tri: (0..quads.len() as u32).collect(),
+        nodes,
+        pos,
+        quads,
+    };
+    crate::smoothing::optimize(
+        face,
+        &mut patch,
+        &crate::smoothing::OptimizeOptions::default(),
+    );
+    let worst = patch
+        .quads
+        .iter()
+        .map(|q| quad_quality(face, &patch.nodes, &patch.pos, q))
+        .fold(f64::INFINITY, f64::min);
     if !(worst >= MIN_PATTERN_SICN) {
-        return Err(format!("pattern {} gives a quad of SICN {worst:.3}", pattern.name));
+        return Err(format!(
+            "pattern {} gives a quad of SICN {worst:.3}",
+            pattern.name
+        ));
     }
     Ok((patch, pattern.name.clone()))
 }
@@ -300,17 +372,31 @@ mod tests {
                 assert_eq!(v[i], 4);
                 // a harmonic grid on a rectangle is the uniform grid
                 let (x, y) = (n.uv[0] / 0.25, n.uv[1] / 0.25);
-                assert!((x - x.round()).abs() < 1e-6 && (y - y.round()).abs() < 1e-6, "{:?}", n.uv);
+                assert!(
+                    (x - x.round()).abs() < 1e-6 && (y - y.round()).abs() < 1e-6,
+                    "{:?}",
+                    n.uv
+                );
             }
         }
-        assert!(patch.quads.iter().all(|q| quad_quality(&model.faces[0], &patch.nodes, &patch.pos, q) > 0.999));
+        assert!(patch.quads.iter().all(|q| quad_quality(
+            &model.faces[0],
+            &patch.nodes,
+            &patch.pos,
+            q
+        ) > 0.999));
         // a reversed face gets its quads turned the other way, still valid
         let mut flipped = model.clone();
         flipped.faces[0].reversed = true;
         let (back, _) = mesh_face_pattern(&flipped, FaceId(0), &cms).expect("a pattern");
         assert_eq!(back.quads.len(), 48);
         assert_ne!(back.quads[0], patch.quads[0]);
-        assert!(back.quads.iter().all(|q| quad_quality(&flipped.faces[0], &back.nodes, &back.pos, q) > 0.999));
+        assert!(back.quads.iter().all(|q| quad_quality(
+            &flipped.faces[0],
+            &back.nodes,
+            &back.pos,
+            q
+        ) > 0.999));
     }
 
     #[test]
@@ -323,12 +409,19 @@ mod tests {
                 Ok((patch, name)) => {
                     assert_eq!(name, "R1");
                     let v = valences(&patch);
-                    assert!(patch.nodes.iter().enumerate().all(|(i, n)| n.node != NodeRef::Interior || v[i] == 4));
+                    assert!(patch
+                        .nodes
+                        .iter()
+                        .enumerate()
+                        .all(|(i, n)| n.node != NodeRef::Interior || v[i] == 4));
                     grids += 1;
                 }
                 Err(why) => assert!(why.contains("convex corners"), "face {f}: {why}"),
             }
         }
-        assert_eq!(grids, 1, "the side (seam, circle, seam, circle) is a 4-sided grid");
+        assert_eq!(
+            grids, 1,
+            "the side (seam, circle, seam, circle) is a 4-sided grid"
+        );
     }
 }

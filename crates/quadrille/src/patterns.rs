@@ -64,7 +64,11 @@ fn key(a: usize, b: usize) -> (usize, usize) {
 
 impl Pattern {
     /// Derives a pattern from coarse quads on vertices `0..coords.len()`.
-    pub fn from_quads(name: &str, coords: Vec<[f64; 2]>, quads: Vec<[usize; 4]>) -> Result<Pattern, PatternError> {
+    pub fn from_quads(
+        name: &str,
+        coords: Vec<[f64; 2]>,
+        quads: Vec<[usize; 4]>,
+    ) -> Result<Pattern, PatternError> {
         let err = |why: String| PatternError::NotADisk(name.to_string(), why);
         let nv = coords.len();
         let mut directed = HashMap::new();
@@ -86,7 +90,11 @@ impl Pattern {
                 return Err(err(format!("vertex {a} is pinched")));
             }
         }
-        let start = *next.keys().filter(|&&v| valence[v] == 1).min().ok_or_else(|| err("no corner".into()))?;
+        let start = *next
+            .keys()
+            .filter(|&&v| valence[v] == 1)
+            .min()
+            .ok_or_else(|| err("no corner".into()))?;
         let mut boundary = vec![start];
         let mut v = next[&start];
         while v != start {
@@ -106,7 +114,9 @@ impl Pattern {
         if let Some(&c) = boundary.iter().find(|&&b| valence[b] >= 3) {
             return Err(PatternError::Concave(name.to_string(), c));
         }
-        let corners: Vec<usize> = (0..boundary.len()).filter(|&i| valence[boundary[i]] == 1).collect();
+        let corners: Vec<usize> = (0..boundary.len())
+            .filter(|&i| valence[boundary[i]] == 1)
+            .collect();
         // chords: union the opposite edges of every quad
         let mut edge_ids: HashMap<(usize, usize), usize> = HashMap::new();
         for q in &quads {
@@ -135,7 +145,10 @@ impl Pattern {
         let mut chord_id: HashMap<usize, usize> = HashMap::new();
         let nb = boundary.len();
         for i in 0..nb {
-            let r = root(&mut parent, edge_ids[&key(boundary[i], boundary[(i + 1) % nb])]);
+            let r = root(
+                &mut parent,
+                edge_ids[&key(boundary[i], boundary[(i + 1) % nb])],
+            );
             let n = chord_id.len();
             chord_id.entry(r).or_insert(n);
         }
@@ -159,8 +172,20 @@ impl Pattern {
             }
         }
         let on_boundary: std::collections::HashSet<usize> = boundary.iter().copied().collect();
-        let irregular = (0..nv).filter(|v| !on_boundary.contains(v) && valence[*v] != 4).count();
-        Ok(Pattern { name: name.to_string(), quads, coords, boundary, corners, chord_of_edge, chords, w, irregular })
+        let irregular = (0..nv)
+            .filter(|v| !on_boundary.contains(v) && valence[*v] != 4)
+            .count();
+        Ok(Pattern {
+            name: name.to_string(),
+            quads,
+            coords,
+            boundary,
+            corners,
+            chord_of_edge,
+            chords,
+            w,
+            irregular,
+        })
     }
 
     /// Number of sides.
@@ -170,7 +195,10 @@ impl Pattern {
 
     /// Edges on each side for chord subdivisions `s`.
     pub fn side_counts(&self, s: &[u32]) -> Vec<u32> {
-        self.w.iter().map(|row| row.iter().zip(s).map(|(w, s)| w * s).sum()).collect()
+        self.w
+            .iter()
+            .map(|row| row.iter().zip(s).map(|(w, s)| w * s).sum())
+            .collect()
     }
 }
 
@@ -222,7 +250,9 @@ fn r3_quads(mirror: bool) -> Vec<[[i32; 2]; 4]> {
         [[2, 2], [3, 2], [3, 3], [2, 3]],
     ];
     if mirror {
-        q.iter().map(|q| [q[0], q[3], q[2], q[1]].map(|p| [-p[0], p[1]])).collect()
+        q.iter()
+            .map(|q| [q[0], q[3], q[2], q[1]].map(|p| [-p[0], p[1]]))
+            .collect()
     } else {
         q.to_vec()
     }
@@ -256,7 +286,11 @@ pub fn library() -> &'static [Pattern] {
 /// columns, or `None` when the system is inconsistent.
 fn echelon(w: &[Vec<u32>], n: &[u32]) -> Option<(Vec<Vec<i64>>, Vec<usize>)> {
     let c = w.first().map_or(0, Vec::len);
-    let mut rows: Vec<Vec<i64>> = w.iter().zip(n).map(|(r, &x)| r.iter().map(|&v| v as i64).chain([x as i64]).collect()).collect();
+    let mut rows: Vec<Vec<i64>> = w
+        .iter()
+        .zip(n)
+        .map(|(r, &x)| r.iter().map(|&v| v as i64).chain([x as i64]).collect())
+        .collect();
     let gcd = |mut a: i64, mut b: i64| {
         a = a.abs();
         b = b.abs();
@@ -268,14 +302,20 @@ fn echelon(w: &[Vec<u32>], n: &[u32]) -> Option<(Vec<Vec<i64>>, Vec<usize>)> {
     let mut pivots = Vec::new();
     let mut r = 0;
     for col in 0..c {
-        let Some(p) = (r..rows.len()).find(|&i| rows[i][col] != 0) else { continue };
+        let Some(p) = (r..rows.len()).find(|&i| rows[i][col] != 0) else {
+            continue;
+        };
         rows.swap(r, p);
         for i in r + 1..rows.len() {
             if rows[i][col] != 0 {
                 let (a, b) = (rows[r][col], rows[i][col]);
                 let new: Vec<i64> = (0..=c).map(|k| a * rows[i][k] - b * rows[r][k]).collect();
                 let g = new.iter().fold(0, |g, &x| gcd(g, x));
-                rows[i] = if g > 1 { new.iter().map(|x| x / g).collect() } else { new };
+                rows[i] = if g > 1 {
+                    new.iter().map(|x| x / g).collect()
+                } else {
+                    new
+                };
             }
         }
         pivots.push(col);
@@ -303,7 +343,11 @@ pub fn ideal_subdivision(w: &[Vec<u32>], n: &[u32]) -> Vec<f64> {
                     den += row[j] as f64;
                 }
             }
-            if den > 0.0 { num / den } else { 1.0 }
+            if den > 0.0 {
+                num / den
+            } else {
+                1.0
+            }
         })
         .collect()
 }
@@ -320,7 +364,14 @@ pub fn solve(w: &[Vec<u32>], n: &[u32], max_attempts: usize) -> Option<Vec<u32>>
     let x = ideal_subdivision(w, n);
     // bound of each chord: it fits in every side it crosses
     let upper: Vec<i64> = (0..c)
-        .map(|j| w.iter().zip(n).filter(|(r, _)| r[j] > 0).map(|(r, &ni)| (ni / r[j]) as i64).min().unwrap_or(1))
+        .map(|j| {
+            w.iter()
+                .zip(n)
+                .filter(|(r, _)| r[j] > 0)
+                .map(|(r, &ni)| (ni / r[j]) as i64)
+                .min()
+                .unwrap_or(1)
+        })
         .collect();
     let free: Vec<usize> = (0..c).filter(|j| !pivots.contains(j)).collect();
     let mut s = vec![0i64; c];
@@ -361,7 +412,11 @@ pub fn solve(w: &[Vec<u32>], n: &[u32], max_attempts: usize) -> Option<Vec<u32>>
         if k == free.len() {
             *attempts += 1;
             if back_substitute(rows, pivots, upper, s) {
-                let e: f64 = s.iter().zip(x).map(|(&v, &xi)| (v as f64 - xi).powi(2)).sum();
+                let e: f64 = s
+                    .iter()
+                    .zip(x)
+                    .map(|(&v, &xi)| (v as f64 - xi).powi(2))
+                    .sum();
                 if best.as_ref().is_none_or(|(b, _)| e < *b) {
                     *best = Some((e, s.iter().map(|&v| v as u32).collect()));
                 }
@@ -387,7 +442,18 @@ pub fn solve(w: &[Vec<u32>], n: &[u32], max_attempts: usize) -> Option<Vec<u32>>
             }
         }
     }
-    dfs(0, &free, &rows, &pivots, &upper, &x, &mut s, &mut best, &mut attempts, max_attempts);
+    dfs(
+        0,
+        &free,
+        &rows,
+        &pivots,
+        &upper,
+        &x,
+        &mut s,
+        &mut best,
+        &mut attempts,
+        max_attempts,
+    );
     best.map(|(_, s)| s)
 }
 
@@ -408,7 +474,15 @@ pub struct PatternMatch {
 /// The cavity side counts as pattern side `i` sees them.
 fn oriented(sides: &[u32], shift: usize, mirror: bool) -> Vec<u32> {
     let m = sides.len();
-    (0..m).map(|i| if mirror { sides[(shift + m - i) % m] } else { sides[(shift + i) % m] }).collect()
+    (0..m)
+        .map(|i| {
+            if mirror {
+                sides[(shift + m - i) % m]
+            } else {
+                sides[(shift + i) % m]
+            }
+        })
+        .collect()
 }
 
 /// The best pattern for a convex cavity with side counts `sides` (in
@@ -424,16 +498,37 @@ pub fn match_pattern(sides: &[u32]) -> Option<PatternMatch> {
 /// triangle / pentagon with one irregular vertex).
 pub fn match_pattern_where(sides: &[u32], keep: impl Fn(&Pattern) -> bool) -> Option<PatternMatch> {
     let mut best: Option<((usize, f64), PatternMatch)> = None;
-    for (pi, p) in library().iter().enumerate().filter(|(_, p)| p.sides() == sides.len() && keep(p)) {
+    for (pi, p) in library()
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.sides() == sides.len() && keep(p))
+    {
         for mirror in [false, true] {
             for shift in 0..sides.len() {
                 let n = oriented(sides, shift, mirror);
-                let Some(s) = solve(&p.w, &n, MAX_ATTEMPTS) else { continue };
+                let Some(s) = solve(&p.w, &n, MAX_ATTEMPTS) else {
+                    continue;
+                };
                 let x = ideal_subdivision(&p.w, &n);
-                let e: f64 = s.iter().zip(&x).map(|(&v, &xi)| (v as f64 - xi).powi(2)).sum();
+                let e: f64 = s
+                    .iter()
+                    .zip(&x)
+                    .map(|(&v, &xi)| (v as f64 - xi).powi(2))
+                    .sum();
                 let key = (p.irregular, e);
-                if best.as_ref().is_none_or(|(k, _)| key.0 < k.0 || (key.0 == k.0 && key.1 < k.1)) {
-                    best = Some((key, PatternMatch { pattern: pi, shift, mirror, subdivisions: s }));
+                if best
+                    .as_ref()
+                    .is_none_or(|(k, _)| key.0 < k.0 || (key.0 == k.0 && key.1 < k.1))
+                {
+                    best = Some((
+                        key,
+                        PatternMatch {
+                            pattern: pi,
+                            shift,
+                            mirror,
+                            subdivisions: s,
+                        },
+                    ));
                 }
             }
         }
@@ -457,7 +552,8 @@ pub struct RefinedPattern {
 /// Refines `pattern` with chord subdivisions `s` (one per chord, each ≥ 1).
 pub fn refine(pattern: &Pattern, s: &[u32]) -> RefinedPattern {
     let mut coords: Vec<[f64; 2]> = pattern.coords.clone();
-    let lerp = |a: [f64; 2], b: [f64; 2], t: f64| [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t];
+    let lerp =
+        |a: [f64; 2], b: [f64; 2], t: f64| [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t];
     // points of each coarse edge from its lower to its higher vertex
     let mut edge_points: HashMap<(usize, usize), Vec<u32>> = HashMap::new();
     let mut points = |a: usize, b: usize, coords: &mut Vec<[f64; 2]>| -> Vec<u32> {
@@ -466,13 +562,21 @@ pub fn refine(pattern: &Pattern, s: &[u32]) -> RefinedPattern {
         let pts = edge_points.entry(k).or_insert_with(|| {
             let mut v = vec![k.0 as u32];
             for i in 1..n {
-                coords.push(lerp(pattern.coords[k.0], pattern.coords[k.1], i as f64 / n as f64));
+                coords.push(lerp(
+                    pattern.coords[k.0],
+                    pattern.coords[k.1],
+                    i as f64 / n as f64,
+                ));
                 v.push((coords.len() - 1) as u32);
             }
             v.push(k.1 as u32);
             v
         });
-        if a == k.0 { pts.clone() } else { pts.iter().rev().copied().collect() }
+        if a == k.0 {
+            pts.clone()
+        } else {
+            pts.iter().rev().copied().collect()
+        }
     };
     let mut quads = Vec::new();
     for q in &pattern.quads {
@@ -502,7 +606,12 @@ pub fn refine(pattern: &Pattern, s: &[u32]) -> RefinedPattern {
         }
         for i in 0..na {
             for j in 0..nb {
-                quads.push([grid[i][j], grid[i + 1][j], grid[i + 1][j + 1], grid[i][j + 1]]);
+                quads.push([
+                    grid[i][j],
+                    grid[i + 1][j],
+                    grid[i + 1][j + 1],
+                    grid[i][j + 1],
+                ]);
             }
         }
     }
@@ -513,10 +622,19 @@ pub fn refine(pattern: &Pattern, s: &[u32]) -> RefinedPattern {
         if pattern.corners.contains(&i) {
             corners.push(boundary.len());
         }
-        let pts = points(pattern.boundary[i], pattern.boundary[(i + 1) % nb], &mut coords);
+        let pts = points(
+            pattern.boundary[i],
+            pattern.boundary[(i + 1) % nb],
+            &mut coords,
+        );
         boundary.extend_from_slice(&pts[..pts.len() - 1]);
     }
-    RefinedPattern { coords, quads, boundary, corners }
+    RefinedPattern {
+        coords,
+        quads,
+        boundary,
+        corners,
+    }
 }
 
 #[cfg(test)]

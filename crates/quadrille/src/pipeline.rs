@@ -196,9 +196,17 @@ pub struct Stages {
 
 impl Stages {
     /// Every stage: the quasi-structured method.
-    pub const ALL: Stages = Stages { patterns: true, defects: true, cavities: true };
+    pub const ALL: Stages = Stages {
+        patterns: true,
+        defects: true,
+        cavities: true,
+    };
     /// No stage: the unstructured mesh of §5 alone.
-    pub const NONE: Stages = Stages { patterns: false, defects: false, cavities: false };
+    pub const NONE: Stages = Stages {
+        patterns: false,
+        defects: false,
+        cavities: false,
+    };
 }
 
 impl Default for Stages {
@@ -284,7 +292,11 @@ pub struct MeshReport {
 /// [`mesh_model`] with a choice of method; also reports the faces that fell
 /// back to the baseline. Output is identical for any `threads`.
 /// [`MeshMethod::Unstructured`] runs every topology stage ([`Stages::ALL`]).
-pub fn mesh_model_with(model: &Model, opts: &MeshOptions, method: MeshMethod) -> Result<(QuadMesh, MeshReport), MeshError> {
+pub fn mesh_model_with(
+    model: &Model,
+    opts: &MeshOptions,
+    method: MeshMethod,
+) -> Result<(QuadMesh, MeshReport), MeshError> {
     mesh_model_stages(model, opts, method, Stages::ALL)
 }
 
@@ -300,7 +312,12 @@ pub fn mesh_model_with(model: &Model, opts: &MeshOptions, method: MeshMethod) ->
 /// // no stage ran: no face by a pattern, no cavity
 /// assert!(report.patterns.is_empty() && report.cavities.replaced == [0; 4]);
 /// ```
-pub fn mesh_model_stages(model: &Model, opts: &MeshOptions, method: MeshMethod, stages: Stages) -> Result<(QuadMesh, MeshReport), MeshError> {
+pub fn mesh_model_stages(
+    model: &Model,
+    opts: &MeshOptions,
+    method: MeshMethod,
+    stages: Stages,
+) -> Result<(QuadMesh, MeshReport), MeshError> {
     let started = Instant::now();
     model.validate()?;
     if model.faces.is_empty() {
@@ -325,7 +342,13 @@ pub fn mesh_model_stages(model: &Model, opts: &MeshOptions, method: MeshMethod, 
             let t = Instant::now();
             let m = assemble(model, &cms, &results)?;
             times.assembly = t.elapsed();
-            Ok((m, MeshReport { times, ..Default::default() }))
+            Ok((
+                m,
+                MeshReport {
+                    times,
+                    ..Default::default()
+                },
+            ))
         }
         MeshMethod::Unstructured => run_unstructured(model, h, opts.progress.as_ref(), stages),
     };
@@ -334,7 +357,10 @@ pub fn mesh_model_stages(model: &Model, opts: &MeshOptions, method: MeshMethod, 
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(n.max(1))
                 .build()
-                .map_err(|e| MeshError::Threads { threads: n, reason: e.to_string() })?;
+                .map_err(|e| MeshError::Threads {
+                    threads: n,
+                    reason: e.to_string(),
+                })?;
             pool.install(go)
         }
         None => go(),
@@ -346,88 +372,138 @@ pub fn mesh_model_stages(model: &Model, opts: &MeshOptions, method: MeshMethod, 
 /// The unstructured method: the cross field and size map of every face
 /// first, then [`run`] with [`crate::unstructured::mesh_face_unstructured`]
 /// per face, the baseline where it fails.
-fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>, stages: Stages) -> Result<(QuadMesh, MeshReport), MeshError> {
-    use crate::field_report::{model_fields, FieldOptions};
-    use crate::unstructured::{mesh_face_unstructured, UnstructuredOptions};
+fn run_unstructured(
+    model: &Model,
+    h: f64,
+    progress: Option<&ProgressFn>,
+    stages: Stages,
+) -> Result<(QuadMesh, MeshReport), MeshError> {
     use crate::cavity::CavityReport;
     use crate::defects::DefectReport;
-    use crate::unstructured::improve_face_timed;
+    use crate::field_report::{model_fields, FieldOptions};
     use crate::pattern_face::mesh_face_pattern;
+    use crate::unstructured::improve_face_timed;
+    use crate::unstructured::{mesh_face_unstructured, UnstructuredOptions};
     let mut times = StageTimes::default();
     // the size map, bounded so that faces, curves and the baseline fallback agree
     let t = Instant::now();
-    let sizing = crate::size_map::SizeMapOptions { min_size: Some(SIZE_MAP_MIN * h), max_size: Some(SIZE_MAP_MAX * h), ..Default::default() };
-    let fields = model_fields(model, &FieldOptions { size: Size::Absolute(h), sizing, ..Default::default() })?;
+    let sizing = crate::size_map::SizeMapOptions {
+        min_size: Some(SIZE_MAP_MIN * h),
+        max_size: Some(SIZE_MAP_MAX * h),
+        ..Default::default()
+    };
+    let fields = model_fields(
+        model,
+        &FieldOptions {
+            size: Size::Absolute(h),
+            sizing,
+            ..Default::default()
+        },
+    )?;
     times.fields = t.elapsed();
-    let mut uopts = UnstructuredOptions { defects: stages.defects, ..Default::default() };
+    let mut uopts = UnstructuredOptions {
+        defects: stages.defects,
+        ..Default::default()
+    };
     if !stages.cavities {
         uopts.cavity = None;
     }
     let face_times: std::sync::Mutex<StageTimes> = std::sync::Mutex::new(StageTimes::default());
     let fallback: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());
     let patterns: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());
-    let defects: std::sync::Mutex<BTreeMap<u32, (DefectReport, CavityReport)>> = std::sync::Mutex::new(BTreeMap::new());
-    let mesh_one_face = |fid: FaceId, cms: &[CurveMesh], ft: &mut StageTimes| -> Result<QuadPatch, FaceFailure> {
-        // a simple face is meshed by a pattern first (paper §6.1.2)
-        let by_pattern = if stages.patterns {
-            let t = Instant::now();
-            let r = mesh_face_pattern(model, fid, cms);
-            ft.patterns += t.elapsed();
-            r
-        } else {
-            Err("patterns are off".into())
-        };
-        {
-            let mut pt = patterns.lock().unwrap_or_else(|e| e.into_inner());
-            match &by_pattern {
-                Ok((_, name)) => pt.insert(fid.0, name.clone()),
-                Err(_) => pt.remove(&fid.0),
-            };
-        }
-        if let Ok((p, _)) = by_pattern {
-            fallback.lock().unwrap_or_else(|e| e.into_inner()).remove(&fid.0);
-            defects.lock().unwrap_or_else(|e| e.into_inner()).remove(&fid.0);
-            return Ok(p);
-        }
-        let attempt = (|| -> Result<QuadPatch, String> {
-            let ff = fields.faces[fid.idx()].outcome.as_ref().map_err(|e| e.to_string())?;
-            let topo_n = ff.field.topology.positions.len();
-            // without a size map, the uniform size
-            let size: Vec<f64> = match &ff.size {
-                Some(s) => s.clone(),
-                None => vec![h; topo_n],
-            };
-            let (mut p, fr) = mesh_face_unstructured(model, fid, cms, &ff.field, &size, &uopts)?;
-            ft.frontal += fr.times.frontal;
-            ft.smoothing += fr.times.smoothing;
-            // very irregular vertices out (paper §6.3), then cavity remeshing (§6.2)
-            let r = improve_face_timed(&model.faces[fid.idx()], &mut p, &ff.singularities.list, &uopts, ft);
-            if debug_enabled() {
-                eprintln!("face {}: {} quads, {} singularities, defects {:?}, cavities {:?}", fid.0 + 1, p.quads.len(), ff.singularities.list.len(), r.0, r.1);
-            }
-            defects.lock().unwrap_or_else(|e| e.into_inner()).insert(fid.0, r);
-            Ok(p)
-        })();
-        let mut fb = fallback.lock().unwrap_or_else(|e| e.into_inner());
-        match attempt {
-            Ok(p) => {
-                fb.remove(&fid.0);
-                Ok(p)
-            }
-            Err(reason) => {
-                fb.insert(fid.0, reason);
-                drop(fb);
+    let defects: std::sync::Mutex<BTreeMap<u32, (DefectReport, CavityReport)>> =
+        std::sync::Mutex::new(BTreeMap::new());
+    let mesh_one_face =
+        |fid: FaceId, cms: &[CurveMesh], ft: &mut StageTimes| -> Result<QuadPatch, FaceFailure> {
+            // a simple face is meshed by a pattern first (paper §6.1.2)
+            let by_pattern = if stages.patterns {
                 let t = Instant::now();
-                let r = mesh_face(model, fid, cms, 2.0 * h);
-                ft.fallback += t.elapsed();
+                let r = mesh_face_pattern(model, fid, cms);
+                ft.patterns += t.elapsed();
                 r
+            } else {
+                Err("patterns are off".into())
+            };
+            {
+                let mut pt = patterns.lock().unwrap_or_else(|e| e.into_inner());
+                match &by_pattern {
+                    Ok((_, name)) => pt.insert(fid.0, name.clone()),
+                    Err(_) => pt.remove(&fid.0),
+                };
             }
-        }
-    };
+            if let Ok((p, _)) = by_pattern {
+                fallback
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .remove(&fid.0);
+                defects
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .remove(&fid.0);
+                return Ok(p);
+            }
+            let attempt = (|| -> Result<QuadPatch, String> {
+                let ff = fields.faces[fid.idx()]
+                    .outcome
+                    .as_ref()
+                    .map_err(|e| e.to_string())?;
+                let topo_n = ff.field.topology.positions.len();
+                // without a size map, the uniform size
+                let size: Vec<f64> = match &ff.size {
+                    Some(s) => s.clone(),
+                    None => vec![h; topo_n],
+                };
+                let (mut p, fr) =
+                    mesh_face_unstructured(model, fid, cms, &ff.field, &size, &uopts)?;
+                ft.frontal += fr.times.frontal;
+                ft.smoothing += fr.times.smoothing;
+                // very irregular vertices out (paper §6.3), then cavity remeshing (§6.2)
+                let r = improve_face_timed(
+                    &model.faces[fid.idx()],
+                    &mut p,
+                    &ff.singularities.list,
+                    &uopts,
+                    ft,
+                );
+                if debug_enabled() {
+                    eprintln!(
+                        "face {}: {} quads, {} singularities, defects {:?}, cavities {:?}",
+                        fid.0 + 1,
+                        p.quads.len(),
+                        ff.singularities.list.len(),
+                        r.0,
+                        r.1
+                    );
+                }
+                defects
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .insert(fid.0, r);
+                Ok(p)
+            })();
+            let mut fb = fallback.lock().unwrap_or_else(|e| e.into_inner());
+            match attempt {
+                Ok(p) => {
+                    fb.remove(&fid.0);
+                    Ok(p)
+                }
+                Err(reason) => {
+                    fb.insert(fid.0, reason);
+                    drop(fb);
+                    let t = Instant::now();
+                    let r = mesh_face(model, fid, cms, 2.0 * h);
+                    ft.fallback += t.elapsed();
+                    r
+                }
+            }
+        };
     let face_mesher = |fid: FaceId, cms: &[CurveMesh]| -> Result<QuadPatch, FaceFailure> {
         let mut ft = StageTimes::default();
         let r = mesh_one_face(fid, cms, &mut ft);
-        face_times.lock().unwrap_or_else(|e| e.into_inner()).add_face(&ft);
+        face_times
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .add_face(&ft);
         r
     };
     // curves quantized against the size map (paper §4.3)
@@ -452,8 +528,13 @@ fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>, stages
     times.assembly += t.elapsed();
     if !again.is_empty() {
         let t = Instant::now();
-        let redo: Vec<(usize, Result<QuadPatch, FaceFailure>)> =
-            again.iter().copied().collect::<Vec<_>>().into_par_iter().map(|f| (f, mesh_face(model, FaceId(f as u32), &cms, 2.0 * h))).collect();
+        let redo: Vec<(usize, Result<QuadPatch, FaceFailure>)> = again
+            .iter()
+            .copied()
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|f| (f, mesh_face(model, FaceId(f as u32), &cms, 2.0 * h)))
+            .collect();
         times.fallback += t.elapsed();
         let t = Instant::now();
         for (f, r) in redo {
@@ -468,7 +549,11 @@ fn run_unstructured(model: &Model, h: f64, progress: Option<&ProgressFn>, stages
     let pt = patterns.into_inner().unwrap_or_else(|e| e.into_inner());
     let df = defects.into_inner().unwrap_or_else(|e| e.into_inner());
     let kept = || df.iter().filter(|(f, _)| !fb.contains_key(f));
-    let total = kept().fold(DefectReport::default(), |a, (_, (r, _))| DefectReport { found: a.found + r.found, replaced: a.replaced + r.replaced, undone: a.undone + r.undone });
+    let total = kept().fold(DefectReport::default(), |a, (_, (r, _))| DefectReport {
+        found: a.found + r.found,
+        replaced: a.replaced + r.replaced,
+        undone: a.undone + r.undone,
+    });
     let cavities = kept().fold(CavityReport::default(), |a, (_, (_, c))| a.add(c));
     Ok((
         mesh,
@@ -488,7 +573,13 @@ type FaceMesher<'a> = dyn Fn(FaceId, &[CurveMesh]) -> Result<QuadPatch, FaceFail
 /// Meshes every face with `mesher`, refining the curves around faces that
 /// ask for it; returns the final curve meshes and the face patches.
 /// Adds the curve discretization to `times.curves` and the per-face phase to `times.faces`.
-fn run(model: &Model, mut plan: CurvePlan, progress: Option<&ProgressFn>, mesher: &FaceMesher<'_>, times: &mut StageTimes) -> Result<(Vec<CurveMesh>, Vec<Option<QuadPatch>>), MeshError> {
+fn run(
+    model: &Model,
+    mut plan: CurvePlan,
+    progress: Option<&ProgressFn>,
+    mesher: &FaceMesher<'_>,
+    times: &mut StageTimes,
+) -> Result<(Vec<CurveMesh>, Vec<Option<QuadPatch>>), MeshError> {
     let nf = model.faces.len();
     let curve_faces = model.curve_faces();
     let mut results: Vec<Option<QuadPatch>> = vec![None; nf];
@@ -520,7 +611,12 @@ fn run(model: &Model, mut plan: CurvePlan, progress: Option<&ProgressFn>, mesher
         for (f, r) in out {
             match r {
                 Ok(p) => results[f] = Some(p),
-                Err(FaceFailure::Fatal(reason)) => return Err(MeshError::Face { face: FaceId(f as u32), reason }),
+                Err(FaceFailure::Fatal(reason)) => {
+                    return Err(MeshError::Face {
+                        face: FaceId(f as u32),
+                        reason,
+                    })
+                }
                 Err(FaceFailure::RefineCurves(cs, reason)) => {
                     refine.extend(cs);
                     failed.insert(f, reason);
@@ -528,7 +624,12 @@ fn run(model: &Model, mut plan: CurvePlan, progress: Option<&ProgressFn>, mesher
             }
         }
         if debug_enabled() {
-            eprintln!("round {round}: {} faces meshed, failed {:?}, refine {:?}", pending.len(), failed, refine);
+            eprintln!(
+                "round {round}: {} faces meshed, failed {:?}, refine {:?}",
+                pending.len(),
+                failed,
+                refine
+            );
         }
         if failed.is_empty() {
             break;
@@ -536,7 +637,10 @@ fn run(model: &Model, mut plan: CurvePlan, progress: Option<&ProgressFn>, mesher
         round += 1;
         if round >= CURVE_ROUNDS || refine.is_empty() {
             let (&f, reason) = failed.iter().next().ok_or(MeshError::NoFaces)?;
-            return Err(MeshError::Face { face: FaceId(f as u32), reason: reason.clone() });
+            return Err(MeshError::Face {
+                face: FaceId(f as u32),
+                reason: reason.clone(),
+            });
         }
         let mut again: BTreeSet<usize> = failed.keys().copied().collect();
         let mut doubled: BTreeSet<CurveId> = BTreeSet::new();
@@ -561,7 +665,12 @@ fn run(model: &Model, mut plan: CurvePlan, progress: Option<&ProgressFn>, mesher
 /// Meshes one face against the given curve meshes; `target` is the triangle
 /// size. When quads stay invalid, it tries once more with normal layers
 /// ([`FaceTriangulation::insert_normal_layers`]) before asking for finer curves.
-pub fn mesh_face(model: &Model, fid: FaceId, cms: &[CurveMesh], target: f64) -> Result<QuadPatch, FaceFailure> {
+pub fn mesh_face(
+    model: &Model,
+    fid: FaceId,
+    cms: &[CurveMesh],
+    target: f64,
+) -> Result<QuadPatch, FaceFailure> {
     let face = &model.faces[fid.idx()];
     let mut attempt = mesh_face_once(model, fid, cms, target, false)?;
     if attempt.2.is_empty() {
@@ -590,10 +699,21 @@ pub fn mesh_face(model: &Model, fid: FaceId, cms: &[CurveMesh], target: f64) -> 
     if debug_enabled() {
         for (qi, q) in patch.quads.iter().enumerate() {
             if bad.contains(&patch.quad_tri[qi]) {
-                eprintln!("face {} quad {qi} sicn {:.3}", fid.0, quad_quality(face, &patch.nodes, &patch.pos, q));
+                eprintln!(
+                    "face {} quad {qi} sicn {:.3}",
+                    fid.0,
+                    quad_quality(face, &patch.nodes, &patch.pos, q)
+                );
                 for &i in q {
                     let n = &patch.nodes[i as usize];
-                    eprintln!("   {i}: uv {:?} {:?} pole {} pos {:?} n {:?}", n.uv, n.node, n.pole.is_some(), patch.pos[i as usize], face.normal(n.uv));
+                    eprintln!(
+                        "   {i}: uv {:?} {:?} pole {} pos {:?} n {:?}",
+                        n.uv,
+                        n.node,
+                        n.pole.is_some(),
+                        patch.pos[i as usize],
+                        face.normal(n.uv)
+                    );
                 }
             }
         }
@@ -602,19 +722,36 @@ pub fn mesh_face(model: &Model, fid: FaceId, cms: &[CurveMesh], target: f64) -> 
     // finer curves repair a few quads at the boundary; when many fold, the
     // face's map is at fault and every round would only cost more time
     if bad.len() > MAX_REFINABLE_BAD.max(patch.quads.len() / 20) {
-        return Err(FaceFailure::Fatal(format!("{reason} of {} (the face's (u, v) map is too distorted for its size)", patch.quads.len())));
+        return Err(FaceFailure::Fatal(format!(
+            "{reason} of {} (the face's (u, v) map is too distorted for its size)",
+            patch.quads.len()
+        )));
     }
     if curves.is_empty() {
         return Err(FaceFailure::Fatal(format!("{reason} inside the face")));
     }
-    Err(FaceFailure::RefineCurves(curves.into_iter().collect(), reason))
+    Err(FaceFailure::RefineCurves(
+        curves.into_iter().collect(),
+        reason,
+    ))
 }
 
-type Attempt = (QuadPatch, Vec<[u32; 3]>, Vec<u32>, std::collections::HashMap<(u32, u32), crate::face_triangulation::BoundaryMid>);
+type Attempt = (
+    QuadPatch,
+    Vec<[u32; 3]>,
+    Vec<u32>,
+    std::collections::HashMap<(u32, u32), crate::face_triangulation::BoundaryMid>,
+);
 
 /// One meshing attempt: the patch, its triangles, the triangles with invalid
 /// quads, and the boundary midpoints.
-fn mesh_face_once(model: &Model, fid: FaceId, cms: &[CurveMesh], target: f64, layers: bool) -> Result<Attempt, FaceFailure> {
+fn mesh_face_once(
+    model: &Model,
+    fid: FaceId,
+    cms: &[CurveMesh],
+    target: f64,
+    layers: bool,
+) -> Result<Attempt, FaceFailure> {
     let face = &model.faces[fid.idx()];
     let mut ft = FaceTriangulation::new(model, fid, cms, target)?;
     if layers {
@@ -623,15 +760,27 @@ fn mesh_face_once(model: &Model, fid: FaceId, cms: &[CurveMesh], target: f64, la
     ft.refine()?;
     let tris = ft.triangles();
     if tris.is_empty() {
-        return Err(FaceFailure::RefineCurves(ft.curves.clone(), "the triangulation is empty".into()));
+        return Err(FaceFailure::RefineCurves(
+            ft.curves.clone(),
+            "the triangulation is empty".into(),
+        ));
     }
     let missing = ft.missing_boundary_edges(&tris);
     if !missing.is_empty() {
-        return Err(FaceFailure::RefineCurves(missing, "boundary edges left out of the triangulation".into()));
+        return Err(FaceFailure::RefineCurves(
+            missing,
+            "boundary edges left out of the triangulation".into(),
+        ));
     }
     let mut patch = split_triangles(face, &ft.nodes, &ft.pos, &tris, &ft.boundary_mid);
     smooth(face, &mut patch, SMOOTHING_SWEEPS);
-    untangle(face, &mut patch, UNTANGLE_BELOW, UNTANGLE_PASSES, UNTANGLE_MAX_NODES);
+    untangle(
+        face,
+        &mut patch,
+        UNTANGLE_BELOW,
+        UNTANGLE_PASSES,
+        UNTANGLE_MAX_NODES,
+    );
     let bad = bad_triangles(face, &patch);
     Ok((patch, tris, bad, ft.boundary_mid))
 }
@@ -658,7 +807,11 @@ fn bad_triangles(face: &geometry::Face, p: &QuadPatch) -> Vec<u32> {
 
 /// Builds the global mesh: corners, then curve nodes by curve, then each
 /// face's interior nodes in face order; quads in face order.
-fn assemble(model: &Model, cms: &[CurveMesh], results: &[Option<QuadPatch>]) -> Result<QuadMesh, MeshError> {
+fn assemble(
+    model: &Model,
+    cms: &[CurveMesh],
+    results: &[Option<QuadPatch>],
+) -> Result<QuadMesh, MeshError> {
     let mut m = QuadMesh::default();
     for (i, c) in model.corners.iter().enumerate() {
         m.nodes.push(c.point);
@@ -675,16 +828,28 @@ fn assemble(model: &Model, cms: &[CurveMesh], results: &[Option<QuadPatch>]) -> 
         offset[ci] = m.nodes.len() as u32;
         for i in 1..n - 1 {
             m.nodes.push(cm.points[i]);
-            m.node_class.push(NodeClass::Curve(CurveId(ci as u32), Some(cm.params[i])));
+            m.node_class
+                .push(NodeClass::Curve(CurveId(ci as u32), Some(cm.params[i])));
         }
-        let id = |i: usize| if i == 0 { ce.start.0 } else if i == n - 1 { ce.end.0 } else { offset[ci] + i as u32 - 1 };
+        let id = |i: usize| {
+            if i == 0 {
+                ce.start.0
+            } else if i == n - 1 {
+                ce.end.0
+            } else {
+                offset[ci] + i as u32 - 1
+            }
+        };
         for i in 0..n - 1 {
             m.curve_edges.push(([id(i), id(i + 1)], CurveId(ci as u32)));
         }
     }
     for (fi, r) in results.iter().enumerate() {
         let fid = FaceId(fi as u32);
-        let p = r.as_ref().ok_or(MeshError::Face { face: fid, reason: "no mesh was produced".into() })?;
+        let p = r.as_ref().ok_or(MeshError::Face {
+            face: fid,
+            reason: "no mesh was produced".into(),
+        })?;
         let mut map = vec![u32::MAX; p.nodes.len()];
         for q in &p.quads {
             let mut g = [0u32; 4];
@@ -740,49 +905,122 @@ mod tests {
         assert!(ranks.windows(2).all(|w| w[0] <= w[1]));
         assert!(!ranks.contains(&3));
         // face-interior nodes grouped by face, in face order
-        let faces: Vec<u32> = mesh.node_class.iter().filter_map(|c| if let NodeClass::Face(f, _) = c { Some(f.0) } else { None }).collect();
+        let faces: Vec<u32> = mesh
+            .node_class
+            .iter()
+            .filter_map(|c| {
+                if let NodeClass::Face(f, _) = c {
+                    Some(f.0)
+                } else {
+                    None
+                }
+            })
+            .collect();
         assert!(faces.windows(2).all(|w| w[0] <= w[1]));
         assert_eq!(mesh.corner_nodes, vec![(0, CornerId(0)), (1, CornerId(1))]);
     }
 
     #[test]
     fn stages_switch_steps_off_and_stage_times_are_reported() {
-        let opts = MeshOptions { size: Size::Absolute(0.12), threads: Some(1), progress: None };
+        let opts = MeshOptions {
+            size: Size::Absolute(0.12),
+            threads: Some(1),
+            progress: None,
+        };
         let sphere = primitives::sphere(1.0);
-        let (with, all) = mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages::ALL).unwrap();
-        assert!(all.cavities.replaced.iter().sum::<usize>() > 0, "{:?}", all.cavities);
-        assert!(all.times.fields > Duration::ZERO && all.times.frontal > Duration::ZERO && all.times.cavities > Duration::ZERO, "{:?}", all.times);
-        assert!(all.times.total >= all.times.fields + all.times.faces, "{:?}", all.times);
-        let (without, off) = mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages { cavities: false, ..Stages::ALL }).unwrap();
+        let (with, all) =
+            mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages::ALL).unwrap();
+        assert!(
+            all.cavities.replaced.iter().sum::<usize>() > 0,
+            "{:?}",
+            all.cavities
+        );
+        assert!(
+            all.times.fields > Duration::ZERO
+                && all.times.frontal > Duration::ZERO
+                && all.times.cavities > Duration::ZERO,
+            "{:?}",
+            all.times
+        );
+        assert!(
+            all.times.total >= all.times.fields + all.times.faces,
+            "{:?}",
+            all.times
+        );
+        let (without, off) = mesh_model_stages(
+            &sphere,
+            &opts,
+            MeshMethod::Unstructured,
+            Stages {
+                cavities: false,
+                ..Stages::ALL
+            },
+        )
+        .unwrap();
         assert_eq!(off.cavities, crate::cavity::CavityReport::default());
         assert_eq!(off.times.cavities, Duration::ZERO);
         assert_eq!(off.defects, all.defects, "defects run before cavities");
         assert_ne!(with.quads, without.quads);
-        let (_, none) = mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages::NONE).unwrap();
+        let (_, none) =
+            mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages::NONE).unwrap();
         assert_eq!(none.defects, crate::defects::DefectReport::default());
         // a square is meshed by a pattern unless patterns are off
         let square = primitives::square(1.0);
-        let (_, p) = mesh_model_stages(&square, &opts, MeshMethod::Unstructured, Stages::ALL).unwrap();
+        let (_, p) =
+            mesh_model_stages(&square, &opts, MeshMethod::Unstructured, Stages::ALL).unwrap();
         assert_eq!(p.patterns.len(), 1, "{:?}", p.patterns);
-        let (_, q) = mesh_model_stages(&square, &opts, MeshMethod::Unstructured, Stages { patterns: false, ..Stages::ALL }).unwrap();
-        assert!(q.patterns.is_empty() && q.times.patterns == Duration::ZERO && q.times.frontal > Duration::ZERO, "{q:?}");
+        let (_, q) = mesh_model_stages(
+            &square,
+            &opts,
+            MeshMethod::Unstructured,
+            Stages {
+                patterns: false,
+                ..Stages::ALL
+            },
+        )
+        .unwrap();
+        assert!(
+            q.patterns.is_empty()
+                && q.times.patterns == Duration::ZERO
+                && q.times.frontal > Duration::ZERO,
+            "{q:?}"
+        );
         // the baseline's faces are all timed as baseline meshing
         let (_, b) = mesh_model_stages(&square, &opts, MeshMethod::Baseline, Stages::ALL).unwrap();
-        assert!(b.times.fallback > Duration::ZERO && b.times.frontal == Duration::ZERO, "{:?}", b.times);
+        assert!(
+            b.times.fallback > Duration::ZERO && b.times.frontal == Duration::ZERO,
+            "{:?}",
+            b.times
+        );
     }
 
     #[test]
     fn stage_times_never_take_part_in_equality() {
-        let a = StageTimes { total: Duration::from_secs(3), ..Default::default() };
+        let a = StageTimes {
+            total: Duration::from_secs(3),
+            ..Default::default()
+        };
         assert_eq!(a, StageTimes::default());
-        let r = MeshReport { times: a, ..Default::default() };
+        let r = MeshReport {
+            times: a,
+            ..Default::default()
+        };
         assert_eq!(r, MeshReport::default());
-        assert_ne!(MeshReport { patterns: vec![(FaceId(0), "x".into())], ..r.clone() }, r);
+        assert_ne!(
+            MeshReport {
+                patterns: vec![(FaceId(0), "x".into())],
+                ..r.clone()
+            },
+            r
+        );
     }
 
     #[test]
     fn error_names_the_face() {
-        let e = MeshError::Face { face: FaceId(4), reason: "x".into() };
+        let e = MeshError::Face {
+            face: FaceId(4),
+            reason: "x".into(),
+        };
         assert_eq!(e.to_string(), "face 5 could not be meshed: x");
     }
 }

@@ -76,13 +76,21 @@ pub fn recombine(
                     }
                     // t = (a, b, c), u = (b, a, d): the quad a, d, b, c
                     let q = [a, d, b, c];
-                    let oriented = if face.reversed { [q[0], q[3], q[2], q[1]] } else { q };
+                    let oriented = if face.reversed {
+                        [q[0], q[3], q[2], q[1]]
+                    } else {
+                        q
+                    };
                     let sicn = quad_quality(face, nodes, pos, &oriented);
                     if !(sicn > min_sicn) {
                         continue;
                     }
                     let w = alignment(&oriented.map(|i| pos[i as usize]));
-                    let w = if w.is_finite() { w.clamp(0.0, 1.0) } else { 0.0 };
+                    let w = if w.is_finite() {
+                        w.clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
                     cands.push((sicn * w, tj.min(ti as u32), tj.max(ti as u32), q));
                 }
             }
@@ -107,14 +115,24 @@ pub fn recombine(
     taken.sort_unstable();
     taken.dedup();
     out.quads = taken.iter().map(|&ci| cands[ci].3).collect();
-    out.triangles = tris.iter().zip(&mate).filter(|(_, m)| m.is_none()).map(|(t, _)| *t).collect();
+    out.triangles = tris
+        .iter()
+        .zip(&mate)
+        .filter(|(_, m)| m.is_none())
+        .map(|(t, _)| *t)
+        .collect();
     out
 }
 
 /// Pairs more triangles by augmenting paths of at most `max_path` candidate
 /// edges, searched breadth-first from each free triangle in order (candidates
 /// of a triangle in rank order), so the result is deterministic.
-fn augment(ntris: usize, cands: &[(f64, u32, u32, [u32; 4])], mate: &mut [Option<(u32, usize)>], max_path: usize) {
+fn augment(
+    ntris: usize,
+    cands: &[(f64, u32, u32, [u32; 4])],
+    mate: &mut [Option<(u32, usize)>],
+    max_path: usize,
+) {
     let mut adj: Vec<Vec<(u32, usize)>> = vec![Vec::new(); ntris];
     for (ci, &(_, t1, t2, _)) in cands.iter().enumerate() {
         adj[t1 as usize].push((t2, ci));
@@ -160,7 +178,9 @@ fn augment(ntris: usize, cands: &[(f64, u32, u32, [u32; 4])], mate: &mut [Option
             }
             frontier = next;
         }
-        let Some((mut u, mut v, mut ci)) = found else { continue };
+        let Some((mut u, mut v, mut ci)) = found else {
+            continue;
+        };
         // flip the path back to the root: v–u becomes matched, u's old mate
         // is re-matched through its parent edge, and so on
         loop {
@@ -188,16 +208,34 @@ mod tests {
     use geometry::primitives;
 
     fn node(u: f64, v: f64) -> LocalNode {
-        LocalNode { uv: [u, v], node: NodeRef::Interior, pole: None }
+        LocalNode {
+            uv: [u, v],
+            node: NodeRef::Interior,
+            pole: None,
+        }
     }
 
     #[test]
     fn two_right_triangles_make_one_quad() {
         let m = primitives::square(1.0);
-        let nodes = vec![node(0.0, 0.0), node(1.0, 0.0), node(1.0, 1.0), node(0.0, 1.0)];
+        let nodes = vec![
+            node(0.0, 0.0),
+            node(1.0, 0.0),
+            node(1.0, 1.0),
+            node(0.0, 1.0),
+        ];
         let pos: Vec<Vec3> = nodes.iter().map(|n| [n.uv[0], n.uv[1], 0.0]).collect();
         let tris = [[0, 1, 2], [0, 2, 3]];
-        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |_, _| false, |_| 1.0, MIN_SICN, 0);
+        let r = recombine(
+            &m.faces[0],
+            &nodes,
+            &pos,
+            &tris,
+            |_, _| false,
+            |_| 1.0,
+            MIN_SICN,
+            0,
+        );
         assert_eq!(r.quads.len(), 1);
         assert!(r.triangles.is_empty());
         let q = r.quads[0];
@@ -207,7 +245,16 @@ mod tests {
         assert_eq!(sorted, [0, 1, 2, 3]);
         assert!(quad_quality(&m.faces[0], &nodes, &pos, &q) > 0.99);
         // a CAD curve along the diagonal forbids it
-        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |a, b| (a.min(b), a.max(b)) == (0, 2), |_| 1.0, MIN_SICN, 3);
+        let r = recombine(
+            &m.faces[0],
+            &nodes,
+            &pos,
+            &tris,
+            |a, b| (a.min(b), a.max(b)) == (0, 2),
+            |_| 1.0,
+            MIN_SICN,
+            3,
+        );
         assert!(r.quads.is_empty());
         assert_eq!(r.triangles.len(), 2);
     }
@@ -216,24 +263,70 @@ mod tests {
     fn flat_pairs_are_refused_and_the_weight_counts() {
         let m = primitives::square(1.0);
         // a fan of four triangles around the centre of the square
-        let nodes = vec![node(0.0, 0.0), node(1.0, 0.0), node(1.0, 1.0), node(0.0, 1.0), node(0.5, 0.5)];
+        let nodes = vec![
+            node(0.0, 0.0),
+            node(1.0, 0.0),
+            node(1.0, 1.0),
+            node(0.0, 1.0),
+            node(0.5, 0.5),
+        ];
         let pos: Vec<Vec3> = nodes.iter().map(|n| [n.uv[0], n.uv[1], 0.0]).collect();
         let tris = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
         // two pairings are possible (0-1 & 2-3, or 1-2 & 3-0): all four quads
         // have a 180° corner at the centre, SICN 0, refused
-        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |_, _| false, |_| 1.0, MIN_SICN, 3);
+        let r = recombine(
+            &m.faces[0],
+            &nodes,
+            &pos,
+            &tris,
+            |_, _| false,
+            |_| 1.0,
+            MIN_SICN,
+            3,
+        );
         assert!(r.quads.is_empty());
         // a strip of two unit squares cut in four triangles: quality alone
         // takes the two squares, a weight favouring the middle parallelogram
         // (SICN sin 45°) takes it and leaves two triangles
-        let nodes = vec![node(0.0, 0.0), node(1.0, 0.0), node(2.0, 0.0), node(2.0, 1.0), node(1.0, 1.0), node(0.0, 1.0)];
+        let nodes = vec![
+            node(0.0, 0.0),
+            node(1.0, 0.0),
+            node(2.0, 0.0),
+            node(2.0, 1.0),
+            node(1.0, 1.0),
+            node(0.0, 1.0),
+        ];
         let pos: Vec<Vec3> = nodes.iter().map(|n| [n.uv[0], n.uv[1], 0.0]).collect();
         let tris = [[0, 1, 4], [0, 4, 5], [1, 2, 3], [1, 3, 4]];
-        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |_, _| false, |_| 1.0, MIN_SICN, 0);
+        let r = recombine(
+            &m.faces[0],
+            &nodes,
+            &pos,
+            &tris,
+            |_, _| false,
+            |_| 1.0,
+            MIN_SICN,
+            0,
+        );
         assert_eq!(r.quads.len(), 2);
         assert!(r.triangles.is_empty());
-        let middle = |q: &[Vec3; 4]| if q.contains(&[0.0, 0.0, 0.0]) && q.contains(&[2.0, 1.0, 0.0]) { 1.0 } else { 0.5 };
-        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |_, _| false, middle, MIN_SICN, 0);
+        let middle = |q: &[Vec3; 4]| {
+            if q.contains(&[0.0, 0.0, 0.0]) && q.contains(&[2.0, 1.0, 0.0]) {
+                1.0
+            } else {
+                0.5
+            }
+        };
+        let r = recombine(
+            &m.faces[0],
+            &nodes,
+            &pos,
+            &tris,
+            |_, _| false,
+            middle,
+            MIN_SICN,
+            0,
+        );
         assert_eq!(r.quads.len(), 1, "{:?}", r.quads);
         let mut q = r.quads[0];
         q.sort();
@@ -241,10 +334,28 @@ mod tests {
         assert_eq!(r.triangles, vec![[0, 4, 5], [1, 2, 3]]);
         // an augmenting path (045 – 014 = 134 – 123) pairs the two leftovers:
         // back to the two squares; a path limit of 1 cannot find it
-        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |_, _| false, middle, MIN_SICN, 3);
+        let r = recombine(
+            &m.faces[0],
+            &nodes,
+            &pos,
+            &tris,
+            |_, _| false,
+            middle,
+            MIN_SICN,
+            3,
+        );
         assert_eq!(r.quads.len(), 2, "{:?}", r.quads);
         assert!(r.triangles.is_empty());
-        let r = recombine(&m.faces[0], &nodes, &pos, &tris, |_, _| false, middle, MIN_SICN, 1);
+        let r = recombine(
+            &m.faces[0],
+            &nodes,
+            &pos,
+            &tris,
+            |_, _| false,
+            middle,
+            MIN_SICN,
+            1,
+        );
         assert_eq!(r.quads.len(), 1);
     }
 }

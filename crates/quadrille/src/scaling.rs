@@ -62,10 +62,17 @@ impl ConformalScaling {
 pub fn target_gradient(field: &CrossField, t: usize) -> [f64; 3] {
     let topo = &field.topology;
     // local edge 2 = (i, j), 0 = (j, k), 1 = (k, i)
-    let w = [field.in_triangle(t, 0), field.in_triangle(t, 1), field.in_triangle(t, 2)];
+    let w = [
+        field.in_triangle(t, 0),
+        field.in_triangle(t, 1),
+        field.in_triangle(t, 2),
+    ];
     let d_jk = arg_ratio(w[2], w[0]) / 4.0;
     let d_ki = arg_ratio(w[2], w[1]) / 4.0;
-    let (e0, e1) = (topo.opposite_edge_vector(t, 0), topo.opposite_edge_vector(t, 1));
+    let (e0, e1) = (
+        topo.opposite_edge_vector(t, 0),
+        topo.opposite_edge_vector(t, 1),
+    );
     let inv = -1.0 / topo.areas[t];
     vec3::scale(vec3::add(vec3::scale(e0, d_jk), vec3::scale(e1, d_ki)), inv)
 }
@@ -86,7 +93,10 @@ pub fn conformal_scaling(field: &CrossField) -> Result<ConformalScaling, Scaling
     }
     for tri in &topo.triangles {
         for a in 0..3 {
-            let (x, y) = (find(&mut parent, tri[a]), find(&mut parent, tri[(a + 1) % 3]));
+            let (x, y) = (
+                find(&mut parent, tri[a]),
+                find(&mut parent, tri[(a + 1) % 3]),
+            );
             if x != y {
                 parent[x.max(y) as usize] = x.min(y);
             }
@@ -119,7 +129,11 @@ pub fn conformal_scaling(field: &CrossField) -> Result<ConformalScaling, Scaling
     for t in 0..nt {
         let tri = topo.triangles[t];
         let nrm = topo.normals[t];
-        let e = [topo.opposite_edge_vector(t, 0), topo.opposite_edge_vector(t, 1), topo.opposite_edge_vector(t, 2)];
+        let e = [
+            topo.opposite_edge_vector(t, 0),
+            topo.opposite_edge_vector(t, 1),
+            topo.opposite_edge_vector(t, 2),
+        ];
         let g = if tri_index[t] != 0 {
             singular += 1;
             [0.0; 3]
@@ -137,7 +151,9 @@ pub fn conformal_scaling(field: &CrossField) -> Result<ConformalScaling, Scaling
             for b in 0..3 {
                 let j = index[tri[b] as usize];
                 if j != NONE && i >= j {
-                    let p = pattern.position(i as usize, j as usize).ok_or_else(|| ScalingError::Solver("pattern is missing an entry".into()))?;
+                    let p = pattern.position(i as usize, j as usize).ok_or_else(|| {
+                        ScalingError::Solver("pattern is missing an entry".into())
+                    })?;
                     vals[p] += vec3::dot(e[a], e[b]) / (4.0 * area);
                 }
             }
@@ -146,8 +162,11 @@ pub fn conformal_scaling(field: &CrossField) -> Result<ConformalScaling, Scaling
     let mut h = vec![0.0; nv];
     if n > 0 {
         // AMD ordering (less fill than the geometric nested dissection here)
-        let spd = SparseSpd::analyze(pattern, None).map_err(|e| ScalingError::Solver(e.to_string()))?;
-        let f = spd.factor(&vals).map_err(|e| ScalingError::Solver(e.to_string()))?;
+        let spd =
+            SparseSpd::analyze(pattern, None).map_err(|e| ScalingError::Solver(e.to_string()))?;
+        let f = spd
+            .factor(&vals)
+            .map_err(|e| ScalingError::Solver(e.to_string()))?;
         f.solve_in_place(&mut rhs);
         for v in 0..nv {
             if index[v] != NONE {
@@ -158,7 +177,10 @@ pub fn conformal_scaling(field: &CrossField) -> Result<ConformalScaling, Scaling
     if h.iter().any(|x| !x.is_finite()) {
         return Err(ScalingError::Solver("non-finite scaling".into()));
     }
-    Ok(ConformalScaling { h, singular_triangles: singular })
+    Ok(ConformalScaling {
+        h,
+        singular_triangles: singular,
+    })
 }
 
 /// `∫_S e^{−2H}` with the per-triangle mean of the vertex values.
@@ -166,7 +188,13 @@ pub fn integral_exp_minus_2h(topo: &FaceTopology, h: &[f64]) -> f64 {
     topo.triangles
         .iter()
         .zip(&topo.areas)
-        .map(|(tri, &a)| a * tri.iter().map(|&v| (-2.0 * h[v as usize]).exp()).sum::<f64>() / 3.0)
+        .map(|(tri, &a)| {
+            a * tri
+                .iter()
+                .map(|&v| (-2.0 * h[v as usize]).exp())
+                .sum::<f64>()
+                / 3.0
+        })
         .sum()
 }
 
@@ -190,9 +218,17 @@ mod tests {
 
     #[test]
     fn square_scaling_is_uniform() {
-        let f = compute_cross_field(&fixtures::square_grid(1.0, 16), &CrossFieldOptions::default()).unwrap();
+        let f = compute_cross_field(
+            &fixtures::square_grid(1.0, 16),
+            &CrossFieldOptions::default(),
+        )
+        .unwrap();
         let s = conformal_scaling(&f).unwrap();
-        let (lo, hi) = s.h.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+        let (lo, hi) =
+            s.h.iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                    (a.min(x), b.max(x))
+                });
         assert!(hi - lo < 1e-9, "H range {lo}..{hi}");
         // unit square, N quads → h = 1/√N
         let c = scaling_constant(&f.topology, &s.h, 100.0).unwrap();
@@ -201,13 +237,26 @@ mod tests {
 
     #[test]
     fn annulus_scaling_grows_linearly_with_radius() {
-        let f = compute_cross_field(&fixtures::annulus(0.4, 1.0, 24, 128), &CrossFieldOptions::default()).unwrap();
+        let f = compute_cross_field(
+            &fixtures::annulus(0.4, 1.0, 24, 128),
+            &CrossFieldOptions::default(),
+        )
+        .unwrap();
         let s = conformal_scaling(&f).unwrap();
         assert_eq!(s.singular_triangles, 0);
         // least-squares slope of H against ln r
-        let pts: Vec<(f64, f64)> = f.topology.positions.iter().zip(&s.h).map(|(p, &h)| (p[0].hypot(p[1]).ln(), h)).collect();
+        let pts: Vec<(f64, f64)> = f
+            .topology
+            .positions
+            .iter()
+            .zip(&s.h)
+            .map(|(p, &h)| (p[0].hypot(p[1]).ln(), h))
+            .collect();
         let n = pts.len() as f64;
-        let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
+        let (mx, my) = (
+            pts.iter().map(|p| p.0).sum::<f64>() / n,
+            pts.iter().map(|p| p.1).sum::<f64>() / n,
+        );
         let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
         let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
         let slope = sxy / sxx;
@@ -218,7 +267,10 @@ mod tests {
     fn constant_hits_the_target_quad_count() {
         let f = compute_cross_field(&fixtures::disk(16), &CrossFieldOptions::default()).unwrap();
         let s = conformal_scaling(&f).unwrap();
-        assert!(s.h.iter().any(|&x| x.abs() > 1e-3), "a disk field rotates: H is not constant");
+        assert!(
+            s.h.iter().any(|&x| x.abs() > 1e-3),
+            "a disk field rotates: H is not constant"
+        );
         for n in [10.0, 1234.0, 1e6] {
             let c = scaling_constant(&f.topology, &s.h, n).unwrap();
             let shifted: Vec<f64> = s.h.iter().map(|h| h + c).collect();

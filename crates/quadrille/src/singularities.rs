@@ -85,7 +85,12 @@ impl Singularities {
 
     /// What relation (2) demands of that sum: `4χ − Σ_corners (2 − n̄_c)`.
     pub fn expected_index_sum(&self) -> i64 {
-        4 * self.euler_characteristic - self.corners.iter().map(|c| (2 - c.ideal_valence) as i64).sum::<i64>()
+        4 * self.euler_characteristic
+            - self
+                .corners
+                .iter()
+                .map(|c| (2 - c.ideal_valence) as i64)
+                .sum::<i64>()
     }
 
     /// True when singularity and corner indices satisfy relation (2).
@@ -108,8 +113,16 @@ pub fn ideal_corner_valence(angle: f64) -> i32 {
 /// Per triangle, the representation-angle steps `d[a] = arg(w_{a+1} / w_a)`
 /// between its edge crosses expressed in the triangle frame (indices mod 3).
 fn triangle_steps(field: &CrossField, t: usize) -> [f64; 3] {
-    let w = [field.in_triangle(t, 0), field.in_triangle(t, 1), field.in_triangle(t, 2)];
-    [arg_ratio(w[0], w[1]), arg_ratio(w[1], w[2]), arg_ratio(w[2], w[0])]
+    let w = [
+        field.in_triangle(t, 0),
+        field.in_triangle(t, 1),
+        field.in_triangle(t, 2),
+    ];
+    [
+        arg_ratio(w[0], w[1]),
+        arg_ratio(w[1], w[2]),
+        arg_ratio(w[2], w[0]),
+    ]
 }
 
 /// Index of each welded vertex region (0 for vertices on the triangulation
@@ -163,7 +176,12 @@ pub fn boundary_corners(field: &CrossField) -> Vec<BoundaryCorner> {
     for v in 0..topo.positions.len() {
         if let VertexClass::Corner(c) = topo.class[v] {
             if topo.on_boundary[v] {
-                out.push(BoundaryCorner { vertex: v as u32, corner: c, angle: angle[v], ideal_valence: ideal_corner_valence(angle[v]) });
+                out.push(BoundaryCorner {
+                    vertex: v as u32,
+                    corner: c,
+                    angle: angle[v],
+                    ideal_valence: ideal_corner_valence(angle[v]),
+                });
             }
         }
     }
@@ -177,7 +195,11 @@ pub fn extract_singularities(field: &CrossField) -> Singularities {
     let mut list = Vec::new();
     for (v, &k) in vertex_indices(field).iter().enumerate() {
         for _ in 0..k.unsigned_abs() {
-            list.push(Singularity { index: k.signum(), position: topo.positions[v], site: SingularitySite::Vertex(v as u32) });
+            list.push(Singularity {
+                index: k.signum(),
+                position: topo.positions[v],
+                site: SingularitySite::Vertex(v as u32),
+            });
         }
     }
     for (t, &k) in triangle_indices(field).iter().enumerate() {
@@ -188,16 +210,28 @@ pub fn extract_singularities(field: &CrossField) -> Singularities {
         }
         let c = vec3::scale(c, 1.0 / 3.0);
         for _ in 0..k.unsigned_abs() {
-            list.push(Singularity { index: k.signum(), position: c, site: SingularitySite::Triangle(t as u32) });
+            list.push(Singularity {
+                index: k.signum(),
+                position: c,
+                site: SingularitySite::Triangle(t as u32),
+            });
         }
     }
     let corners = boundary_corners(field);
     for c in &corners {
         if c.angle < ACUTE_CORNER_ANGLE {
-            list.push(Singularity { index: 1, position: topo.positions[c.vertex as usize], site: SingularitySite::AcuteCorner(c.vertex, c.corner) });
+            list.push(Singularity {
+                index: 1,
+                position: topo.positions[c.vertex as usize],
+                site: SingularitySite::AcuteCorner(c.vertex, c.corner),
+            });
         }
     }
-    Singularities { list, corners, euler_characteristic: topo.euler_characteristic() }
+    Singularities {
+        list,
+        corners,
+        euler_characteristic: topo.euler_characteristic(),
+    }
 }
 
 #[cfg(test)]
@@ -236,7 +270,11 @@ mod tests {
         assert_eq!(s.count(-1), 0);
         assert!(s.satisfies_eq2());
         // about 90° apart, inside the disk, away from the boundary layer
-        let mut ang: Vec<f64> = s.list.iter().map(|x| x.position[1].atan2(x.position[0])).collect();
+        let mut ang: Vec<f64> = s
+            .list
+            .iter()
+            .map(|x| x.position[1].atan2(x.position[0]))
+            .collect();
         ang.sort_by(f64::total_cmp);
         for i in 0..4 {
             let gap = (ang[(i + 1) % 4] - ang[i]).rem_euclid(2.0 * PI);
@@ -265,7 +303,11 @@ mod tests {
         let a = singularities_of(&fixtures::annulus(0.5, 1.0, 12, 64));
         assert_eq!(a.euler_characteristic, 0);
         assert_eq!(a.index_sum(), 0);
-        assert!(a.list.is_empty(), "annulus field should be regular: {:?}", a.list);
+        assert!(
+            a.list.is_empty(),
+            "annulus field should be regular: {:?}",
+            a.list
+        );
         assert!(a.satisfies_eq2());
     }
 
@@ -277,12 +319,21 @@ mod tests {
         assert_eq!(s.index_sum(), 1);
         assert!(s.satisfies_eq2());
         // regular pentagon (108°, n̄ = 1): one −1
-        let pent: Vec<[f64; 2]> = (0..5).map(|k| [(2.0 * PI * k as f64 / 5.0).cos(), (2.0 * PI * k as f64 / 5.0).sin()]).collect();
+        let pent: Vec<[f64; 2]> = (0..5)
+            .map(|k| {
+                [
+                    (2.0 * PI * k as f64 / 5.0).cos(),
+                    (2.0 * PI * k as f64 / 5.0).sin(),
+                ]
+            })
+            .collect();
         let s = singularities_of(&fixtures::convex_polygon(&pent, 14));
         assert_eq!(s.count(-1), 1, "{:?}", s.list);
         assert!(s.satisfies_eq2());
         // regular hexagon (120°, n̄ = 1): sum −2
-        let hex: Vec<[f64; 2]> = (0..6).map(|k| [(PI * k as f64 / 3.0).cos(), (PI * k as f64 / 3.0).sin()]).collect();
+        let hex: Vec<[f64; 2]> = (0..6)
+            .map(|k| [(PI * k as f64 / 3.0).cos(), (PI * k as f64 / 3.0).sin()])
+            .collect();
         let s = singularities_of(&fixtures::convex_polygon(&hex, 14));
         assert_eq!(s.index_sum(), -2);
         assert!(s.satisfies_eq2());
@@ -293,9 +344,18 @@ mod tests {
         let a = 30f64.to_radians();
         let wedge = fixtures::convex_polygon(&[[0.0, 0.0], [1.0, 0.0], [a.cos(), a.sin()]], 16);
         let s = singularities_of(&wedge);
-        let acute: Vec<_> = s.list.iter().filter(|x| matches!(x.site, SingularitySite::AcuteCorner(..))).collect();
+        let acute: Vec<_> = s
+            .list
+            .iter()
+            .filter(|x| matches!(x.site, SingularitySite::AcuteCorner(..)))
+            .collect();
         assert_eq!(acute.len(), 1);
         assert_eq!(acute[0].position, [0.0, 0.0, 0.0]);
-        assert!(s.satisfies_eq2(), "sum {} expected {}", s.index_sum(), s.expected_index_sum());
+        assert!(
+            s.satisfies_eq2(),
+            "sum {} expected {}",
+            s.index_sum(),
+            s.expected_index_sum()
+        );
     }
 }

@@ -73,7 +73,13 @@ pub struct SizeMapOptions {
 
 impl Default for SizeMapOptions {
     fn default() -> Self {
-        SizeMapOptions { gradient: DEFAULT_GRADIENT, small_features: true, min_size: None, max_size: None, entity_sizes: Vec::new() }
+        SizeMapOptions {
+            gradient: DEFAULT_GRADIENT,
+            small_features: true,
+            min_size: None,
+            max_size: None,
+            entity_sizes: Vec::new(),
+        }
     }
 }
 
@@ -127,7 +133,11 @@ impl BackgroundGraph {
             let mut ids = Vec::with_capacity(f.refs.len());
             for (v, &r) in f.refs.iter().enumerate() {
                 let fresh = g.positions.len() as u32;
-                let id = if r == NodeRef::Interior { fresh } else { *shared.entry(r).or_insert(fresh) };
+                let id = if r == NodeRef::Interior {
+                    fresh
+                } else {
+                    *shared.entry(r).or_insert(fresh)
+                };
                 if id == fresh {
                     g.positions.push(f.topo.positions[v]);
                     g.refs.push(r);
@@ -183,7 +193,12 @@ impl Ord for Smallest {
 /// Infinite sizes are "no constraint yet". Dijkstra from every finite size,
 /// `O(E log V)`.
 pub fn grade(graph: &BackgroundGraph, sizes: &mut [f64], gradient: f64) {
-    let mut heap: BinaryHeap<Smallest> = sizes.iter().enumerate().filter(|(_, s)| s.is_finite()).map(|(v, &s)| Smallest(s, v as u32)).collect();
+    let mut heap: BinaryHeap<Smallest> = sizes
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.is_finite())
+        .map(|(v, &s)| Smallest(s, v as u32))
+        .collect();
     while let Some(Smallest(s, v)) = heap.pop() {
         if s > sizes[v as usize] {
             continue; // stale entry
@@ -217,7 +232,11 @@ fn box_distance(p: Vec3, lo: Vec3, hi: Vec3) -> f64 {
 fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
     let ab = vec3::sub(b, a);
     let l2 = vec3::dot(ab, ab);
-    let t = if l2 > 0.0 { (vec3::dot(vec3::sub(p, a), ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if l2 > 0.0 {
+        (vec3::dot(vec3::sub(p, a), ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     vec3::dist(p, vec3::add(a, vec3::scale(ab, t)))
 }
 
@@ -269,14 +288,23 @@ pub fn feature_sizes(model: &Model, cms: &[CurveMesh], graph: &BackgroundGraph) 
     // curves on no face (free wires, often copies of face curves) neither get
     // nor give a feature size
     let mut on_face = vec![false; nc];
-    for u in model.faces.iter().flat_map(|f| &f.loops).flat_map(|l| &l.uses) {
+    for u in model
+        .faces
+        .iter()
+        .flat_map(|f| &f.loops)
+        .flat_map(|l| &l.uses)
+    {
         if let Some(x) = on_face.get_mut(u.curve.idx()) {
             *x = true;
         }
     }
     let contact = CONTACT_TOLERANCE * model.diagonal();
     let length: Vec<f64> = (0..nc)
-        .map(|c| cms.get(c).map_or(0.0, |m| m.points.windows(2).map(|w| vec3::dist(w[0], w[1])).sum()))
+        .map(|c| {
+            cms.get(c).map_or(0.0, |m| {
+                m.points.windows(2).map(|w| vec3::dist(w[0], w[1])).sum()
+            })
+        })
         .collect();
     // a curve shorter than the contact tolerance is a point, not a feature
     let live = |c: usize| on_face[c] && !model.curves[c].degenerate && length[c] > contact;
@@ -295,14 +323,24 @@ pub fn feature_sizes(model: &Model, cms: &[CurveMesh], graph: &BackgroundGraph) 
                     hi[i] = hi[i].max(p[i]);
                 }
             }
-            chunks.push(Chunk { curve: c, lo, hi, points });
+            chunks.push(Chunk {
+                curve: c,
+                lo,
+                hi,
+                points,
+            });
             start = end;
         }
     }
     // corners closer than the contact tolerance are one corner (unsewn
     // shells repeat their shared corners; CAD tolerance gaps)
     let cluster = corner_clusters(model, contact);
-    let ends = |c: usize| [cluster[model.curves[c].start.idx()], cluster[model.curves[c].end.idx()]];
+    let ends = |c: usize| {
+        [
+            cluster[model.curves[c].start.idx()],
+            cluster[model.curves[c].end.idx()],
+        ]
+    };
     let adjacent = |a: usize, b: usize| a == b || ends(a).iter().any(|x| ends(b).contains(x));
     let mut corner_curves: Vec<Vec<usize>> = vec![Vec::new(); model.corners.len()];
     for c in (0..nc).filter(|&c| live(c)) {
@@ -331,7 +369,11 @@ pub fn feature_sizes(model: &Model, cms: &[CurveMesh], graph: &BackgroundGraph) 
                 break;
             }
             let c = chunks[i].curve;
-            let near = chunks[i].points.windows(2).map(|w| segment_distance(p, w[0], w[1])).fold(f64::INFINITY, f64::min);
+            let near = chunks[i]
+                .points
+                .windows(2)
+                .map(|w| segment_distance(p, w[0], w[1]))
+                .fold(f64::INFINITY, f64::min);
             if near <= contact {
                 touching.push(c);
                 continue;
@@ -339,17 +381,28 @@ pub fn feature_sizes(model: &Model, cms: &[CurveMesh], graph: &BackgroundGraph) 
             let e = per_curve.entry(c).or_insert(f64::INFINITY);
             *e = e.min(near);
             if !touching.contains(&c) {
-                best = per_curve.iter().filter(|(k, _)| !touching.contains(k)).map(|(_, &d)| d).fold(cap, f64::min);
+                best = per_curve
+                    .iter()
+                    .filter(|(k, _)| !touching.contains(k))
+                    .map(|(_, &d)| d)
+                    .fold(cap, f64::min);
             }
         }
-        per_curve.iter().filter(|(k, _)| !touching.contains(k)).map(|(_, &d)| d).fold(cap, f64::min)
+        per_curve
+            .iter()
+            .filter(|(k, _)| !touching.contains(k))
+            .map(|(_, &d)| d)
+            .fold(cap, f64::min)
     };
     (0..graph.len())
         .map(|v| {
             let own: Vec<usize> = match graph.refs[v] {
                 NodeRef::Interior => return f64::INFINITY,
                 NodeRef::Curve(c, _) => vec![c.idx()].into_iter().filter(|&c| live(c)).collect(),
-                NodeRef::Corner(k) => corner_curves.get(cluster[k.idx()]).cloned().unwrap_or_default(),
+                NodeRef::Corner(k) => corner_curves
+                    .get(cluster[k.idx()])
+                    .cloned()
+                    .unwrap_or_default(),
             };
             let cap = own.iter().map(|&c| length[c]).fold(f64::INFINITY, f64::min);
             nearest_far_curve(graph.positions[v], &own, cap)
@@ -375,7 +428,10 @@ pub struct SizeMap {
 impl SizeMap {
     /// The size at each welded vertex of the `i`-th face given to [`build_size_map`].
     pub fn face_sizes(&self, i: usize) -> Vec<f64> {
-        self.graph.face_vertices[i].iter().map(|&g| self.size[g as usize]).collect()
+        self.graph.face_vertices[i]
+            .iter()
+            .map(|&g| self.size[g as usize])
+            .collect()
     }
 
     /// Each curve's size profile, as `(curve parameter, size)` pairs in
@@ -421,16 +477,26 @@ impl SizeMap {
 fn check_options(model: &Model, opts: &SizeMapOptions) -> Result<(), SizeMapError> {
     let positive = |x: f64| x.is_finite() && x > 0.0;
     if !positive(opts.gradient) {
-        return Err(SizeMapError::InvalidOption(format!("gradient {} must be a positive number", opts.gradient)));
+        return Err(SizeMapError::InvalidOption(format!(
+            "gradient {} must be a positive number",
+            opts.gradient
+        )));
     }
-    for (name, v) in [("minimum size", opts.min_size), ("maximum size", opts.max_size)] {
+    for (name, v) in [
+        ("minimum size", opts.min_size),
+        ("maximum size", opts.max_size),
+    ] {
         if let Some(v) = v.filter(|&v| !positive(v)) {
-            return Err(SizeMapError::InvalidOption(format!("{name} {v} must be a positive number")));
+            return Err(SizeMapError::InvalidOption(format!(
+                "{name} {v} must be a positive number"
+            )));
         }
     }
     if let (Some(lo), Some(hi)) = (opts.min_size, opts.max_size) {
         if lo > hi {
-            return Err(SizeMapError::InvalidOption(format!("minimum size {lo} is above maximum size {hi}")));
+            return Err(SizeMapError::InvalidOption(format!(
+                "minimum size {lo} is above maximum size {hi}"
+            )));
         }
     }
     for &(e, s) in &opts.entity_sizes {
@@ -443,7 +509,9 @@ fn check_options(model: &Model, opts: &SizeMapOptions) -> Result<(), SizeMapErro
             return Err(SizeMapError::UnknownEntity(e));
         }
         if !positive(s) {
-            return Err(SizeMapError::InvalidOption(format!("size {s} of {e:?} must be a positive number")));
+            return Err(SizeMapError::InvalidOption(format!(
+                "size {s} of {e:?} must be a positive number"
+            )));
         }
     }
     Ok(())
@@ -452,23 +520,44 @@ fn check_options(model: &Model, opts: &SizeMapOptions) -> Result<(), SizeMapErro
 /// Builds the size map of `model` over `faces` (see the module
 /// documentation). `h` is the global target size, `cms` the background curve
 /// meshes the triangulations were built on.
-pub fn build_size_map(model: &Model, cms: &[CurveMesh], faces: &[FaceBackground<'_>], h: f64, opts: &SizeMapOptions) -> Result<SizeMap, SizeMapError> {
+pub fn build_size_map(
+    model: &Model,
+    cms: &[CurveMesh],
+    faces: &[FaceBackground<'_>],
+    h: f64,
+    opts: &SizeMapOptions,
+) -> Result<SizeMap, SizeMapError> {
     check_options(model, opts)?;
     if !(h.is_finite() && h > 0.0) {
-        return Err(SizeMapError::InvalidOption(format!("global size {h} must be a positive number")));
+        return Err(SizeMapError::InvalidOption(format!(
+            "global size {h} must be a positive number"
+        )));
     }
     let graph = BackgroundGraph::build(faces);
     // a face's own size (the smallest given), else the global one
     let face_size = |f: FaceId| {
-        let own = opts.entity_sizes.iter().filter(|(e, _)| *e == Entity::Face(f)).map(|&(_, s)| s).fold(f64::INFINITY, f64::min);
-        if own.is_finite() { own } else { h }
+        let own = opts
+            .entity_sizes
+            .iter()
+            .filter(|(e, _)| *e == Entity::Face(f))
+            .map(|&(_, s)| s)
+            .fold(f64::INFINITY, f64::min);
+        if own.is_finite() {
+            own
+        } else {
+            h
+        }
     };
     // conformal: per face e^{H + C_i}, smallest face value on shared vertices
     let mut conformal = vec![f64::INFINITY; graph.len()];
     for (i, f) in faces.iter().enumerate() {
         let hf = face_size(f.face);
         let area: f64 = f.topo.areas.iter().sum();
-        let sizes: Vec<f64> = match f.scaling.and_then(|hs| scaling_constant(f.topo, hs, area / (hf * hf)).ok().map(|c| (hs, c))) {
+        let sizes: Vec<f64> = match f.scaling.and_then(|hs| {
+            scaling_constant(f.topo, hs, area / (hf * hf))
+                .ok()
+                .map(|c| (hs, c))
+        }) {
             Some((hs, c)) => hs.iter().map(|&x| (x + c).exp()).collect(),
             None => vec![hf; f.refs.len()],
         };
@@ -481,13 +570,19 @@ pub fn build_size_map(model: &Model, cms: &[CurveMesh], faces: &[FaceBackground<
     }
     grade(&graph, &mut conformal, opts.gradient);
     // small features and user sizes on corners and curves
-    let mut feature = if opts.small_features { feature_sizes(model, cms, &graph) } else { vec![f64::INFINITY; graph.len()] };
+    let mut feature = if opts.small_features {
+        feature_sizes(model, cms, &graph)
+    } else {
+        vec![f64::INFINITY; graph.len()]
+    };
     for &(e, s) in &opts.entity_sizes {
         for (v, r) in graph.refs.iter().enumerate() {
             let on = match (e, *r) {
                 (Entity::Corner(k), NodeRef::Corner(x)) => k == x,
                 (Entity::Curve(c), NodeRef::Curve(x, _)) => c == x,
-                (Entity::Curve(c), NodeRef::Corner(x)) => model.curves[c.idx()].start == x || model.curves[c.idx()].end == x,
+                (Entity::Curve(c), NodeRef::Corner(x)) => {
+                    model.curves[c.idx()].start == x || model.curves[c.idx()].end == x
+                }
                 _ => false,
             };
             if on {
@@ -507,7 +602,13 @@ pub fn build_size_map(model: &Model, cms: &[CurveMesh], faces: &[FaceBackground<
             (if s.is_finite() { s } else { h }).clamp(lo, hi)
         })
         .collect();
-    Ok(SizeMap { graph, conformal, feature, size, faces: faces.iter().map(|f| f.face).collect() })
+    Ok(SizeMap {
+        graph,
+        conformal,
+        feature,
+        size,
+        faces: faces.iter().map(|f| f.face).collect(),
+    })
 }
 
 #[cfg(test)]

@@ -41,11 +41,16 @@ fn adjacency(p: &QuadPatch) -> (Vec<Vec<u32>>, Vec<Vec<u32>>) {
 pub fn smooth(face: &Face, p: &mut QuadPatch, sweeps: usize) -> usize {
     let (quads_of, nbrs) = adjacency(p);
     let mut accepted = 0;
-    let worst = |p: &QuadPatch, qs: &[u32]| qs.iter().map(|&q| quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize])).fold(f64::INFINITY, f64::min);
+    let worst = |p: &QuadPatch, qs: &[u32]| {
+        qs.iter()
+            .map(|&q| quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize]))
+            .fold(f64::INFINITY, f64::min)
+    };
     for _ in 0..sweeps {
         let mut moved = 0;
         for i in 0..p.nodes.len() {
-            if p.nodes[i].node != NodeRef::Interior || quads_of[i].is_empty() || nbrs[i].is_empty() {
+            if p.nodes[i].node != NodeRef::Interior || quads_of[i].is_empty() || nbrs[i].is_empty()
+            {
                 continue;
             }
             let old = p.nodes[i].uv;
@@ -57,7 +62,9 @@ pub fn smooth(face: &Face, p: &mut QuadPatch, sweeps: usize) -> usize {
             }
             let k = nbrs[i].len() as f64;
             let new = [s[0] / k, s[1] / k];
-            if !(new[0].is_finite() && new[1].is_finite()) || (new[0] - old[0]).abs() + (new[1] - old[1]).abs() < 1e-14 {
+            if !(new[0].is_finite() && new[1].is_finite())
+                || (new[0] - old[0]).abs() + (new[1] - old[1]).abs() < 1e-14
+            {
                 continue;
             }
             let before = worst(p, &quads_of[i]);
@@ -90,9 +97,16 @@ pub fn smooth(face: &Face, p: &mut QuadPatch, sweeps: usize) -> usize {
 /// Laplacian smoothing cannot fix (thin wedges at cusps, curved boundaries).
 /// A move is kept only when it raises that worst value. Returns the number of
 /// improved nodes. Gives up when more than `max_nodes` nodes would move.
-pub fn untangle(face: &Face, p: &mut QuadPatch, threshold: f64, passes: usize, max_nodes: usize) -> usize {
+pub fn untangle(
+    face: &Face,
+    p: &mut QuadPatch,
+    threshold: f64,
+    passes: usize,
+    max_nodes: usize,
+) -> usize {
     let (quads_of, nbrs) = adjacency(p);
-    let quality = |p: &QuadPatch, q: u32| quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize]);
+    let quality =
+        |p: &QuadPatch, q: u32| quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize]);
     let mut improved = 0;
     for _ in 0..passes {
         // nodes to move: interior nodes of poor quads and their interior neighbours
@@ -136,7 +150,9 @@ pub fn untangle(face: &Face, p: &mut QuadPatch, threshold: f64, passes: usize, m
                 quads_of[i]
                     .iter()
                     .zip(&known)
-                    .map(|(&q, k)| quad_quality_with(face, &p.nodes, &p.pos, &p.quads[q as usize], k))
+                    .map(|(&q, k)| {
+                        quad_quality_with(face, &p.nodes, &p.pos, &p.quads[q as usize], k)
+                    })
                     .fold(f64::INFINITY, f64::min)
             };
             let mut w = star_worst(p);
@@ -213,7 +229,12 @@ mod tests {
         ft.refine().unwrap();
         let tris = ft.triangles();
         let mut p = split_triangles(face, &ft.nodes, &ft.pos, &tris, &ft.boundary_mid);
-        let q = |p: &QuadPatch| p.quads.iter().map(|q| quad_quality(face, &p.nodes, &p.pos, q)).fold(f64::INFINITY, f64::min);
+        let q = |p: &QuadPatch| {
+            p.quads
+                .iter()
+                .map(|q| quad_quality(face, &p.nodes, &p.pos, q))
+                .fold(f64::INFINITY, f64::min)
+        };
         let before = q(&p);
         let moves = smooth(face, &mut p, 3);
         assert!(moves > 0);

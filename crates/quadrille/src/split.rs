@@ -39,7 +39,12 @@ pub fn split_triangles(
     tris: &[[u32; 3]],
     boundary_mid: &HashMap<(u32, u32), BoundaryMid>,
 ) -> QuadPatch {
-    let mut out = QuadPatch { nodes: nodes.to_vec(), pos: pos.to_vec(), quads: Vec::with_capacity(3 * tris.len()), quad_tri: Vec::new() };
+    let mut out = QuadPatch {
+        nodes: nodes.to_vec(),
+        pos: pos.to_vec(),
+        quads: Vec::with_capacity(3 * tris.len()),
+        quad_tri: Vec::new(),
+    };
     // a pole is keyed by its first local instance so edges to "the same" pole share a midpoint
     let mut pole_canon: HashMap<NodeRef, u32> = HashMap::new();
     for (i, n) in nodes.iter().enumerate() {
@@ -74,7 +79,11 @@ pub fn split_triangles(
             let ikey = (ca.min(cb), ca.max(cb));
             m[k] = *mids.entry(ikey).or_insert_with(|| {
                 let uv = edge_mid_uv(&nodes[a as usize], &nodes[b as usize]);
-                out.nodes.push(LocalNode { uv, node: NodeRef::Interior, pole: None });
+                out.nodes.push(LocalNode {
+                    uv,
+                    node: NodeRef::Interior,
+                    pole: None,
+                });
                 out.pos.push(face.surface.eval(uv));
                 (out.nodes.len() - 1) as u32
             });
@@ -93,13 +102,21 @@ pub fn split_triangles(
         if !(guv[0].is_finite() && guv[1].is_finite()) {
             guv = c0;
         }
-        out.nodes.push(LocalNode { uv: guv, node: NodeRef::Interior, pole: None });
+        out.nodes.push(LocalNode {
+            uv: guv,
+            node: NodeRef::Interior,
+            pole: None,
+        });
         out.pos.push(face.surface.eval(guv));
         let g = (out.nodes.len() - 1) as u32;
         let [a, b, c] = *t;
         let qs = [[a, m[0], g, m[2]], [b, m[1], g, m[0]], [c, m[2], g, m[1]]];
         for q in qs {
-            out.quads.push(if face.reversed { [q[0], q[3], q[2], q[1]] } else { q });
+            out.quads.push(if face.reversed {
+                [q[0], q[3], q[2], q[1]]
+            } else {
+                q
+            });
             out.quad_tri.push(ti as u32);
         }
     }
@@ -146,8 +163,19 @@ pub fn quad_quality(face: &Face, nodes: &[LocalNode], pos: &[Vec3], q: &[u32; 4]
 /// [`quad_quality`] with some corner normals already known: `known[k]` is
 /// used for corner `k` when set (an optimizer moving one node keeps the
 /// others' normals instead of evaluating the CAD again).
-pub fn quad_quality_with(face: &Face, nodes: &[LocalNode], pos: &[Vec3], q: &[u32; 4], known: &[Option<Vec3>; 4]) -> f64 {
-    let p = [pos[q[0] as usize], pos[q[1] as usize], pos[q[2] as usize], pos[q[3] as usize]];
+pub fn quad_quality_with(
+    face: &Face,
+    nodes: &[LocalNode],
+    pos: &[Vec3],
+    q: &[u32; 4],
+    known: &[Option<Vec3>; 4],
+) -> f64 {
+    let p = [
+        pos[q[0] as usize],
+        pos[q[1] as usize],
+        pos[q[2] as usize],
+        pos[q[3] as usize],
+    ];
     let mut n = [[0.0; 3]; 4];
     for (k, nk) in n.iter_mut().enumerate() {
         match known[k].or_else(|| node_normal(face, nodes, q, k)) {
@@ -161,7 +189,9 @@ pub fn quad_quality_with(face: &Face, nodes: &[LocalNode], pos: &[Vec3], q: &[u3
             }
         }
     }
-    corner_sicn(&p, &n).into_iter().fold(f64::INFINITY, f64::min)
+    corner_sicn(&p, &n)
+        .into_iter()
+        .fold(f64::INFINITY, f64::min)
 }
 
 #[cfg(test)]

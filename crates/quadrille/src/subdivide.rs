@@ -67,7 +67,10 @@ pub fn subdivide(
         }
     };
     let mut mids: HashMap<(u32, u32), u32> = HashMap::new();
-    let elements = tris.iter().map(|t| t.to_vec()).chain(quads.iter().map(|q| q.to_vec()));
+    let elements = tris
+        .iter()
+        .map(|t| t.to_vec())
+        .chain(quads.iter().map(|q| q.to_vec()));
     for (ei, el) in elements.enumerate() {
         let n = el.len();
         let mut m = Vec::with_capacity(n);
@@ -87,7 +90,11 @@ pub fn subdivide(
             let ikey = (ca.min(cb), ca.max(cb));
             let id = *mids.entry(ikey).or_insert_with(|| {
                 let uv = edge_mid_uv(&nodes[a as usize], &nodes[b as usize]);
-                out.nodes.push(LocalNode { uv, node: NodeRef::Interior, pole: None });
+                out.nodes.push(LocalNode {
+                    uv,
+                    node: NodeRef::Interior,
+                    pole: None,
+                });
                 out.pos.push(face.surface.eval(uv));
                 let id = (out.nodes.len() - 1) as u32;
                 origins.sources.insert(id, vec![a, b]);
@@ -110,7 +117,11 @@ pub fn subdivide(
         } else {
             c0 = nodes[el[0] as usize].uv;
         }
-        let (wv, wm) = if n == 3 { (-1.0 / 9.0, 4.0 / 9.0) } else { (-0.25, 0.5) };
+        let (wv, wm) = if n == 3 {
+            (-1.0 / 9.0, 4.0 / 9.0)
+        } else {
+            (-0.25, 0.5)
+        };
         let mut guv = [0.0, 0.0];
         for k in 0..n {
             let v = nodes[el[k] as usize].uv_toward(c0);
@@ -121,13 +132,21 @@ pub fn subdivide(
         if !(guv[0].is_finite() && guv[1].is_finite()) {
             guv = c0;
         }
-        out.nodes.push(LocalNode { uv: guv, node: NodeRef::Interior, pole: None });
+        out.nodes.push(LocalNode {
+            uv: guv,
+            node: NodeRef::Interior,
+            pole: None,
+        });
         out.pos.push(face.surface.eval(guv));
         let g = (out.nodes.len() - 1) as u32;
         origins.sources.insert(g, el.clone());
         for k in 0..n {
             let q = [el[k], m[k], g, m[(k + n - 1) % n]];
-            out.quads.push(if face.reversed { [q[0], q[3], q[2], q[1]] } else { q });
+            out.quads.push(if face.reversed {
+                [q[0], q[3], q[2], q[1]]
+            } else {
+                q
+            });
             out.quad_tri.push(ei as u32);
         }
     }
@@ -148,7 +167,11 @@ pub fn snap_repair(face: &Face, p: &mut QuadPatch, origins: &Origins, passes: us
             quads_of[i as usize].push(qi as u32);
         }
     }
-    let worst = |p: &QuadPatch, qs: &[u32]| qs.iter().map(|&q| quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize])).fold(f64::INFINITY, f64::min);
+    let worst = |p: &QuadPatch, qs: &[u32]| {
+        qs.iter()
+            .map(|&q| quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize]))
+            .fold(f64::INFINITY, f64::min)
+    };
     let mut kept = 0;
     let mut ids: Vec<u32> = origins.sources.keys().copied().collect();
     ids.sort_unstable();
@@ -167,8 +190,14 @@ pub fn snap_repair(face: &Face, p: &mut QuadPatch, origins: &Origins, passes: us
             }
             let c = vec3::scale(c, 1.0 / src.len() as f64);
             let old = (p.nodes[i as usize].uv, p.pos[i as usize]);
-            let Some((uv, x)) = face.surface.project(c, Some(old.0)) else { continue };
-            if !(uv[0].is_finite() && uv[1].is_finite()) || x.iter().any(|v| !v.is_finite()) || face.is_singular(uv) || face.surface.normal(uv).is_none() {
+            let Some((uv, x)) = face.surface.project(c, Some(old.0)) else {
+                continue;
+            };
+            if !(uv[0].is_finite() && uv[1].is_finite())
+                || x.iter().any(|v| !v.is_finite())
+                || face.is_singular(uv)
+                || face.surface.normal(uv).is_none()
+            {
                 continue;
             }
             p.nodes[i as usize].uv = uv;
@@ -194,7 +223,11 @@ mod tests {
     use geometry::primitives;
 
     fn node(u: f64, v: f64) -> LocalNode {
-        LocalNode { uv: [u, v], node: NodeRef::Interior, pole: None }
+        LocalNode {
+            uv: [u, v],
+            node: NodeRef::Interior,
+            pole: None,
+        }
     }
 
     #[test]
@@ -202,7 +235,16 @@ mod tests {
         let m = primitives::rectangle(3.0, 1.0);
         let face = &m.faces[0];
         // a unit square quad [0,1]² and two triangles on [1,2] × [0,1], plus a quad on [2,3]
-        let nodes = vec![node(0.0, 0.0), node(1.0, 0.0), node(2.0, 0.0), node(3.0, 0.0), node(3.0, 1.0), node(2.0, 1.0), node(1.0, 1.0), node(0.0, 1.0)];
+        let nodes = vec![
+            node(0.0, 0.0),
+            node(1.0, 0.0),
+            node(2.0, 0.0),
+            node(3.0, 0.0),
+            node(3.0, 1.0),
+            node(2.0, 1.0),
+            node(1.0, 1.0),
+            node(0.0, 1.0),
+        ];
         let pos: Vec<Vec3> = nodes.iter().map(|n| face.surface.eval(n.uv)).collect();
         let quads = [[0, 1, 6, 7], [2, 3, 4, 5]];
         let tris = [[1, 2, 5], [1, 5, 6]];
@@ -235,7 +277,12 @@ mod tests {
     fn snapping_repairs_a_node_only_when_it_helps() {
         let m = primitives::square(1.0);
         let face = &m.faces[0];
-        let nodes = vec![node(0.0, 0.0), node(1.0, 0.0), node(1.0, 1.0), node(0.0, 1.0)];
+        let nodes = vec![
+            node(0.0, 0.0),
+            node(1.0, 0.0),
+            node(1.0, 1.0),
+            node(0.0, 1.0),
+        ];
         let pos: Vec<Vec3> = nodes.iter().map(|n| face.surface.eval(n.uv)).collect();
         let (mut p, origins) = subdivide(face, &nodes, &pos, &[[0, 1, 2, 3]], &[], &HashMap::new());
         let before: Vec<Vec3> = p.pos.clone();
@@ -246,8 +293,14 @@ mod tests {
         let g = (p.nodes.len() - 1) as u32;
         p.nodes[g as usize].uv = [1.4, 0.5];
         p.pos[g as usize] = face.surface.eval([1.4, 0.5]);
-        assert!(p.quads.iter().any(|q| quad_quality(face, &p.nodes, &p.pos, q) <= 0.0));
+        assert!(p
+            .quads
+            .iter()
+            .any(|q| quad_quality(face, &p.nodes, &p.pos, q) <= 0.0));
         assert_eq!(snap_repair(face, &mut p, &origins, 3), 1);
-        assert!(p.quads.iter().all(|q| quad_quality(face, &p.nodes, &p.pos, q) > 0.99));
+        assert!(p
+            .quads
+            .iter()
+            .all(|q| quad_quality(face, &p.nodes, &p.pos, q) > 0.99));
     }
 }

@@ -25,11 +25,11 @@ use crate::curve_mesh::CurveMesh;
 use crate::defects::{remove_defects, DefectReport};
 use crate::face_triangulation::{FaceTriangulation, NodeRef};
 use crate::frontal::{insert_frontal_points, FrontalOptions, FrontalStats};
+use crate::pipeline::StageTimes;
 use crate::recombine::{recombine, MIN_SICN};
 use crate::smoothing::{optimize, smooth, untangle, OptimizeOptions};
 use crate::split::{quad_quality, QuadPatch};
 use crate::subdivide::{snap_repair, subdivide};
-use crate::pipeline::StageTimes;
 use std::time::Instant;
 
 /// Smoothing sweeps after subdivision.
@@ -82,7 +82,15 @@ pub struct UnstructuredOptions {
 
 impl Default for UnstructuredOptions {
     fn default() -> Self {
-        UnstructuredOptions { frontal: FrontalOptions::default(), min_sicn: MIN_SICN, smoothing_sweeps: SMOOTHING_SWEEPS, gradation: GRADATION, augment_path: AUGMENT_PATH, defects: true, cavity: Some(CavityOptions::default()) }
+        UnstructuredOptions {
+            frontal: FrontalOptions::default(),
+            min_sicn: MIN_SICN,
+            smoothing_sweeps: SMOOTHING_SWEEPS,
+            gradation: GRADATION,
+            augment_path: AUGMENT_PATH,
+            defects: true,
+            cavity: Some(CavityOptions::default()),
+        }
     }
 }
 
@@ -116,13 +124,22 @@ pub fn mesh_face_unstructured(
     size: &[f64],
     opts: &UnstructuredOptions,
 ) -> Result<(QuadPatch, FaceReport), String> {
-    let face = model.faces.get(fid.idx()).ok_or_else(|| format!("no face {}", fid.0 + 1))?;
+    let face = model
+        .faces
+        .get(fid.idx())
+        .ok_or_else(|| format!("no face {}", fid.0 + 1))?;
     // validates the size array
     Background::new(field, size).map_err(|e| e.to_string())?;
     let max_size = size.iter().cloned().fold(0.0, f64::max);
     let mut report = FaceReport::default();
     let started = Instant::now();
-    let mut ft = FaceTriangulation::new(model, fid, cms, REFINE_SLACK * opts.frontal.factor * max_size).map_err(|e| format!("boundary: {e:?}"))?;
+    let mut ft = FaceTriangulation::new(
+        model,
+        fid,
+        cms,
+        REFINE_SLACK * opts.frontal.factor * max_size,
+    )
+    .map_err(|e| format!("boundary: {e:?}"))?;
     let graded = graded_sizes(&ft, field, size, opts.gradation);
     let bg = Background::new(field, &graded).map_err(|e| e.to_string())?;
     report.frontal = insert_frontal_points(&mut ft, face, &bg, &opts.frontal);
@@ -135,7 +152,10 @@ pub fn mesh_face_unstructured(
     }
     let missing = ft.missing_boundary_edges(&tris);
     if !missing.is_empty() {
-        return Err(format!("boundary edges of curves {:?} left out of the triangulation", missing.iter().map(|c| c.0 + 1).collect::<Vec<_>>()));
+        return Err(format!(
+            "boundary edges of curves {:?} left out of the triangulation",
+            missing.iter().map(|c| c.0 + 1).collect::<Vec<_>>()
+        ));
     }
     report.triangles = tris.len();
     let boundary = &ft.boundary_mid;
@@ -151,14 +171,34 @@ pub fn mesh_face_unstructured(
     );
     report.recombined = qd.quads.len();
     report.leftover = qd.triangles.len();
-    let (mut patch, origins) = subdivide(face, &ft.nodes, &ft.pos, &qd.quads, &qd.triangles, &ft.boundary_mid);
+    let (mut patch, origins) = subdivide(
+        face,
+        &ft.nodes,
+        &ft.pos,
+        &qd.quads,
+        &qd.triangles,
+        &ft.boundary_mid,
+    );
     report.snapped = snap_repair(face, &mut patch, &origins, SNAP_PASSES);
     report.times.frontal = started.elapsed();
     let smoothing = Instant::now();
     smooth(face, &mut patch, opts.smoothing_sweeps);
-    untangle(face, &mut patch, UNTANGLE_BELOW, UNTANGLE_PASSES, UNTANGLE_MAX_NODES);
+    untangle(
+        face,
+        &mut patch,
+        UNTANGLE_BELOW,
+        UNTANGLE_PASSES,
+        UNTANGLE_MAX_NODES,
+    );
     // the paper's kernels (Winslow, angle-based) on the valid mesh
-    optimize(face, &mut patch, &OptimizeOptions { max_sweeps: FINAL_SWEEPS, ..Default::default() });
+    optimize(
+        face,
+        &mut patch,
+        &OptimizeOptions {
+            max_sweeps: FINAL_SWEEPS,
+            ..Default::default()
+        },
+    );
     report.times.smoothing = smoothing.elapsed();
     let bad = invalid_quads(face, &patch);
     if bad > 0 && crate::pipeline::debug_enabled() {
@@ -189,7 +229,12 @@ pub fn mesh_face_unstructured(
 /// cavity remeshing around the unnecessary irregular vertices, keeping the
 /// ones matched to the face's cross-field `singularities` (paper §6.2). Every
 /// change is kept only if the quads stay valid.
-pub fn improve_face(face: &geometry::Face, p: &mut QuadPatch, singularities: &[crate::singularities::Singularity], opts: &UnstructuredOptions) -> (DefectReport, CavityReport) {
+pub fn improve_face(
+    face: &geometry::Face,
+    p: &mut QuadPatch,
+    singularities: &[crate::singularities::Singularity],
+    opts: &UnstructuredOptions,
+) -> (DefectReport, CavityReport) {
     improve_face_timed(face, p, singularities, opts, &mut StageTimes::default())
 }
 
@@ -219,12 +264,24 @@ pub fn improve_face_timed(
 
 /// `size` limited by the graded spacing of the boundary edges of `ft`: at
 /// each background vertex `x`, `min(size, min_e h_e + gradation · |x − m_e|)`.
-pub fn graded_sizes(ft: &FaceTriangulation<'_>, field: &CrossField, size: &[f64], gradation: f64) -> Vec<f64> {
+pub fn graded_sizes(
+    ft: &FaceTriangulation<'_>,
+    field: &CrossField,
+    size: &[f64],
+    gradation: f64,
+) -> Vec<f64> {
     let mut edges: Vec<((u32, u32), Vec3, f64)> = ft
         .boundary_mid
         .iter()
         .filter(|(_, m)| m.node.pole.is_none())
-        .map(|(&(a, b), m)| ((a, b), m.pos, 0.5 * (vec3::dist(ft.pos[a as usize], m.pos) + vec3::dist(m.pos, ft.pos[b as usize]))))
+        .map(|(&(a, b), m)| {
+            (
+                (a, b),
+                m.pos,
+                0.5 * (vec3::dist(ft.pos[a as usize], m.pos)
+                    + vec3::dist(m.pos, ft.pos[b as usize])),
+            )
+        })
         .filter(|e| e.2 > 0.0 && e.2.is_finite())
         .collect();
     edges.sort_by_key(|e| e.0);
@@ -249,7 +306,8 @@ pub fn invalid_quads(face: &geometry::Face, p: &QuadPatch) -> usize {
     for q in &p.quads {
         let mut dup = q.iter().any(|&i| {
             let n = &p.nodes[i as usize];
-            n.node == NodeRef::Interior && (face.is_singular(n.uv) || face.surface.normal(n.uv).is_none())
+            n.node == NodeRef::Interior
+                && (face.is_singular(n.uv) || face.surface.normal(n.uv).is_none())
         });
         for i in 0..4 {
             for j in i + 1..4 {
@@ -275,13 +333,28 @@ mod tests {
     use geometry::primitives;
 
     fn run(model: &Model, h: f64) -> Vec<(QuadPatch, FaceReport)> {
-        let fields = model_fields(model, &FieldOptions { size: Size::Absolute(h), ..Default::default() }).unwrap();
+        let fields = model_fields(
+            model,
+            &FieldOptions {
+                size: Size::Absolute(h),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let cms = discretize_all(model, &plan_curves(model, h));
         (0..model.faces.len())
             .map(|f| {
                 let ff = fields.faces[f].outcome.as_ref().unwrap();
                 let size = ff.size.clone().unwrap();
-                mesh_face_unstructured(model, FaceId(f as u32), &cms, &ff.field, &size, &UnstructuredOptions::default()).unwrap()
+                mesh_face_unstructured(
+                    model,
+                    FaceId(f as u32),
+                    &cms,
+                    &ff.field,
+                    &size,
+                    &UnstructuredOptions::default(),
+                )
+                .unwrap()
             })
             .collect()
     }
@@ -296,7 +369,11 @@ mod tests {
         assert!(r.recombined * 2 > 8 * r.leftover, "{r:?}");
         assert_eq!(invalid_quads(&m.faces[0], p), 0);
         // about (1 / 0.05)² = 400 quads
-        assert!((300..=560).contains(&p.quads.len()), "{} quads", p.quads.len());
+        assert!(
+            (300..=560).contains(&p.quads.len()),
+            "{} quads",
+            p.quads.len()
+        );
         // interior irregular nodes are few on a square
         let mut val = vec![0usize; p.nodes.len()];
         for q in &p.quads {
@@ -304,16 +381,31 @@ mod tests {
                 val[i as usize] += 1;
             }
         }
-        let interior: Vec<usize> = (0..p.nodes.len()).filter(|&i| p.nodes[i].node == NodeRef::Interior && val[i] > 0).collect();
+        let interior: Vec<usize> = (0..p.nodes.len())
+            .filter(|&i| p.nodes[i].node == NodeRef::Interior && val[i] > 0)
+            .collect();
         let irregular = interior.iter().filter(|&&i| val[i] != 4).count();
-        assert!(irregular * 100 < 15 * interior.len(), "{irregular} of {} interior nodes irregular", interior.len());
-        let avg = p.quads.iter().map(|q| quad_quality(&m.faces[0], &p.nodes, &p.pos, q)).sum::<f64>() / p.quads.len() as f64;
+        assert!(
+            irregular * 100 < 15 * interior.len(),
+            "{irregular} of {} interior nodes irregular",
+            interior.len()
+        );
+        let avg = p
+            .quads
+            .iter()
+            .map(|q| quad_quality(&m.faces[0], &p.nodes, &p.pos, q))
+            .sum::<f64>()
+            / p.quads.len() as f64;
         assert!(avg > 0.8, "average SICN {avg}");
     }
 
     #[test]
     fn curved_faces_mesh_validly() {
-        for m in [primitives::cylinder(1.0, 2.0), primitives::sphere(1.0), primitives::cone(1.0, 1.5)] {
+        for m in [
+            primitives::cylinder(1.0, 2.0),
+            primitives::sphere(1.0),
+            primitives::cone(1.0, 1.5),
+        ] {
             for (f, (p, _)) in run(&m, 0.2).iter().enumerate() {
                 assert!(!p.quads.is_empty());
                 assert_eq!(invalid_quads(&m.faces[f], p), 0);
@@ -325,7 +417,14 @@ mod tests {
     fn boundary_grading_limits_the_size() {
         let h = 0.05;
         let m = primitives::square(1.0);
-        let fields = model_fields(&m, &FieldOptions { size: Size::Absolute(h), ..Default::default() }).unwrap();
+        let fields = model_fields(
+            &m,
+            &FieldOptions {
+                size: Size::Absolute(h),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let ff = fields.faces[0].outcome.as_ref().unwrap();
         let cms = discretize_all(&m, &plan_curves(&m, h));
         let ft = FaceTriangulation::new(&m, FaceId(0), &cms, 2.0 * h).unwrap();
@@ -336,7 +435,10 @@ mod tests {
             let p = ff.field.topology.positions[v];
             // distance to the square's boundary
             let d = p[0].min(p[1]).min(1.0 - p[0]).min(1.0 - p[1]);
-            assert!(*s >= h + 0.5 * d - 1e-9 && *s <= h + 0.5 * (d + h) + 1e-9, "vertex {v} at {p:?}: {s}");
+            assert!(
+                *s >= h + 0.5 * d - 1e-9 && *s <= h + 0.5 * (d + h) + 1e-9,
+                "vertex {v} at {p:?}: {s}"
+            );
         }
         // infinite gradation: the size map itself
         assert_eq!(graded_sizes(&ft, &ff.field, &big, f64::INFINITY), big);
@@ -346,11 +448,26 @@ mod tests {
     fn cavity_remeshing_keeps_faces_valid_and_never_adds_irregular_vertices() {
         let m = primitives::sphere(1.0);
         let h = 0.12;
-        let fields = model_fields(&m, &FieldOptions { size: Size::Absolute(h), ..Default::default() }).unwrap();
+        let fields = model_fields(
+            &m,
+            &FieldOptions {
+                size: Size::Absolute(h),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let cms = discretize_all(&m, &plan_curves(&m, h));
         let ff = fields.faces[0].outcome.as_ref().unwrap();
         let size = ff.size.clone().unwrap();
-        let (p, _) = mesh_face_unstructured(&m, FaceId(0), &cms, &ff.field, &size, &UnstructuredOptions::default()).unwrap();
+        let (p, _) = mesh_face_unstructured(
+            &m,
+            FaceId(0),
+            &cms,
+            &ff.field,
+            &size,
+            &UnstructuredOptions::default(),
+        )
+        .unwrap();
         let irregular = |p: &QuadPatch| {
             let mut val = vec![0usize; p.nodes.len()];
             for q in &p.quads {
@@ -358,40 +475,76 @@ mod tests {
                     val[i as usize] += 1;
                 }
             }
-            (0..p.nodes.len()).filter(|&i| p.nodes[i].node == NodeRef::Interior && val[i] > 0 && val[i] != 4).count()
+            (0..p.nodes.len())
+                .filter(|&i| p.nodes[i].node == NodeRef::Interior && val[i] > 0 && val[i] != 4)
+                .count()
         };
         let face = &m.faces[0];
-        let off = UnstructuredOptions { cavity: None, ..Default::default() };
+        let off = UnstructuredOptions {
+            cavity: None,
+            ..Default::default()
+        };
         let (mut without, mut with) = (p.clone(), p);
         let (_, none) = improve_face(face, &mut without, &ff.singularities.list, &off);
         assert_eq!(none, CavityReport::default());
-        let (_, r) = improve_face(face, &mut with, &ff.singularities.list, &UnstructuredOptions::default());
+        let (_, r) = improve_face(
+            face,
+            &mut with,
+            &ff.singularities.list,
+            &UnstructuredOptions::default(),
+        );
         assert_eq!(invalid_quads(face, &with), 0);
         assert_eq!(r.irregular_after, irregular(&with));
         assert!(r.irregular_after <= r.irregular_before, "{r:?}");
-        assert!(irregular(&with) <= irregular(&without), "{} with cavities, {} without: {r:?}", irregular(&with), irregular(&without));
+        assert!(
+            irregular(&with) <= irregular(&without),
+            "{} with cavities, {} without: {r:?}",
+            irregular(&with),
+            irregular(&without)
+        );
         assert!(!r.capped, "{r:?}");
         // the sphere's frontal mesh has removable irregular vertices
-        assert!(r.replaced.iter().sum::<usize>() > 0 && irregular(&with) < irregular(&without), "{r:?}");
+        assert!(
+            r.replaced.iter().sum::<usize>() > 0 && irregular(&with) < irregular(&without),
+            "{r:?}"
+        );
     }
 
     #[test]
     fn the_pipeline_method_meshes_primitives_without_fallback() {
         use crate::pipeline::{mesh_model_with, MeshMethod, MeshOptions};
-        for m in [primitives::cylinder(1.0, 2.0), primitives::sphere(1.0), primitives::cone(1.0, 1.5), primitives::square(1.0)] {
-            let (mesh, report) = mesh_model_with(&m, &MeshOptions::default(), MeshMethod::Unstructured).unwrap();
+        for m in [
+            primitives::cylinder(1.0, 2.0),
+            primitives::sphere(1.0),
+            primitives::cone(1.0, 1.5),
+            primitives::square(1.0),
+        ] {
+            let (mesh, report) =
+                mesh_model_with(&m, &MeshOptions::default(), MeshMethod::Unstructured).unwrap();
             assert!(report.fallback.is_empty(), "{:?}", report.fallback);
             let sicn = mesh::stats::quad_sicn_values(&mesh, Some(&m));
             assert!(!sicn.is_empty() && sicn.iter().all(|&s| s > 0.0));
             // fewer quads than the baseline's three per triangle
-            let base = mesh_model_with(&m, &MeshOptions::default(), MeshMethod::Baseline).unwrap().0;
-            assert!(mesh.quads.len() < base.quads.len(), "{} vs {}", mesh.quads.len(), base.quads.len());
+            let base = mesh_model_with(&m, &MeshOptions::default(), MeshMethod::Baseline)
+                .unwrap()
+                .0;
+            assert!(
+                mesh.quads.len() < base.quads.len(),
+                "{} vs {}",
+                mesh.quads.len(),
+                base.quads.len()
+            );
         }
         let m = primitives::square(1.0);
-        let bad = MeshOptions { size: Size::Absolute(-1.0), ..Default::default() };
+        let bad = MeshOptions {
+            size: Size::Absolute(-1.0),
+            ..Default::default()
+        };
         assert!(mesh_model_with(&m, &bad, MeshMethod::Unstructured).is_err());
         let mut empty = m.clone();
         empty.faces.clear();
-        assert!(mesh_model_with(&empty, &MeshOptions::default(), MeshMethod::Unstructured).is_err());
+        assert!(
+            mesh_model_with(&empty, &MeshOptions::default(), MeshMethod::Unstructured).is_err()
+        );
     }
 }

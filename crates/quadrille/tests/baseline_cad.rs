@@ -15,14 +15,21 @@ use quadrille::{mesh_model, MeshOptions, Size};
 
 fn models() -> Vec<PathBuf> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad");
-    let filter: Vec<String> = std::env::var("QUADRILLE_MODELS").map(|s| s.split(',').map(str::to_string).collect()).unwrap_or_default();
+    let filter: Vec<String> = std::env::var("QUADRILLE_MODELS")
+        .map(|s| s.split(',').map(str::to_string).collect())
+        .unwrap_or_default();
     let mut out: Vec<PathBuf> = std::fs::read_dir(&dir)
         .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
         .unwrap_or_default();
     out.retain(|p| {
-        let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        let ext = p
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
         let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        (ext == "step" || ext == "stp") && (filter.is_empty() || filter.iter().any(|f| name.contains(f.as_str())))
+        (ext == "step" || ext == "stp")
+            && (filter.is_empty() || filter.iter().any(|f| name.contains(f.as_str())))
     });
     out.sort();
     out
@@ -32,9 +39,16 @@ fn models() -> Vec<PathBuf> {
 fn every_cad_model_meshes_validly() {
     let paths = models();
     if std::env::var("QUADRILLE_MODELS").is_err() {
-        assert!(paths.len() >= 26, "expected the 26 CAD models in data/cad, found {}", paths.len());
+        assert!(
+            paths.len() >= 26,
+            "expected the 26 CAD models in data/cad, found {}",
+            paths.len()
+        );
     }
-    let factor: f64 = std::env::var("QUADRILLE_SIZE_FACTOR").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0);
+    let factor: f64 = std::env::var("QUADRILLE_SIZE_FACTOR")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1.0);
     let mut failures = Vec::new();
     let (mut opposite_pairs, mut opposite_close) = (0usize, 0usize);
     println!(
@@ -42,7 +56,11 @@ fn every_cad_model_meshes_validly() {
         "model", "faces", "quads", "time s", "min SICN", "avg SICN", "inv", "open", "dist/diag"
     );
     for path in &paths {
-        let name = path.file_stem().and_then(|n| n.to_str()).unwrap_or("?").to_string();
+        let name = path
+            .file_stem()
+            .and_then(|n| n.to_str())
+            .unwrap_or("?")
+            .to_string();
         let model = match occt::load(path) {
             Ok(m) => m,
             Err(e) => {
@@ -51,7 +69,14 @@ fn every_cad_model_meshes_validly() {
             }
         };
         let t = Instant::now();
-        let mesh = match mesh_model(&model, &MeshOptions { size: Size::Factor(factor), threads: None, progress: None }) {
+        let mesh = match mesh_model(
+            &model,
+            &MeshOptions {
+                size: Size::Factor(factor),
+                threads: None,
+                progress: None,
+            },
+        ) {
             Ok(m) => m,
             Err(e) => {
                 println!("{name:<28} FAILED: {e}");
@@ -82,7 +107,10 @@ fn every_cad_model_meshes_validly() {
             bad.push(format!("{} inverted quads", r.inverted));
         }
         if r.open_edges != boundary {
-            bad.push(format!("{} open edges, model boundary has {boundary}", r.open_edges));
+            bad.push(format!(
+                "{} open edges, model boundary has {boundary}",
+                r.open_edges
+            ));
         }
         if r.nonmanifold_edges > 0 {
             bad.push(format!("{} non-manifold edges", r.nonmanifold_edges));
@@ -91,24 +119,42 @@ fn every_cad_model_meshes_validly() {
             bad.push(format!("node {:.2e} off the CAD", r.max_dist));
         }
         if !r.chain_errors.is_empty() {
-            bad.push(format!("curve chains: {:?}", &r.chain_errors[..r.chain_errors.len().min(3)]));
+            bad.push(format!(
+                "curve chains: {:?}",
+                &r.chain_errors[..r.chain_errors.len().min(3)]
+            ));
         }
         if !r.class_errors.is_empty() {
-            bad.push(format!("classification: {:?}", &r.class_errors[..r.class_errors.len().min(3)]));
+            bad.push(format!(
+                "classification: {:?}",
+                &r.class_errors[..r.class_errors.len().min(3)]
+            ));
         }
         // opposite sides of 4-sided faces: equal counts unless very different (spec §6.3)
-        let plan = quadrille::curve_mesh::plan_curves(&model, quadrille::resolve_size(&model, Size::Factor(factor)).unwrap());
+        let plan = quadrille::curve_mesh::plan_curves(
+            &model,
+            quadrille::resolve_size(&model, Size::Factor(factor)).unwrap(),
+        );
         let mut edges_per_curve = vec![0usize; model.curves.len()];
         for (_, c) in &mesh.curve_edges {
             edges_per_curve[c.idx()] += 1;
         }
         for [a, b] in quadrille::curve_chords::opposite_pairs(&model) {
-            let (ia, ib) = (plan.ideal(geometry::CurveId(a as u32)), plan.ideal(geometry::CurveId(b as u32)));
+            let (ia, ib) = (
+                plan.ideal(geometry::CurveId(a as u32)),
+                plan.ideal(geometry::CurveId(b as u32)),
+            );
             opposite_pairs += 1;
             if (ia - ib).abs() <= quadrille::curve_chords::CHORD_TOLERANCE * ia.max(ib) {
                 opposite_close += 1;
                 if edges_per_curve[a] != edges_per_curve[b] {
-                    bad.push(format!("opposite curves {} and {} have {} and {} edges", a + 1, b + 1, edges_per_curve[a], edges_per_curve[b]));
+                    bad.push(format!(
+                        "opposite curves {} and {} have {} and {} edges",
+                        a + 1,
+                        b + 1,
+                        edges_per_curve[a],
+                        edges_per_curve[b]
+                    ));
                 }
             }
         }
@@ -117,7 +163,10 @@ fn every_cad_model_meshes_validly() {
         }
     }
     println!("opposite curve pairs of 4-sided faces: {opposite_pairs}, of which {opposite_close} within the chord tolerance (all equal)");
-    assert!(opposite_close > 100, "expected many 4-sided faces in the shared models, found {opposite_close} pairs");
+    assert!(
+        opposite_close > 100,
+        "expected many 4-sided faces in the shared models, found {opposite_close} pairs"
+    );
     assert!(failures.is_empty(), "failures:\n{}", failures.join("\n"));
 }
 
@@ -126,9 +175,24 @@ fn cad_output_is_identical_for_any_thread_count() {
     // i04o_m4 goes through curve refinement rounds, the hardest path for determinism
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/i04o_m4.step");
     let model = occt::load(&path).expect("i04o_m4 loads");
-    let run = |threads| mesh_model(&model, &MeshOptions { size: Size::Factor(1.0), threads: Some(threads), progress: None }).expect("meshes");
+    let run = |threads| {
+        mesh_model(
+            &model,
+            &MeshOptions {
+                size: Size::Factor(1.0),
+                threads: Some(threads),
+                progress: None,
+            },
+        )
+        .expect("meshes")
+    };
     let (a, b) = (run(1), run(2));
-    let bits = |m: &mesh::QuadMesh| m.nodes.iter().flat_map(|p| p.map(f64::to_bits)).collect::<Vec<u64>>();
+    let bits = |m: &mesh::QuadMesh| {
+        m.nodes
+            .iter()
+            .flat_map(|p| p.map(f64::to_bits))
+            .collect::<Vec<u64>>()
+    };
     assert_eq!(bits(&a), bits(&b));
     assert_eq!(a.quads, b.quads);
     assert_eq!(a.node_class, b.node_class);

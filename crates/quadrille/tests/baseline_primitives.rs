@@ -8,7 +8,15 @@ use mesh::{NodeClass, QuadMesh};
 use quadrille::{mesh_model, MeshOptions, Size};
 
 fn run(model: &Model, size: Size, threads: usize) -> QuadMesh {
-    mesh_model(model, &MeshOptions { size, threads: Some(threads), progress: None }).expect("meshing failed")
+    mesh_model(
+        model,
+        &MeshOptions {
+            size,
+            threads: Some(threads),
+            progress: None,
+        },
+    )
+    .expect("meshing failed")
 }
 
 fn assert_valid(model: &Model, mesh: &QuadMesh, closed: bool) -> common::Report {
@@ -69,10 +77,19 @@ fn sphere_is_closed_and_valid() {
 
 #[test]
 fn output_is_identical_for_any_thread_count() {
-    for m in [primitives::square(1.0), primitives::cylinder(1.0, 2.0), primitives::sphere(1.0)] {
+    for m in [
+        primitives::square(1.0),
+        primitives::cylinder(1.0, 2.0),
+        primitives::sphere(1.0),
+    ] {
         let a = run(&m, Size::Factor(0.5), 1);
         let b = run(&m, Size::Factor(0.5), 2);
-        let bits = |x: &QuadMesh| x.nodes.iter().flat_map(|p| p.map(f64::to_bits)).collect::<Vec<u64>>();
+        let bits = |x: &QuadMesh| {
+            x.nodes
+                .iter()
+                .flat_map(|p| p.map(f64::to_bits))
+                .collect::<Vec<u64>>()
+        };
         assert_eq!(bits(&a), bits(&b));
         assert_eq!(a.quads, b.quads);
         assert_eq!(a.quad_face, b.quad_face);
@@ -85,14 +102,29 @@ fn output_is_identical_for_any_thread_count() {
 fn default_size_gives_a_moderate_count() {
     let m = primitives::sphere(1.0);
     let mesh = run(&m, Size::default(), 1);
-    assert!(mesh.quads.len() > 200 && mesh.quads.len() < 3000, "{}", mesh.quads.len());
+    assert!(
+        mesh.quads.len() > 200 && mesh.quads.len() < 3000,
+        "{}",
+        mesh.quads.len()
+    );
 }
 
 #[test]
 fn bad_sizes_are_errors() {
     let m = primitives::square(1.0);
-    for s in [Size::Absolute(0.0), Size::Absolute(f64::NAN), Size::Factor(-1.0)] {
-        assert!(mesh_model(&m, &MeshOptions { size: s, ..Default::default() }).is_err());
+    for s in [
+        Size::Absolute(0.0),
+        Size::Absolute(f64::NAN),
+        Size::Factor(-1.0),
+    ] {
+        assert!(mesh_model(
+            &m,
+            &MeshOptions {
+                size: s,
+                ..Default::default()
+            }
+        )
+        .is_err());
     }
     assert!(mesh_model(&Model::default(), &MeshOptions::default()).is_err());
 }
@@ -104,10 +136,14 @@ fn progress_reports_every_face() {
     let m = primitives::cylinder(1.0, 1.0);
     let max = Arc::new(AtomicUsize::new(0));
     let seen = max.clone();
-    let opts = MeshOptions { size: Size::Factor(1.0), threads: Some(1), progress: Some(Arc::new(move |d, t| {
-        assert_eq!(t, 3);
-        seen.fetch_max(d, Ordering::Relaxed);
-    })) };
+    let opts = MeshOptions {
+        size: Size::Factor(1.0),
+        threads: Some(1),
+        progress: Some(Arc::new(move |d, t| {
+            assert_eq!(t, 3);
+            seen.fetch_max(d, Ordering::Relaxed);
+        })),
+    };
     mesh_model(&m, &opts).unwrap();
     assert_eq!(max.load(Ordering::Relaxed), 3);
 }

@@ -15,7 +15,9 @@ use quadrille::patterns::library;
 use quadrille::split::quad_quality;
 
 fn model(name: &str) -> geometry::Model {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad").join(name);
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/cad")
+        .join(name);
     occt::load(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
@@ -26,7 +28,9 @@ fn check_model(name: &str) -> (usize, usize) {
     let cms = discretize_all(&m, &plan_curves(&m, h));
     let mut by_pattern = 0;
     for f in 0..m.faces.len() {
-        let Ok((patch, pattern)) = mesh_face_pattern(&m, FaceId(f as u32), &cms) else { continue };
+        let Ok((patch, pattern)) = mesh_face_pattern(&m, FaceId(f as u32), &cms) else {
+            continue;
+        };
         by_pattern += 1;
         let face = &m.faces[f];
         for q in &patch.quads {
@@ -43,20 +47,55 @@ fn check_model(name: &str) -> (usize, usize) {
                 *edges.entry((a, b)).or_default() += 1;
             }
         }
-        let want = library().iter().find(|p| p.name == pattern).unwrap().irregular;
-        let irregular = (0..patch.nodes.len()).filter(|&i| patch.nodes[i].node == NodeRef::Interior && val[i] != 4).count();
+        let want = library()
+            .iter()
+            .find(|p| p.name == pattern)
+            .unwrap()
+            .irregular;
+        let irregular = (0..patch.nodes.len())
+            .filter(|&i| patch.nodes[i].node == NodeRef::Interior && val[i] != 4)
+            .count();
         assert_eq!(irregular, want, "{name} face {} ({pattern})", f + 1);
         // Euler characteristic 1 over the used nodes
         let used = val.iter().filter(|&&v| v > 0).count();
-        assert_eq!(used as i64 - edges.len() as i64 + patch.quads.len() as i64, 1, "{name} face {}", f + 1);
+        assert_eq!(
+            used as i64 - edges.len() as i64 + patch.quads.len() as i64,
+            1,
+            "{name} face {}",
+            f + 1
+        );
         // edges in one quad are the boundary: every curve point of the face's curves, no interior node
-        let boundary: HashSet<u32> = edges.iter().filter(|(_, &n)| n == 1).flat_map(|(&(a, b), _)| [a, b]).collect();
+        let boundary: HashSet<u32> = edges
+            .iter()
+            .filter(|(_, &n)| n == 1)
+            .flat_map(|(&(a, b), _)| [a, b])
+            .collect();
         for &v in &boundary {
-            assert_ne!(patch.nodes[v as usize].node, NodeRef::Interior, "{name} face {}: interior node on the boundary", f + 1);
+            assert_ne!(
+                patch.nodes[v as usize].node,
+                NodeRef::Interior,
+                "{name} face {}: interior node on the boundary",
+                f + 1
+            );
         }
         // (a pole counts once: it is the end of the curve before it and the start of the one after)
-        let expected: usize = face.loops[0].uses.iter().map(|u| if m.curves[u.curve.idx()].degenerate { 0 } else { cms[u.curve.idx()].params.len() - 1 }).sum();
-        assert_eq!(boundary.len(), expected, "{name} face {}: boundary nodes", f + 1);
+        let expected: usize = face.loops[0]
+            .uses
+            .iter()
+            .map(|u| {
+                if m.curves[u.curve.idx()].degenerate {
+                    0
+                } else {
+                    cms[u.curve.idx()].params.len() - 1
+                }
+            })
+            .sum();
+        assert_eq!(
+            boundary.len(),
+            expected,
+            "{name} face {}: boundary nodes",
+            f + 1
+        );
     }
     (by_pattern, m.faces.len())
 }

@@ -9,27 +9,53 @@ use quadrille::regularize::{regularize_mesh, RegularizeOptions};
 use quadrille::{mesh_model, MeshOptions};
 
 fn check(file: &str, bar_percent: f64) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad").join(file);
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/cad")
+        .join(file);
     let model = occt::load(&path).unwrap_or_else(|e| panic!("{file}: {e}"));
-    let mut mesh = mesh_model(&model, &MeshOptions::default()).unwrap_or_else(|e| panic!("{file}: {e}"));
+    let mut mesh =
+        mesh_model(&model, &MeshOptions::default()).unwrap_or_else(|e| panic!("{file}: {e}"));
     let before = mesh.clone();
     let s0 = MeshStats::compute(&before, Some(&model));
     let rep = regularize_mesh(&model, &mut mesh, &RegularizeOptions::default()).unwrap();
     let s1 = MeshStats::compute(&mesh, Some(&model));
-    println!("{file}: irregular {:.1} % → {:.1} %, quads {} → {}, min SICN {:.3}", s0.irregular_percent, s1.irregular_percent, s0.quads, s1.quads, s1.sicn.min);
-    assert!(s0.irregular_percent > 40.0, "{file}: the split should be about half irregular, got {:.1} %", s0.irregular_percent);
-    assert!(s1.irregular_percent <= bar_percent, "{file}: {:.1} % irregular after the regular method (bar {bar_percent} %)", s1.irregular_percent);
+    println!(
+        "{file}: irregular {:.1} % → {:.1} %, quads {} → {}, min SICN {:.3}",
+        s0.irregular_percent, s1.irregular_percent, s0.quads, s1.quads, s1.sicn.min
+    );
+    assert!(
+        s0.irregular_percent > 40.0,
+        "{file}: the split should be about half irregular, got {:.1} %",
+        s0.irregular_percent
+    );
+    assert!(
+        s1.irregular_percent <= bar_percent,
+        "{file}: {:.1} % irregular after the regular method (bar {bar_percent} %)",
+        s1.irregular_percent
+    );
     assert_eq!(s1.inverted_quads, 0, "{file}: inverted quads");
-    assert!(rep.skipped.is_empty() && rep.faces.iter().all(|f| !f.reverted), "{file}: {rep:?}");
+    assert!(
+        rep.skipped.is_empty() && rep.faces.iter().all(|f| !f.reverted),
+        "{file}: {rep:?}"
+    );
     // no face ends with more quads invalid for (5°, 175°) than it started with
     for f in &rep.faces {
-        assert!(f.invalid.1 <= f.invalid.0, "{file} face {}: invalid {:?}", f.face.0 + 1, f.invalid);
+        assert!(
+            f.invalid.1 <= f.invalid.0,
+            "{file} face {}: invalid {:?}",
+            f.face.0 + 1,
+            f.invalid
+        );
     }
     // boundary nodes (corners, curve nodes) keep their index and position bit for bit
     for (i, c) in before.node_class.iter().enumerate() {
         if !matches!(c, mesh::NodeClass::Face(..)) {
             assert_eq!(mesh.node_class[i], *c, "{file}: node {i}");
-            assert_eq!(mesh.nodes[i].map(f64::to_bits), before.nodes[i].map(f64::to_bits), "{file}: node {i} moved");
+            assert_eq!(
+                mesh.nodes[i].map(f64::to_bits),
+                before.nodes[i].map(f64::to_bits),
+                "{file}: node {i} moved"
+            );
         }
     }
 }

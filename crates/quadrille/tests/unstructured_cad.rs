@@ -17,14 +17,21 @@ use quadrille::{mesh_model_with, MeshMethod, MeshOptions, Size};
 
 fn models() -> Vec<PathBuf> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad");
-    let filter: Vec<String> = std::env::var("QUADRILLE_MODELS").map(|s| s.split(',').map(str::to_string).collect()).unwrap_or_default();
+    let filter: Vec<String> = std::env::var("QUADRILLE_MODELS")
+        .map(|s| s.split(',').map(str::to_string).collect())
+        .unwrap_or_default();
     let mut out: Vec<PathBuf> = std::fs::read_dir(&dir)
         .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
         .unwrap_or_default();
     out.retain(|p| {
-        let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        let ext = p
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
         let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        (ext == "step" || ext == "stp") && (filter.is_empty() || filter.iter().any(|f| name.contains(f.as_str())))
+        (ext == "step" || ext == "stp")
+            && (filter.is_empty() || filter.iter().any(|f| name.contains(f.as_str())))
     });
     out.sort();
     out
@@ -38,7 +45,9 @@ fn irregular_share(mesh: &mesh::QuadMesh) -> f64 {
             val[i as usize] += 1;
         }
     }
-    let interior: Vec<usize> = (0..mesh.nodes.len()).filter(|&i| matches!(mesh.node_class[i], mesh::NodeClass::Face(..))).collect();
+    let interior: Vec<usize> = (0..mesh.nodes.len())
+        .filter(|&i| matches!(mesh.node_class[i], mesh::NodeClass::Face(..)))
+        .collect();
     interior.iter().filter(|&&i| val[i] != 4).count() as f64 / interior.len().max(1) as f64
 }
 
@@ -46,16 +55,33 @@ fn irregular_share(mesh: &mesh::QuadMesh) -> f64 {
 fn every_cad_model_meshes_validly_with_the_unstructured_method() {
     let paths = models();
     if std::env::var("QUADRILLE_MODELS").is_err() {
-        assert!(paths.len() >= 26, "expected the 26 CAD models in data/cad, found {}", paths.len());
+        assert!(
+            paths.len() >= 26,
+            "expected the 26 CAD models in data/cad, found {}",
+            paths.len()
+        );
     }
     let mut failures = Vec::new();
     let (mut faces, mut fallback) = (0usize, 0usize);
     println!(
         "{:<28} {:>6} {:>7} {:>7} {:>8} {:>8} {:>6} {:>6} {:>7} {:>9}",
-        "model", "faces", "quads", "time s", "min SICN", "avg SICN", "inv", "open", "irreg %", "fallback"
+        "model",
+        "faces",
+        "quads",
+        "time s",
+        "min SICN",
+        "avg SICN",
+        "inv",
+        "open",
+        "irreg %",
+        "fallback"
     );
     for path in &paths {
-        let name = path.file_stem().and_then(|n| n.to_str()).unwrap_or("?").to_string();
+        let name = path
+            .file_stem()
+            .and_then(|n| n.to_str())
+            .unwrap_or("?")
+            .to_string();
         let model = match occt::load(path) {
             Ok(m) => m,
             Err(e) => {
@@ -64,7 +90,11 @@ fn every_cad_model_meshes_validly_with_the_unstructured_method() {
             }
         };
         let t = Instant::now();
-        let opts = MeshOptions { size: Size::Factor(1.0), threads: None, progress: None };
+        let opts = MeshOptions {
+            size: Size::Factor(1.0),
+            threads: None,
+            progress: None,
+        };
         let (mesh, report) = match mesh_model_with(&model, &opts, MeshMethod::Unstructured) {
             Ok(m) => m,
             Err(e) => {
@@ -100,7 +130,10 @@ fn every_cad_model_meshes_validly_with_the_unstructured_method() {
             bad.push(format!("{} inverted quads", r.inverted));
         }
         if r.open_edges != boundary {
-            bad.push(format!("{} open edges, model boundary has {boundary}", r.open_edges));
+            bad.push(format!(
+                "{} open edges, model boundary has {boundary}",
+                r.open_edges
+            ));
         }
         if r.nonmanifold_edges > 0 {
             bad.push(format!("{} non-manifold edges", r.nonmanifold_edges));
@@ -109,15 +142,25 @@ fn every_cad_model_meshes_validly_with_the_unstructured_method() {
             bad.push(format!("node {:.2e} off the CAD", r.max_dist));
         }
         if !r.chain_errors.is_empty() {
-            bad.push(format!("curve chains: {:?}", &r.chain_errors[..r.chain_errors.len().min(3)]));
+            bad.push(format!(
+                "curve chains: {:?}",
+                &r.chain_errors[..r.chain_errors.len().min(3)]
+            ));
         }
         if !r.class_errors.is_empty() {
-            bad.push(format!("classification: {:?}", &r.class_errors[..r.class_errors.len().min(3)]));
+            bad.push(format!(
+                "classification: {:?}",
+                &r.class_errors[..r.class_errors.len().min(3)]
+            ));
         }
         // the method, not the baseline, meshes most faces; it is also better
         // than the baseline's 3 quads per triangle on irregular vertices
         if 10 * report.fallback.len() > 3 * model.faces.len() {
-            bad.push(format!("{} of {} faces fell back to the baseline", report.fallback.len(), model.faces.len()));
+            bad.push(format!(
+                "{} of {} faces fell back to the baseline",
+                report.fallback.len(),
+                model.faces.len()
+            ));
         }
         if irregular > 0.35 {
             bad.push(format!("{:.1} % irregular face nodes", 100.0 * irregular));
@@ -128,7 +171,10 @@ fn every_cad_model_meshes_validly_with_the_unstructured_method() {
     }
     println!("faces meshed by the baseline fallback: {fallback} of {faces}");
     if std::env::var("QUADRILLE_MODELS").is_err() {
-        assert!(20 * fallback < faces, "{fallback} of {faces} faces fell back to the baseline");
+        assert!(
+            20 * fallback < faces,
+            "{fallback} of {faces} faces fell back to the baseline"
+        );
     }
     assert!(failures.is_empty(), "failures:\n{}", failures.join("\n"));
 }
@@ -138,11 +184,20 @@ fn unstructured_output_is_identical_for_any_thread_count() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/i04o_m4.step");
     let model = occt::load(&path).expect("i04o_m4 loads");
     let run = |threads| {
-        let opts = MeshOptions { size: Size::Factor(1.0), threads: Some(threads), progress: None };
+        let opts = MeshOptions {
+            size: Size::Factor(1.0),
+            threads: Some(threads),
+            progress: None,
+        };
         mesh_model_with(&model, &opts, MeshMethod::Unstructured).expect("meshes")
     };
     let ((a, ra), (b, rb)) = (run(1), run(2));
-    let bits = |m: &mesh::QuadMesh| m.nodes.iter().flat_map(|p| p.map(f64::to_bits)).collect::<Vec<u64>>();
+    let bits = |m: &mesh::QuadMesh| {
+        m.nodes
+            .iter()
+            .flat_map(|p| p.map(f64::to_bits))
+            .collect::<Vec<u64>>()
+    };
     assert_eq!(bits(&a), bits(&b));
     assert_eq!(a.quads, b.quads);
     assert_eq!(a.node_class, b.node_class);
@@ -156,7 +211,8 @@ fn unstructured_meshes_a_plain_box_face_as_a_grid() {
     // grids, so almost no face-interior node is irregular
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/s11o_cube_cyl.stp");
     let model = occt::load(&path).expect("s11o_cube_cyl loads");
-    let (mesh, report) = mesh_model_with(&model, &MeshOptions::default(), MeshMethod::Unstructured).expect("meshes");
+    let (mesh, report) =
+        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::Unstructured).expect("meshes");
     assert!(report.fallback.is_empty(), "{:?}", report.fallback);
     let irregular = irregular_share(&mesh);
     assert!(irregular < 0.03, "{:.1} % irregular", 100.0 * irregular);

@@ -50,7 +50,9 @@ fn cylinder(k: usize, h: usize, r: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
         }
         b
     };
-    let side: Vec<u32> = (0..=h).map(|j| ring(1.0, 2.0 * j as f64 / h as f64, &mut p)).collect();
+    let side: Vec<u32> = (0..=h)
+        .map(|j| ring(1.0, 2.0 * j as f64 / h as f64, &mut p))
+        .collect();
     for j in 0..h {
         for i in 0..k {
             let (a, b) = (side[j] + i as u32, side[j] + ((i + 1) % k) as u32);
@@ -60,7 +62,9 @@ fn cylinder(k: usize, h: usize, r: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
         }
     }
     for (z, up) in [(0.0, false), (2.0, true)] {
-        let mut rings: Vec<u32> = (1..=r).map(|q| ring(q as f64 / r as f64, z, &mut p)).collect();
+        let mut rings: Vec<u32> = (1..=r)
+            .map(|q| ring(q as f64 / r as f64, z, &mut p))
+            .collect();
         let c = p.len() as u32;
         p.push([0.0, 0.0, z]);
         rings.insert(0, c);
@@ -88,7 +92,12 @@ fn run(name: &str, mesh: (Vec<Vec3>, Vec<[u32; 3]>)) {
     let imp = trimesh::build(soup, &trimesh::Options::default(), Path::new(name)).unwrap();
     let total = t0.elapsed().as_secs_f64();
     let s = imp.report.seconds;
-    let min = imp.report.faces.iter().map(|f| f.min_uv_area).fold(f64::INFINITY, f64::min);
+    let min = imp
+        .report
+        .faces
+        .iter()
+        .map(|f| f.min_uv_area)
+        .fold(f64::INFINITY, f64::min);
     println!(
         "| {name} | {} | {} | {} | {} | {read:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {total:.2} | {min:.1e} |",
         imp.report.triangles,
@@ -103,13 +112,22 @@ fn run(name: &str, mesh: (Vec<Vec3>, Vec<[u32; 3]>)) {
 }
 
 fn main() {
-    let n: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(1_000_000);
+    let n: usize = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1_000_000);
     println!("| mesh | triangles | vertices | faces | curves | read s | weld+topology s | features s | patches+cuts s | parametrize s | total s | min uv area |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     // sphere: 2k(l-1) triangles with l = k/2
     let k = ((n as f64).sqrt() * 1.0).round() as usize;
-    run("sphere (closed: seam map too distorted, split into charts)", sphere(k, k / 2));
+    run(
+        "sphere (closed: seam map too distorted, split into charts)",
+        sphere(k, k / 2),
+    );
     // cylinder: 2kh side + 2·k(2r-1) caps
     let k = ((n as f64 / 4.0).sqrt()).round() as usize;
-    run("cylinder (3 faces, side cut by a seam)", cylinder(k, k, k / 2));
+    run(
+        "cylinder (3 faces, side cut by a seam)",
+        cylinder(k, k, k / 2),
+    );
 }

@@ -27,7 +27,10 @@ fn main() {
         }
     };
     let model = imp.model;
-    if let Some(f) = std::env::var("FACE_DUMP").ok().and_then(|s| s.parse::<usize>().ok()) {
+    if let Some(f) = std::env::var("FACE_DUMP")
+        .ok()
+        .and_then(|s| s.parse::<usize>().ok())
+    {
         // the (u, v) polylines of face f's loops (1-based), one "loop" line then "u v" lines
         for li in 0..model.faces[f - 1].loops.len() {
             println!("loop {li}");
@@ -45,8 +48,21 @@ fn main() {
         let r = mesh_face(&model, FaceId(f as u32), &cms, 2.0 * h);
         let seams = face.curve_uses().filter(|u| u.seam).count();
         match r {
-            Ok(p) => println!("face {}: {} quads {:.3}s loops {} seam uses {}", f + 1, p.quads.len(), t.elapsed().as_secs_f64(), face.loops.len(), seams),
-            Err(e) => println!("face {}: FAILED {e:?} {:.3}s loops {} seam uses {}", f + 1, t.elapsed().as_secs_f64(), face.loops.len(), seams),
+            Ok(p) => println!(
+                "face {}: {} quads {:.3}s loops {} seam uses {}",
+                f + 1,
+                p.quads.len(),
+                t.elapsed().as_secs_f64(),
+                face.loops.len(),
+                seams
+            ),
+            Err(e) => println!(
+                "face {}: FAILED {e:?} {:.3}s loops {} seam uses {}",
+                f + 1,
+                t.elapsed().as_secs_f64(),
+                face.loops.len(),
+                seams
+            ),
         }
     }
 }

@@ -14,17 +14,27 @@ fn main() {
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         if a == "--feature-angle" {
-            opts.feature_angle = args.next().and_then(|s| s.parse().ok()).expect("--feature-angle DEGREES");
+            opts.feature_angle = args
+                .next()
+                .and_then(|s| s.parse().ok())
+                .expect("--feature-angle DEGREES");
         } else {
             files.push(PathBuf::from(a));
         }
     }
-    println!("{:<32} {:>8} {:>6} {:>6} {:>7} {:>5} {:>11} {:>7}", "file", "tris", "faces", "curves", "corners", "seams", "min uv area", "time s");
+    println!(
+        "{:<32} {:>8} {:>6} {:>6} {:>7} {:>5} {:>11} {:>7}",
+        "file", "tris", "faces", "curves", "corners", "seams", "min uv area", "time s"
+    );
     for f in files {
         match trimesh::load(&f, &opts) {
             Ok(imp) => {
                 let r = &imp.report;
-                let min = r.faces.iter().map(|f| f.min_uv_area).fold(f64::INFINITY, f64::min);
+                let min = r
+                    .faces
+                    .iter()
+                    .map(|f| f.min_uv_area)
+                    .fold(f64::INFINITY, f64::min);
                 let seams: usize = r.faces.iter().map(|f| f.seams).sum();
                 println!(
                     "{:<32} {:>8} {:>6} {:>6} {:>7} {:>5} {:>11.3e} {:>7.3}",
@@ -42,7 +52,14 @@ fn main() {
                 }
                 if std::env::var_os("IMPORT_REPORT_FACES").is_some() {
                     for (i, fr) in r.faces.iter().enumerate() {
-                        println!("    face {:>3}: {:>6} tris, {:?}, {} seams, scale spread {:.2}", i + 1, fr.triangles, fr.shape, fr.seams, fr.scale_spread);
+                        println!(
+                            "    face {:>3}: {:>6} tris, {:?}, {} seams, scale spread {:.2}",
+                            i + 1,
+                            fr.triangles,
+                            fr.shape,
+                            fr.seams,
+                            fr.scale_spread
+                        );
                     }
                 }
             }

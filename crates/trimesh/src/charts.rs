@@ -44,7 +44,15 @@ pub const MIN_CHART_TRIANGLES: usize = 8;
 /// number of charts. `blocked[e]` edges (feature curves) are never crossed.
 /// `cone_deg` bounds the angle between a chart triangle's normal and its
 /// seed's ([`CHART_CONE_DEG`] at first).
-pub fn split_into_charts(points: &[Vec3], mesh_tris: &[[u32; 3]], topo: &Topology, normals: &[Vec3], tris: &[u32], blocked: &[bool], cone_deg: f64) -> (Vec<u32>, usize) {
+pub fn split_into_charts(
+    points: &[Vec3],
+    mesh_tris: &[[u32; 3]],
+    topo: &Topology,
+    normals: &[Vec3],
+    tris: &[u32],
+    blocked: &[bool],
+    cone_deg: f64,
+) -> (Vec<u32>, usize) {
     let n = tris.len();
     let local = LocalIndex::new(mesh_tris.len(), tris);
     let centroid = |t: u32| {
@@ -60,7 +68,9 @@ pub fn split_into_charts(points: &[Vec3], mesh_tris: &[[u32; 3]], topo: &Topolog
             .filter_map(|&e| {
                 let [t0, t1] = topo.edge_tris[e as usize];
                 let o = if t0 == t { t1 } else { t0 };
-                (o != u32::MAX).then(|| local.get(&o).map(|&j| (j, e))).flatten()
+                (o != u32::MAX)
+                    .then(|| local.get(&o).map(|&j| (j, e)))
+                    .flatten()
             })
             .collect()
     };
@@ -98,7 +108,10 @@ pub fn split_into_charts(points: &[Vec3], mesh_tris: &[[u32; 3]], topo: &Topolog
             for (j, _) in nbrs(i) {
                 let j = j as usize;
                 if chart[j] == u32::MAX && vec3::dot(normals[tris[j] as usize], n0) >= cos {
-                    heap.push((Reverse(Ordered(vec3::dist(centroid(tris[j]), p0))), j as u32));
+                    heap.push((
+                        Reverse(Ordered(vec3::dist(centroid(tris[j]), p0))),
+                        j as u32,
+                    ));
                 }
             }
         }
@@ -110,10 +123,31 @@ pub fn split_into_charts(points: &[Vec3], mesh_tris: &[[u32; 3]], topo: &Topolog
                 first[c as usize] = i as u32;
             }
         }
-        first.iter().map(|&i| normals[tris[i as usize] as usize]).collect()
+        first
+            .iter()
+            .map(|&i| normals[tris[i as usize] as usize])
+            .collect()
     };
-    smooth_borders(mesh_tris, topo, tris, normals, &local, blocked, &seeds_normal, cos, &mut chart);
-    merge_small(mesh_tris, topo, tris, &local, blocked, &mut chart, nchart as usize)
+    smooth_borders(
+        mesh_tris,
+        topo,
+        tris,
+        normals,
+        &local,
+        blocked,
+        &seeds_normal,
+        cos,
+        &mut chart,
+    );
+    merge_small(
+        mesh_tris,
+        topo,
+        tris,
+        &local,
+        blocked,
+        &mut chart,
+        nchart as usize,
+    )
 }
 
 /// Border smoothing passes: a triangle of chart A with two edges on chart B
@@ -134,7 +168,12 @@ fn smooth_borders(
     chart: &mut [u32],
 ) {
     // vertex → local triangles using it (compressed rows)
-    let nv = mesh_tris.iter().flatten().map(|&v| v as usize + 1).max().unwrap_or(0);
+    let nv = mesh_tris
+        .iter()
+        .flatten()
+        .map(|&v| v as usize + 1)
+        .max()
+        .unwrap_or(0);
     let mut start = vec![0u32; nv + 1];
     for &t in tris {
         for v in mesh_tris[t as usize] {
@@ -178,7 +217,10 @@ fn smooth_borders(
                 }
                 // vertex shared by edges k+1 and k+2: vertex k+2
                 let v = mesh_tris[t][(k + 2) % 3];
-                let others_in_a = vert_tris(v).iter().filter(|&&j| j as usize != i && chart[j as usize] == a).count();
+                let others_in_a = vert_tris(v)
+                    .iter()
+                    .filter(|&&j| j as usize != i && chart[j as usize] == a)
+                    .count();
                 if others_in_a == 0 && vec3::dot(normals[t], seed_normal[b as usize]) >= cos {
                     chart[i] = b;
                     moved += 1;
@@ -217,7 +259,11 @@ fn keeps_disk(
     }
     match shared {
         1 => {
-            let third = mesh_tris[t].iter().copied().find(|v| !shared_edge.contains(v)).unwrap_or(u32::MAX);
+            let third = mesh_tris[t]
+                .iter()
+                .copied()
+                .find(|v| !shared_edge.contains(v))
+                .unwrap_or(u32::MAX);
             !in_chart(third)
         }
         2 => true,
@@ -266,7 +312,11 @@ fn merge_small(
         let mut order: Vec<(usize, u32)> = counts.into_iter().map(|(d, k)| (k, d)).collect();
         order.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
         for (_, d) in order {
-            let union: Vec<u32> = members[d as usize].iter().chain(&members[c]).map(|&i| tris[i as usize]).collect();
+            let union: Vec<u32> = members[d as usize]
+                .iter()
+                .chain(&members[c])
+                .map(|&i| tris[i as usize])
+                .collect();
             if is_disk(mesh_tris, topo, &union) {
                 for &i in &members[c] {
                     chart[i as usize] = d;
@@ -383,7 +433,11 @@ mod tests {
         assert!(n >= 4, "{n} charts");
         assert!(n <= 8, "{n} charts");
         for c in 0..n as u32 {
-            let members: Vec<u32> = all.iter().copied().filter(|&i| label[i as usize] == c).collect();
+            let members: Vec<u32> = all
+                .iter()
+                .copied()
+                .filter(|&i| label[i as usize] == c)
+                .collect();
             assert!(is_disk(&t, &topo, &members), "chart {c} is not a disk");
             // every pair of normals within twice the cone
             let lim = (2.0 * CHART_CONE_DEG).to_radians().cos() - 1e-9;

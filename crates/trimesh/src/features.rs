@@ -21,16 +21,27 @@ pub fn tri_normals(points: &[Vec3], tris: &[[u32; 3]]) -> Vec<Vec3> {
 /// the two triangle normals) above `angle` radians, or in `user` (edges given
 /// as welded vertex pairs; `Err` gives the index in `user` of a pair that is
 /// not an edge of the mesh).
-pub fn feature_edges(normals: &[Vec3], topo: &Topology, angle: f64, user: &[[u32; 2]]) -> Result<Vec<bool>, usize> {
+pub fn feature_edges(
+    normals: &[Vec3],
+    topo: &Topology,
+    angle: f64,
+    user: &[[u32; 2]],
+) -> Result<Vec<bool>, usize> {
     let cos = angle.cos();
     let mut f: Vec<bool> = topo
         .edge_tris
         .iter()
-        .map(|&[t0, t1]| t1 == u32::MAX || vec3::dot(normals[t0 as usize], normals[t1 as usize]) < cos)
+        .map(|&[t0, t1]| {
+            t1 == u32::MAX || vec3::dot(normals[t0 as usize], normals[t1 as usize]) < cos
+        })
         .collect();
     if !user.is_empty() {
-        let mut index: Vec<(u64, u32)> =
-            topo.edges.iter().enumerate().map(|(e, &[a, b])| (((a as u64) << 32) | b as u64, e as u32)).collect();
+        let mut index: Vec<(u64, u32)> = topo
+            .edges
+            .iter()
+            .enumerate()
+            .map(|(e, &[a, b])| (((a as u64) << 32) | b as u64, e as u32))
+            .collect();
         index.sort_unstable();
         for (i, &[a, b]) in user.iter().enumerate() {
             let key = ((a.min(b) as u64) << 32) | a.max(b) as u64;
@@ -97,7 +108,11 @@ pub fn corners(points: &[Vec3], topo: &Topology, flag: &[bool], angle: f64) -> V
                 2 => {
                     let other = |e: u32| {
                         let [a, b] = topo.edges[e as usize];
-                        if a as usize == v { b } else { a }
+                        if a as usize == v {
+                            b
+                        } else {
+                            a
+                        }
                     };
                     let (p, q) = (points[other(es[0]) as usize], points[other(es[1]) as usize]);
                     let d0 = vec3::normalize(vec3::sub(points[v], p));

@@ -79,7 +79,12 @@ pub const DEFAULT_CORNER_ANGLE: f64 = 60.0;
 
 impl Default for Options {
     fn default() -> Self {
-        Options { feature_angle: DEFAULT_FEATURE_ANGLE, corner_angle: DEFAULT_CORNER_ANGLE, feature_edges: Vec::new(), weld_tolerance: 1e-9 }
+        Options {
+            feature_angle: DEFAULT_FEATURE_ANGLE,
+            corner_angle: DEFAULT_CORNER_ANGLE,
+            feature_edges: Vec::new(),
+            weld_tolerance: 1e-9,
+        }
     }
 }
 
@@ -150,21 +155,34 @@ pub fn load(path: &Path, opts: &Options) -> Result<Import, TrimeshError> {
 /// Reads a file of user feature edges: one pair of 1-based vertex numbers
 /// per line (`#` starts a comment).
 pub fn read_feature_edges(path: &Path) -> Result<Vec<[u32; 2]>, TrimeshError> {
-    let text = std::fs::read_to_string(path).map_err(|source| TrimeshError::Io { path: path.into(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| TrimeshError::Io {
+        path: path.into(),
+        source,
+    })?;
     let mut out = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line = line.split('#').next().unwrap_or("").trim();
         if line.is_empty() {
             continue;
         }
-        let nums: Vec<&str> = line.split(|c: char| c.is_whitespace() || c == ',').filter(|s| !s.is_empty()).collect();
+        let nums: Vec<&str> = line
+            .split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|s| !s.is_empty())
+            .collect();
         let parse = |s: &str| s.parse::<u32>().ok().filter(|&x| x > 0);
-        match (nums.len(), nums.first().and_then(|s| parse(s)), nums.get(1).and_then(|s| parse(s))) {
+        match (
+            nums.len(),
+            nums.first().and_then(|s| parse(s)),
+            nums.get(1).and_then(|s| parse(s)),
+        ) {
             (2, Some(a), Some(b)) => out.push([a, b]),
             _ => {
                 return Err(TrimeshError::Parse {
                     path: path.into(),
-                    msg: format!("line {}: expected two vertex numbers (1-based), got `{line}`", i + 1),
+                    msg: format!(
+                        "line {}: expected two vertex numbers (1-based), got `{line}`",
+                        i + 1
+                    ),
                 })
             }
         }
@@ -182,7 +200,11 @@ pub const MAX_SCALE_SPREAD: f64 = 3.0;
 /// True when a flip-free map of a cut patch is one-to-one: its boundary
 /// loops stay simple and apart in (u, v).
 fn one_to_one(map: &parametrize::DiskMap, cp: &patches::CutPatch) -> bool {
-    let loops: Vec<Vec<u32>> = cp.loops.iter().map(|lp| lp.iter().map(|&(c, _)| c).collect()).collect();
+    let loops: Vec<Vec<u32>> = cp
+        .loops
+        .iter()
+        .map(|lp| lp.iter().map(|&(c, _)| c).collect())
+        .collect();
     parametrize::loops_are_simple(&map.uv, &loops)
 }
 
@@ -212,7 +234,13 @@ fn cut_with_seams(
     changed_edges: &mut Vec<u32>,
     changed_corners: &mut Vec<u32>,
 ) -> Option<Vec<u32>> {
-    let SeamContext { points, tris, topo, adj, patch_of } = ctx;
+    let SeamContext {
+        points,
+        tris,
+        topo,
+        adj,
+        patch_of,
+    } = ctx;
     let mut on_boundary = std::collections::HashSet::new();
     for lp in &cp.loops {
         for &(c, _) in lp {
@@ -220,7 +248,11 @@ fn cut_with_seams(
         }
     }
     let mut inner = std::collections::HashSet::new();
-    let mut add_path = |path: &[u32], seam: &mut [bool], cut: &mut [bool], corner: &mut [bool], inner: &mut std::collections::HashSet<u32>| {
+    let mut add_path = |path: &[u32],
+                        seam: &mut [bool],
+                        cut: &mut [bool],
+                        corner: &mut [bool],
+                        inner: &mut std::collections::HashSet<u32>| {
         for &e in path {
             if !cut[e as usize] {
                 changed_edges.push(e);
@@ -235,12 +267,19 @@ fn cut_with_seams(
         let end = |e: u32, other: u32| -> u32 {
             let [a, b] = topo.edges[e as usize];
             let [c, d] = topo.edges[other as usize];
-            if a == c || a == d { b } else { a }
+            if a == c || a == d {
+                b
+            } else {
+                a
+            }
         };
         let ends = if path.len() == 1 {
             topo.edges[path[0] as usize]
         } else {
-            [end(path[0], path[1]), end(path[path.len() - 1], path[path.len() - 2])]
+            [
+                end(path[0], path[1]),
+                end(path[path.len() - 1], path[path.len() - 2]),
+            ]
         };
         for v in ends {
             if !corner[v as usize] {
@@ -268,7 +307,15 @@ fn cut_with_seams(
         }
         add_path(&path, seam, cut, corner, &mut inner);
     } else {
-        let loop_verts: Vec<Vec<u32>> = cp.loops.iter().map(|lp| lp.iter().map(|&(c, _)| cp.copy_vertex[c as usize]).collect()).collect();
+        let loop_verts: Vec<Vec<u32>> = cp
+            .loops
+            .iter()
+            .map(|lp| {
+                lp.iter()
+                    .map(|&(c, _)| cp.copy_vertex[c as usize])
+                    .collect()
+            })
+            .collect();
         let mut joined = vec![0usize];
         for i in 1..cp.loops.len() {
             // first between corners (a seam then splits no curve), else
@@ -276,14 +323,30 @@ fn cut_with_seams(
             let mut found = None;
             for any in [false, true] {
                 let pick = |j: usize| -> Vec<u32> {
-                    let cs: Vec<u32> = loop_verts[j].iter().copied().filter(|&v| any || corner[v as usize]).collect();
-                    if cs.is_empty() { loop_verts[j].clone() } else { cs }
+                    let cs: Vec<u32> = loop_verts[j]
+                        .iter()
+                        .copied()
+                        .filter(|&v| any || corner[v as usize])
+                        .collect();
+                    if cs.is_empty() {
+                        loop_verts[j].clone()
+                    } else {
+                        cs
+                    }
                 };
                 let sources: Vec<u32> = joined.iter().flat_map(|&j| pick(j)).collect();
                 let targets: std::collections::HashSet<u32> = pick(i).into_iter().collect();
-                found = patches::shortest_path(points, topo, adj, patch_of, p, cut, &sources, &|v| targets.contains(&v), &|v| {
-                    !on_boundary.contains(&v) && !inner.contains(&v)
-                });
+                found = patches::shortest_path(
+                    points,
+                    topo,
+                    adj,
+                    patch_of,
+                    p,
+                    cut,
+                    &sources,
+                    &|v| targets.contains(&v),
+                    &|v| !on_boundary.contains(&v) && !inner.contains(&v),
+                );
                 if found.is_some() {
                     break;
                 }
@@ -309,16 +372,28 @@ fn bbox(points: &[Vec3]) -> (Vec3, Vec3) {
 
 /// Builds the model of a triangle soup; `name` is used in messages.
 pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshError> {
-    let invalid = |msg: String| TrimeshError::Invalid { path: name.into(), msg };
-    let mut report = ImportReport { input_triangles: soup.tris.len(), ..Default::default() };
+    let invalid = |msg: String| TrimeshError::Invalid {
+        path: name.into(),
+        msg,
+    };
+    let mut report = ImportReport {
+        input_triangles: soup.tris.len(),
+        ..Default::default()
+    };
     if soup.tris.is_empty() {
         return Err(invalid("the mesh has no triangle".into()));
     }
     if !(opts.feature_angle > 0.0 && opts.feature_angle < 180.0) {
-        return Err(invalid(format!("feature angle {}° is not between 0 and 180", opts.feature_angle)));
+        return Err(invalid(format!(
+            "feature angle {}° is not between 0 and 180",
+            opts.feature_angle
+        )));
     }
     if !(opts.corner_angle > 0.0 && opts.corner_angle < 180.0) {
-        return Err(invalid(format!("corner angle {}° is not between 0 and 180", opts.corner_angle)));
+        return Err(invalid(format!(
+            "corner angle {}° is not between 0 and 180",
+            opts.corner_angle
+        )));
     }
     let t0 = Instant::now();
     // 2. weld
@@ -329,12 +404,19 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
         return Err(invalid("all points coincide".into()));
     }
     let (points, map) = weld::weld(&soup.points, opts.weld_tolerance * diag);
-    let tris: Vec<[u32; 3]> = soup.tris.iter().map(|t| t.map(|v| map[v as usize])).collect();
+    let tris: Vec<[u32; 3]> = soup
+        .tris
+        .iter()
+        .map(|t| t.map(|v| map[v as usize]))
+        .collect();
     let mut user = Vec::with_capacity(opts.feature_edges.len());
     for (i, &[a, b]) in opts.feature_edges.iter().enumerate() {
         let n = soup.points.len() as u32;
         if a == 0 || b == 0 || a > n || b > n {
-            return Err(invalid(format!("feature edge {} ({a} {b}): vertex number out of range 1..{n}", i + 1)));
+            return Err(invalid(format!(
+                "feature edge {} ({a} {b}): vertex number out of range 1..{n}",
+                i + 1
+            )));
         }
         user.push([map[a as usize - 1], map[b as usize - 1]]);
     }
@@ -342,10 +424,16 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
     let (mut tris, dropped, first) = topology::drop_degenerate(&points, &tris, 1e-16 * diag * diag);
     report.dropped_degenerate = dropped;
     if tris.is_empty() {
-        return Err(invalid(format!("all {} triangles are degenerate (zero area)", soup.tris.len())));
+        return Err(invalid(format!(
+            "all {} triangles are degenerate (zero area)",
+            soup.tris.len()
+        )));
     }
     if dropped > 0 {
-        report.warnings.push(format!("{dropped} degenerate (zero-area) triangles dropped, the first is triangle {}", first.unwrap_or(0)));
+        report.warnings.push(format!(
+            "{dropped} degenerate (zero-area) triangles dropped, the first is triangle {}",
+            first.unwrap_or(0)
+        ));
     }
     let nm = |(a, b, n): (u32, u32, usize)| {
         invalid(format!(
@@ -354,11 +442,17 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
         ))
     };
     let mut topo = topology::build(&tris).map_err(nm)?;
-    let flipped = topology::orient(&points, &mut tris, &topo)
-        .map_err(|t| invalid(format!("the surface is not orientable (a Möbius-like strip): conflict at triangle {:?}", tris[t].map(|v| points[v as usize]))))?;
+    let flipped = topology::orient(&points, &mut tris, &topo).map_err(|t| {
+        invalid(format!(
+            "the surface is not orientable (a Möbius-like strip): conflict at triangle {:?}",
+            tris[t].map(|v| points[v as usize])
+        ))
+    })?;
     if flipped > 0 {
         report.flipped = flipped;
-        report.warnings.push(format!("{flipped} triangles flipped to make the orientation consistent"));
+        report.warnings.push(format!(
+            "{flipped} triangles flipped to make the orientation consistent"
+        ));
         topo = topology::build(&tris).map_err(nm)?;
     }
     // drop vertices no triangle uses (they would be isolated)
@@ -370,14 +464,20 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
     let normals = features::tri_normals(&points, &tris);
     let mut feature = features::feature_edges(&normals, &topo, angle, &user).map_err(|i| {
         let [a, b] = opts.feature_edges[i];
-        invalid(format!("feature edge {} ({a} {b}) is not an edge of the mesh", i + 1))
+        invalid(format!(
+            "feature edge {} ({a} {b}) is not an edge of the mesh",
+            i + 1
+        ))
     })?;
     let t2 = Instant::now();
     // 5. patches and cuts
     let (patch_of, npatch) = patches::label(tris.len(), &topo, &feature);
     report.dangling_feature_edges = patches::drop_dangling(&topo, &patch_of, &mut feature);
     if report.dangling_feature_edges > 0 {
-        report.warnings.push(format!("{} feature edges inside a face (separating nothing) ignored", report.dangling_feature_edges));
+        report.warnings.push(format!(
+            "{} feature edges inside a face (separating nothing) ignored",
+            report.dangling_feature_edges
+        ));
     }
     report.patches = npatch;
     let mut corner = features::corners(&points, &topo, &feature, opts.corner_angle.to_radians());
@@ -390,21 +490,31 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
     let mut local = vec![u32::MAX; tris.len()];
     let adj = patches::Adjacency::new(points.len(), &topo);
     let mut cuts = Vec::with_capacity(npatch);
-    let pinch = |v: u32| invalid(format!("the surface pinches at vertex {:?} (a non-manifold vertex)", points[v as usize]));
+    let pinch = |v: u32| {
+        invalid(format!(
+            "the surface pinches at vertex {:?} (a non-manifold vertex)",
+            points[v as usize]
+        ))
+    };
     // a Tutte map of a disk with the corners known so far, judged by its scale spread
     let maps_well = |cp: &patches::CutPatch, corner: &[bool]| -> bool {
         let xyz: Vec<Vec3> = cp.copy_vertex.iter().map(|&v| points[v as usize]).collect();
         let boundary: Vec<u32> = cp.loops[0].iter().map(|&(c, _)| c).collect();
-        let corner_at: Vec<usize> = (0..boundary.len()).filter(|&i| corner[cp.copy_vertex[boundary[i] as usize] as usize]).collect();
-        parametrize::tutte(&xyz, &cp.copy_tris, &boundary, &corner_at)
-            .is_ok_and(|m| parametrize::scale_spread(&xyz, &cp.copy_tris, &m.uv) <= MAX_SCALE_SPREAD)
+        let corner_at: Vec<usize> = (0..boundary.len())
+            .filter(|&i| corner[cp.copy_vertex[boundary[i] as usize] as usize])
+            .collect();
+        parametrize::tutte(&xyz, &cp.copy_tris, &boundary, &corner_at).is_ok_and(|m| {
+            parametrize::scale_spread(&xyz, &cp.copy_tris, &m.uv) <= MAX_SCALE_SPREAD
+        })
     };
     for (p, list) in by_patch.into_iter().enumerate() {
         let cp = patches::cut_patch(&tris, &topo, list, &cut, &mut local).map_err(pinch)?;
         // a patch facing one direction is projected (holes stay holes, no seam)
         let xyz: Vec<Vec3> = cp.copy_vertex.iter().map(|&v| points[v as usize]).collect();
         if !cp.loops.is_empty() {
-            if let Some(map) = parametrize::project_plane(&xyz, &cp.copy_tris).filter(|m| one_to_one(m, &cp)) {
+            if let Some(map) =
+                parametrize::project_plane(&xyz, &cp.copy_tris).filter(|m| one_to_one(m, &cp))
+            {
                 cuts.push((cp, Some(map)));
                 continue;
             }
@@ -413,7 +523,11 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
             cuts.push((cp, None));
             continue;
         }
-        let at = cp.tris.first().map(|&t| points[tris[t as usize][0] as usize]).unwrap_or([0.0; 3]);
+        let at = cp
+            .tris
+            .first()
+            .map(|&t| points[tris[t as usize][0] as usize])
+            .unwrap_or([0.0; 3]);
         if !cp.is_disk() && cp.genus() == 0 {
             // seams; what they change is recorded to undo it when the cut
             // patch still maps badly (it is then split into charts)
@@ -422,14 +536,21 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
             if let Some(cut_open) = cut_with_seams(
                 &cp,
                 p as u32,
-                SeamContext { points: &points, tris: &tris, topo: &topo, adj: &adj, patch_of: &patch_of },
+                SeamContext {
+                    points: &points,
+                    tris: &tris,
+                    topo: &topo,
+                    adj: &adj,
+                    patch_of: &patch_of,
+                },
                 &mut seam,
                 &mut cut,
                 &mut corner,
                 &mut changed_edges,
                 &mut changed_corners,
             ) {
-                let cp2 = patches::cut_patch(&tris, &topo, cut_open, &cut, &mut local).map_err(pinch)?;
+                let cp2 =
+                    patches::cut_patch(&tris, &topo, cut_open, &cut, &mut local).map_err(pinch)?;
                 if cp2.is_disk() && maps_well(&cp2, &corner) {
                     cuts.push((cp2, None));
                     continue;
@@ -449,7 +570,8 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
         report.charted_faces += 1;
         let mut pending = vec![(cp.tris.clone(), charts::CHART_CONE_DEG)];
         while let Some((region, cone)) = pending.pop() {
-            let (label, ncharts) = charts::split_into_charts(&points, &tris, &topo, &normals, &region, &cut, cone);
+            let (label, ncharts) =
+                charts::split_into_charts(&points, &tris, &topo, &normals, &region, &cut, cone);
             let mut members: Vec<Vec<u32>> = vec![Vec::new(); ncharts];
             for (i, &t) in region.iter().enumerate() {
                 members[label[i] as usize].push(t);
@@ -459,7 +581,10 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
                 for &e in &topo.tri_edges[t as usize] {
                     let [t0, t1] = topo.edge_tris[e as usize];
                     let o = if t0 == t { t1 } else { t0 };
-                    if o != u32::MAX && local[o as usize] != u32::MAX && local[o as usize] != local[t as usize] {
+                    if o != u32::MAX
+                        && local[o as usize] != u32::MAX
+                        && local[o as usize] != local[t as usize]
+                    {
                         cut[e as usize] = true;
                     }
                 }
@@ -478,8 +603,13 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
                     )));
                 }
                 let xyz: Vec<Vec3> = cc.copy_vertex.iter().map(|&v| points[v as usize]).collect();
-                let map = parametrize::project_plane(&xyz, &cc.copy_tris).filter(|m| one_to_one(m, &cc));
-                if map.is_none() && cone > charts::MIN_CHART_CONE_DEG && cc.tris.len() > charts::MIN_CHART_TRIANGLES && !maps_well(&cc, &corner) {
+                let map =
+                    parametrize::project_plane(&xyz, &cc.copy_tris).filter(|m| one_to_one(m, &cc));
+                if map.is_none()
+                    && cone > charts::MIN_CHART_CONE_DEG
+                    && cc.tris.len() > charts::MIN_CHART_TRIANGLES
+                    && !maps_well(&cc, &corner)
+                {
                     pending.push((cc.tris, 0.5 * cone));
                     continue;
                 }
@@ -496,16 +626,26 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
     let mut cid = |v: u32, model: &mut Model| -> CornerId {
         if corner_id[v as usize] == u32::MAX {
             corner_id[v as usize] = model.corners.len() as u32;
-            model.corners.push(Corner { point: points[v as usize] });
+            model.corners.push(Corner {
+                point: points[v as usize],
+            });
         }
         CornerId(corner_id[v as usize])
     };
     let mut curves = Vec::with_capacity(chains.len());
     for ch in &chains {
-        let c = Arc::new(surface::PolyCurve::new(ch.verts.iter().map(|&v| points[v as usize]).collect()));
+        let c = Arc::new(surface::PolyCurve::new(
+            ch.verts.iter().map(|&v| points[v as usize]).collect(),
+        ));
         let start = cid(ch.verts[0], &mut model);
         let end = cid(*ch.verts.last().unwrap_or(&ch.verts[0]), &mut model);
-        model.curves.push(CurveEntity { geom: Some(c.clone()), range: (0.0, c.length()), start, end, degenerate: false });
+        model.curves.push(CurveEntity {
+            geom: Some(c.clone()),
+            range: (0.0, c.length()),
+            start,
+            end,
+            degenerate: false,
+        });
         curves.push(c);
     }
     for (p, (cp, projected)) in cuts.iter().enumerate() {
@@ -522,7 +662,9 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
                 let lp = &cp.loops[0];
                 let n = lp.len();
                 let boundary: Vec<u32> = (0..n).map(|i| lp[(starts[0] + i) % n].0).collect();
-                let corner_at: Vec<usize> = (0..n).filter(|&i| corner[cp.copy_vertex[boundary[i] as usize] as usize]).collect();
+                let corner_at: Vec<usize> = (0..n)
+                    .filter(|&i| corner[cp.copy_vertex[boundary[i] as usize] as usize])
+                    .collect();
                 parametrize::tutte(&xyz, &cp.copy_tris, &boundary, &corner_at)
                     .map_err(|m| invalid(format!("face {}: parametrization failed: {m}", p + 1)))?
             }
@@ -543,7 +685,11 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
                 for k in 0..m {
                     let (c, e) = lp[(s0 + i + k) % n];
                     if edge_chain[e as usize].0 != ch {
-                        return Err(invalid(format!("face {}: boundary curve {} is interrupted", p + 1, ch + 1)));
+                        return Err(invalid(format!(
+                            "face {}: boundary curve {} is interrupted",
+                            p + 1,
+                            ch + 1
+                        )));
                     }
                     copies.push(c);
                 }
@@ -552,8 +698,16 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
                 if !forward {
                     uv.reverse();
                 }
-                let pc = surface::PolyCurve2d { t: curves[ch as usize].t.clone(), uv };
-                uses.push(CurveUse { curve: CurveId(ch), forward, pcurve: Arc::new(pc), seam: false });
+                let pc = surface::PolyCurve2d {
+                    t: curves[ch as usize].t.clone(),
+                    uv,
+                };
+                uses.push(CurveUse {
+                    curve: CurveId(ch),
+                    forward,
+                    pcurve: Arc::new(pc),
+                    seam: false,
+                });
                 i += m;
             }
             let poly: Vec<[f64; 2]> = lp.iter().map(|&(c, _)| map.uv[c as usize]).collect();
@@ -562,7 +716,10 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
         // the outer loop (largest signed area) first, then the holes
         loops.sort_by(|a, b| b.0.total_cmp(&a.0));
         if !(loops[0].0 > 0.0) || loops.iter().skip(1).any(|l| !(l.0 < 0.0)) {
-            return Err(invalid(format!("face {}: its boundary loops are not one outer loop and holes in (u, v)", p + 1)));
+            return Err(invalid(format!(
+                "face {}: its boundary loops are not one outer loop and holes in (u, v)",
+                p + 1
+            )));
         }
         let mut uses: Vec<CurveUse> = loops[0].1.clone();
         let nseam = uses.iter().filter(|u| chains[u.curve.idx()].seam).count() / 2;
@@ -572,11 +729,27 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
         }
         let scale_spread = parametrize::scale_spread(&xyz, &cp.copy_tris, &map.uv);
         let surf = surface::TriSurface::new(xyz, map.uv, cp.copy_tris.clone());
-        report.faces.push(FaceReport { triangles: cp.tris.len(), min_uv_area: map.min_area, shape: map.shape, seams: nseam, scale_spread });
+        report.faces.push(FaceReport {
+            triangles: cp.tris.len(),
+            min_uv_area: map.min_area,
+            shape: map.shape,
+            seams: nseam,
+            scale_spread,
+        });
         let uv_bounds = geometry::Surface::uv_bounds(&surf);
         let mut face_loops = vec![Loop { uses, outer: true }];
-        face_loops.extend(loops.into_iter().skip(1).map(|(_, uses)| Loop { uses, outer: false }));
-        model.faces.push(Face { surface: Arc::new(surf), reversed: false, loops: face_loops, uv_bounds });
+        face_loops.extend(
+            loops
+                .into_iter()
+                .skip(1)
+                .map(|(_, uses)| Loop { uses, outer: false }),
+        );
+        model.faces.push(Face {
+            surface: Arc::new(surf),
+            reversed: false,
+            loops: face_loops,
+            uv_bounds,
+        });
     }
     let t4 = Instant::now();
     report.seconds[1] = (t1 - t0).as_secs_f64();

@@ -59,12 +59,26 @@ pub fn project_plane(xyz: &[Vec3], tris: &[[u32; 3]]) -> Option<DiskMap> {
         }
     }
     // an orthonormal basis (e1, e2, n), right-handed so that uv areas are positive
-    let helper = if n[0].abs() < 0.6 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+    let helper = if n[0].abs() < 0.6 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
     let e1 = vec3::normalize(vec3::cross(helper, n))?;
     let e2 = vec3::cross(n, e1);
-    let uv: Vec<[f64; 2]> = xyz.iter().map(|p| [vec3::dot(*p, e1), vec3::dot(*p, e2)]).collect();
-    let min_area = tris.iter().map(|t| area(uv[t[0] as usize], uv[t[1] as usize], uv[t[2] as usize])).fold(f64::INFINITY, f64::min);
-    (min_area > 0.0).then_some(DiskMap { uv, min_area, shape: Shape::Plane })
+    let uv: Vec<[f64; 2]> = xyz
+        .iter()
+        .map(|p| [vec3::dot(*p, e1), vec3::dot(*p, e2)])
+        .collect();
+    let min_area = tris
+        .iter()
+        .map(|t| area(uv[t[0] as usize], uv[t[1] as usize], uv[t[2] as usize]))
+        .fold(f64::INFINITY, f64::min);
+    (min_area > 0.0).then_some(DiskMap {
+        uv,
+        min_area,
+        shape: Shape::Plane,
+    })
 }
 
 /// The (u, v) of every vertex of a disk and the smallest signed triangle area.
@@ -86,7 +100,12 @@ pub fn area(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
 /// Maps the disk (`tris` on `xyz`, boundary loop `boundary` in order with
 /// the interior on its left, `corner_at` the positions in `boundary` of the
 /// corners) into the plane.
-pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usize]) -> Result<DiskMap, String> {
+pub fn tutte(
+    xyz: &[Vec3],
+    tris: &[[u32; 3]],
+    boundary: &[u32],
+    corner_at: &[usize],
+) -> Result<DiskMap, String> {
     let n = xyz.len();
     let nb = boundary.len();
     if nb < 3 {
@@ -99,7 +118,11 @@ pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usi
     // arc length along the loop
     let mut s = vec![0.0; nb + 1];
     for i in 0..nb {
-        s[i + 1] = s[i] + vec3::dist(xyz[boundary[i] as usize], xyz[boundary[(i + 1) % nb] as usize]);
+        s[i + 1] = s[i]
+            + vec3::dist(
+                xyz[boundary[i] as usize],
+                xyz[boundary[(i + 1) % nb] as usize],
+            );
     }
     let perim = s[nb];
     if !(perim > 0.0) {
@@ -126,7 +149,11 @@ pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usi
                 i = (i + 1) % nb;
             }
         }
-        let shares = |a: usize, b: usize| side_of[a].iter().any(|&x| x != u8::MAX && side_of[b].contains(&x));
+        let shares = |a: usize, b: usize| {
+            side_of[a]
+                .iter()
+                .any(|&x| x != u8::MAX && side_of[b].contains(&x))
+        };
         let mut chord = false;
         'outer: for t in tris {
             for k in 0..3 {
@@ -141,7 +168,9 @@ pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usi
                 }
             }
             // three boundary vertices on one side
-            if t.iter().all(|&v| on_b[v as usize] != u32::MAX) && (0..4u8).any(|k| t.iter().all(|&v| side_of[v as usize].contains(&k))) {
+            if t.iter().all(|&v| on_b[v as usize] != u32::MAX)
+                && (0..4u8).any(|k| t.iter().all(|&v| side_of[v as usize].contains(&k)))
+            {
                 chord = true;
                 break;
             }
@@ -149,7 +178,11 @@ pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usi
         if !chord {
             let len = |k: usize| {
                 let (i0, i1) = (corner_at[k], corner_at[(k + 1) % 4]);
-                if i1 > i0 { s[i1] - s[i0] } else { perim - s[i0] + s[i1] }
+                if i1 > i0 {
+                    s[i1] - s[i0]
+                } else {
+                    perim - s[i0] + s[i1]
+                }
             };
             let (w, h) = (0.5 * (len(0) + len(2)), 0.5 * (len(1) + len(3)));
             if w > 0.0 && h > 0.0 {
@@ -162,7 +195,8 @@ pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usi
                     let mut acc = 0.0;
                     while i != i1 {
                         let f = if l > 0.0 { acc / l } else { 0.0 };
-                        uv[boundary[i] as usize] = [p[0] + f * (q[0] - p[0]), p[1] + f * (q[1] - p[1])];
+                        uv[boundary[i] as usize] =
+                            [p[0] + f * (q[0] - p[0]), p[1] + f * (q[1] - p[1])];
                         acc += s[i + 1] - s[i];
                         i = (i + 1) % nb;
                     }
@@ -197,7 +231,11 @@ pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usi
         let mut rhs = Mat::<f64>::zeros(ni as usize, 2);
         for t in tris {
             for k in 0..3 {
-                let (a, b, c) = (t[k] as usize, t[(k + 1) % 3] as usize, t[(k + 2) % 3] as usize);
+                let (a, b, c) = (
+                    t[k] as usize,
+                    t[(k + 1) % 3] as usize,
+                    t[(k + 2) % 3] as usize,
+                );
                 // half the cotangent of the angle at c, opposite edge ab
                 let w = if cot {
                     let (u, v) = (vec3::sub(xyz[a], xyz[c]), vec3::sub(xyz[b], xyz[c]));
@@ -224,8 +262,11 @@ pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usi
         for (i, d) in diag.iter().enumerate() {
             trip.push(Triplet::new(i, i, *d));
         }
-        let m = SparseColMat::<usize, f64>::try_new_from_triplets(ni as usize, ni as usize, &trip).map_err(|e| format!("sparse matrix: {e:?}"))?;
-        let llt = m.sp_cholesky(Side::Lower).map_err(|e| format!("Cholesky factorization failed: {e:?}"))?;
+        let m = SparseColMat::<usize, f64>::try_new_from_triplets(ni as usize, ni as usize, &trip)
+            .map_err(|e| format!("sparse matrix: {e:?}"))?;
+        let llt = m
+            .sp_cholesky(Side::Lower)
+            .map_err(|e| format!("Cholesky factorization failed: {e:?}"))?;
         let x = llt.solve(&rhs);
         for v in 0..n {
             if idx[v] != u32::MAX {
@@ -234,7 +275,11 @@ pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usi
         }
         Ok(())
     };
-    let min_area = |uv: &[[f64; 2]]| tris.iter().map(|t| area(uv[t[0] as usize], uv[t[1] as usize], uv[t[2] as usize])).fold(f64::INFINITY, f64::min);
+    let min_area = |uv: &[[f64; 2]]| {
+        tris.iter()
+            .map(|t| area(uv[t[0] as usize], uv[t[1] as usize], uv[t[2] as usize]))
+            .fold(f64::INFINITY, f64::min)
+    };
     solve(true, &mut uv)?;
     let mut m = min_area(&uv);
     if !(m > 0.0) {
@@ -242,9 +287,15 @@ pub fn tutte(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32], corner_at: &[usi
         m = min_area(&uv);
     }
     if !(m > 0.0) {
-        return Err(format!("the Tutte map has a flipped or flat triangle (min signed area {m:.3e})"));
+        return Err(format!(
+            "the Tutte map has a flipped or flat triangle (min signed area {m:.3e})"
+        ));
     }
-    Ok(DiskMap { uv, min_area: m, shape })
+    Ok(DiskMap {
+        uv,
+        min_area: m,
+        shape,
+    })
 }
 
 /// True when the (u, v) images of the boundary loops (each a cycle of
@@ -263,7 +314,9 @@ pub fn loops_are_simple(uv: &[[f64; 2]], loops: &[Vec<u32>]) -> bool {
         }
     }
     segs.sort_by(|x, y| x.0[0].min(x.1[0]).total_cmp(&y.0[0].min(y.1[0])));
-    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
     for i in 0..segs.len() {
         let (a, b, ab) = segs[i];
         let amax = a[0].max(b[0]);
@@ -276,7 +329,10 @@ pub fn loops_are_simple(uv: &[[f64; 2]], loops: &[Vec<u32>]) -> bool {
             }
             let (d1, d2) = (cross(a, b, c), cross(a, b, d));
             let (d3, d4) = (cross(c, d, a), cross(c, d, b));
-            if d1 * d2 <= 0.0 && d3 * d4 <= 0.0 && (d1 != 0.0 || d2 != 0.0 || d3 != 0.0 || d4 != 0.0) {
+            if d1 * d2 <= 0.0
+                && d3 * d4 <= 0.0
+                && (d1 != 0.0 || d2 != 0.0 || d3 != 0.0 || d4 != 0.0)
+            {
                 return false;
             }
             if d1 == 0.0 && d2 == 0.0 {
@@ -365,7 +421,16 @@ mod tests {
 
     #[test]
     fn crossing_loops_are_found() {
-        let uv = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0], [0.5, 0.5], [1.5, 0.5], [1.0, 1.5], [1.0, -1.0]];
+        let uv = [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 2.0],
+            [0.0, 2.0],
+            [0.5, 0.5],
+            [1.5, 0.5],
+            [1.0, 1.5],
+            [1.0, -1.0],
+        ];
         // a square with a triangle hole inside: simple
         assert!(loops_are_simple(&uv, &[vec![0, 1, 2, 3], vec![4, 6, 5]]));
         // a hole poking out through the bottom side
@@ -373,10 +438,28 @@ mod tests {
         // a bow tie
         assert!(!loops_are_simple(&uv, &[vec![0, 2, 1, 3]]));
         // collinear sides apart on one line are no crossing: a U shape
-        let u = [[0.0, 0.0], [3.0, 0.0], [3.0, 2.0], [2.0, 2.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        let u = [
+            [0.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 2.0],
+            [2.0, 2.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
         assert!(loops_are_simple(&u, &[(0..8).collect()]));
         // and a U whose arms overlap along a line crosses
-        let v = [[0.0, 0.0], [3.0, 0.0], [3.0, 1.0], [0.5, 1.0], [0.5, 2.0], [2.0, 2.0], [2.0, 1.0], [0.0, 1.0]];
+        let v = [
+            [0.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 1.0],
+            [0.5, 1.0],
+            [0.5, 2.0],
+            [2.0, 2.0],
+            [2.0, 1.0],
+            [0.0, 1.0],
+        ];
         assert!(!loops_are_simple(&v, &[(0..8).collect()]));
     }
 
@@ -391,7 +474,9 @@ mod tests {
         assert!(c.min_area > 0.0);
         // a boundary point lies on the circle
         let r = (c.uv[b[5] as usize][0].powi(2) + c.uv[b[5] as usize][1].powi(2)).sqrt();
-        let perim: f64 = (0..b.len()).map(|i| vec3::dist(p[b[i] as usize], p[b[(i + 1) % b.len()] as usize])).sum();
+        let perim: f64 = (0..b.len())
+            .map(|i| vec3::dist(p[b[i] as usize], p[b[(i + 1) % b.len()] as usize]))
+            .sum();
         assert!((r - perim / std::f64::consts::TAU).abs() < 1e-9);
     }
 }

@@ -108,14 +108,21 @@ fn find(p: &mut [u32], mut x: u32) -> u32 {
 /// border with other patches). `local` is a scratch array over all triangles
 /// (`u32::MAX` outside; restored on return). `Err` names a vertex where the
 /// boundary pinches.
-pub fn cut_patch(mesh_tris: &[[u32; 3]], topo: &Topology, tris: Vec<u32>, cut: &[bool], local: &mut [u32]) -> Result<CutPatch, u32> {
+pub fn cut_patch(
+    mesh_tris: &[[u32; 3]],
+    topo: &Topology,
+    tris: Vec<u32>,
+    cut: &[bool],
+    local: &mut [u32],
+) -> Result<CutPatch, u32> {
     for (i, &t) in tris.iter().enumerate() {
         local[t as usize] = i as u32;
     }
     let nc = 3 * tris.len();
     let mut parent: Vec<u32> = (0..nc as u32).collect();
     let mut nbh = 0usize;
-    let corner_of = |t: usize, v: u32| -> usize { (0..3).find(|&k| mesh_tris[t][k] == v).unwrap_or(0) };
+    let corner_of =
+        |t: usize, v: u32| -> usize { (0..3).find(|&k| mesh_tris[t][k] == v).unwrap_or(0) };
     for (i, &t) in tris.iter().enumerate() {
         for k in 0..3 {
             let e = topo.tri_edges[t as usize][k] as usize;
@@ -196,7 +203,13 @@ pub fn cut_patch(mesh_tris: &[[u32; 3]], topo: &Topology, tris: Vec<u32>, cut: &
     }
     let nedges = (3 * tris.len() + halves.len()) / 2;
     let euler = ncopy as i64 - nedges as i64 + tris.len() as i64;
-    Ok(CutPatch { tris, copy_tris, copy_vertex, loops, euler })
+    Ok(CutPatch {
+        tris,
+        copy_tris,
+        copy_vertex,
+        loops,
+        euler,
+    })
 }
 
 /// Vertex → (neighbour, edge) adjacency of the whole mesh.
@@ -216,7 +229,10 @@ impl Adjacency {
             .enumerate()
             .map(|(_, &e)| (0u32, e))
             .collect::<Vec<_>>();
-        let mut a = Adjacency { offsets: ve.offsets, nbrs };
+        let mut a = Adjacency {
+            offsets: ve.offsets,
+            nbrs,
+        };
         for v in 0..nverts {
             for k in a.offsets[v] as usize..a.offsets[v + 1] as usize {
                 let [p, q] = topo.edges[a.nbrs[k].1 as usize];
@@ -257,7 +273,10 @@ pub fn shortest_path(
     }
     let in_patch = |e: u32| {
         let [t0, t1] = topo.edge_tris[e as usize];
-        t1 != u32::MAX && patch_of[t0 as usize] == p && patch_of[t1 as usize] == p && !cut[e as usize]
+        t1 != u32::MAX
+            && patch_of[t0 as usize] == p
+            && patch_of[t1 as usize] == p
+            && !cut[e as usize]
     };
     let mut best: Option<(f64, u32, u32, u32)> = None; // (length, last vertex, target, edge)
     while let Some((Reverse(dk), v)) = heap.pop() {
@@ -301,7 +320,13 @@ pub fn shortest_path(
 
 /// Hop-count breadth-first search inside patch `p` over uncut edges from `s`:
 /// the farthest vertex and the parent edge of every reached vertex.
-pub fn bfs_far(topo: &Topology, adj: &Adjacency, patch_of: &[u32], p: u32, s: u32) -> (u32, std::collections::HashMap<u32, (u32, u32)>) {
+pub fn bfs_far(
+    topo: &Topology,
+    adj: &Adjacency,
+    patch_of: &[u32],
+    p: u32,
+    s: u32,
+) -> (u32, std::collections::HashMap<u32, (u32, u32)>) {
     use std::collections::{HashMap, VecDeque};
     let mut prev: HashMap<u32, (u32, u32)> = HashMap::new();
     let mut q = VecDeque::new();
@@ -312,7 +337,11 @@ pub fn bfs_far(topo: &Topology, adj: &Adjacency, patch_of: &[u32], p: u32, s: u3
         last = v;
         for &(w, e) in adj.at(v) {
             let [t0, t1] = topo.edge_tris[e as usize];
-            if t1 == u32::MAX || patch_of[t0 as usize] != p || patch_of[t1 as usize] != p || prev.contains_key(&w) {
+            if t1 == u32::MAX
+                || patch_of[t0 as usize] != p
+                || patch_of[t1 as usize] != p
+                || prev.contains_key(&w)
+            {
                 continue;
             }
             prev.insert(w, (v, e));
@@ -335,7 +364,13 @@ pub struct Chain {
 /// updated: a closed chain without a corner gets one at its lowest vertex).
 /// Returns the chains and, per edge, `(chain, segment)` (`u32::MAX` when the
 /// edge is no curve edge).
-pub fn chain_curves(nverts: usize, topo: &Topology, flag: &[bool], seam: &[bool], corner: &mut [bool]) -> (Vec<Chain>, Vec<(u32, u32)>) {
+pub fn chain_curves(
+    nverts: usize,
+    topo: &Topology,
+    flag: &[bool],
+    seam: &[bool],
+    corner: &mut [bool],
+) -> (Vec<Chain>, Vec<(u32, u32)>) {
     let ve = VertexEdges::new(nverts, topo, flag);
     for v in 0..nverts {
         if ve.at(v).len() != 2 && !ve.at(v).is_empty() {
@@ -344,7 +379,12 @@ pub fn chain_curves(nverts: usize, topo: &Topology, flag: &[bool], seam: &[bool]
     }
     let mut edge_chain = vec![(u32::MAX, u32::MAX); topo.edges.len()];
     let mut chains = Vec::new();
-    let walk = |start: u32, e0: u32, edge_chain: &mut Vec<(u32, u32)>, corner: &[bool], id: u32| -> Chain {
+    let walk = |start: u32,
+                e0: u32,
+                edge_chain: &mut Vec<(u32, u32)>,
+                corner: &[bool],
+                id: u32|
+     -> Chain {
         let mut verts = vec![start];
         let mut v = start;
         let mut e = e0;
@@ -357,12 +397,19 @@ pub fn chain_curves(nverts: usize, topo: &Topology, flag: &[bool], seam: &[bool]
             if corner[v as usize] {
                 break;
             }
-            match ve.at(v as usize).iter().find(|&&x| edge_chain[x as usize].0 == u32::MAX) {
+            match ve
+                .at(v as usize)
+                .iter()
+                .find(|&&x| edge_chain[x as usize].0 == u32::MAX)
+            {
                 Some(&x) => e = x,
                 None => break,
             }
         }
-        Chain { verts, seam: seam[e0 as usize] }
+        Chain {
+            verts,
+            seam: seam[e0 as usize],
+        }
     };
     for v in 0..nverts {
         if !corner[v] {

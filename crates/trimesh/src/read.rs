@@ -50,17 +50,31 @@ impl Format {
 
 /// Reads a file of the format its extension names.
 pub fn read_file(path: &Path) -> Result<Soup, TrimeshError> {
-    let ext = path.extension().map(|e| e.to_string_lossy().to_string()).unwrap_or_default();
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_string())
+        .unwrap_or_default();
     let Some(format) = Format::from_extension(&ext) else {
-        return Err(TrimeshError::Parse { path: path.into(), msg: format!("unknown triangle-mesh extension '.{ext}' (expected .stl, .obj, .ply or .msh)") });
+        return Err(TrimeshError::Parse {
+            path: path.into(),
+            msg: format!(
+                "unknown triangle-mesh extension '.{ext}' (expected .stl, .obj, .ply or .msh)"
+            ),
+        });
     };
-    let data = std::fs::read(path).map_err(|source| TrimeshError::Io { path: path.into(), source })?;
+    let data = std::fs::read(path).map_err(|source| TrimeshError::Io {
+        path: path.into(),
+        source,
+    })?;
     read_bytes(&data, format, path)
 }
 
 /// Reads file content already in memory; `name` is used in messages.
 pub fn read_bytes(data: &[u8], format: Format, name: &Path) -> Result<Soup, TrimeshError> {
-    let err = |msg: String| TrimeshError::Parse { path: name.into(), msg };
+    let err = |msg: String| TrimeshError::Parse {
+        path: name.into(),
+        msg,
+    };
     if data.is_empty() {
         return Err(err("the file is empty".into()));
     }
@@ -72,10 +86,16 @@ pub fn read_bytes(data: &[u8], format: Format, name: &Path) -> Result<Soup, Trim
             Ok(r) => {
                 for (i, p) in r.mesh.nodes.iter().enumerate() {
                     if !p.iter().all(|x| x.is_finite()) {
-                        return Err(err(format!("node {} has a non-finite coordinate {p:?}", i + 1)));
+                        return Err(err(format!(
+                            "node {} has a non-finite coordinate {p:?}",
+                            i + 1
+                        )));
                     }
                 }
-                Ok(Soup { points: r.mesh.nodes, tris: r.mesh.triangles })
+                Ok(Soup {
+                    points: r.mesh.nodes,
+                    tris: r.mesh.triangles,
+                })
             }
             Err(e) => return Err(err(e.to_string())),
         },
@@ -115,19 +135,27 @@ fn read_stl(data: &[u8]) -> Result<Soup, String> {
             ));
         }
     } else if !starts_solid {
-        return Err(format!("binary STL truncated: {} bytes, less than the 84-byte header", data.len()));
+        return Err(format!(
+            "binary STL truncated: {} bytes, less than the 84-byte header",
+            data.len()
+        ));
     }
     read_stl_ascii(data)
 }
 
 fn read_stl_binary(data: &[u8], n: usize) -> Result<Soup, String> {
-    let mut soup = Soup { points: Vec::with_capacity(3 * n), tris: Vec::with_capacity(n) };
+    let mut soup = Soup {
+        points: Vec::with_capacity(3 * n),
+        tris: Vec::with_capacity(n),
+    };
     let f = |o: usize| f32::from_le_bytes([data[o], data[o + 1], data[o + 2], data[o + 3]]) as f64;
     for t in 0..n {
         let base = 84 + 50 * t + 12;
         for k in 0..3 {
             let o = base + 12 * k;
-            let p = finite([f(o), f(o + 4), f(o + 8)], || format!("triangle {} vertex {}", t + 1, k + 1))?;
+            let p = finite([f(o), f(o + 4), f(o + 8)], || {
+                format!("triangle {} vertex {}", t + 1, k + 1)
+            })?;
             soup.points.push(p);
         }
         let b = 3 * t as u32;
@@ -145,7 +173,9 @@ fn text(data: &[u8]) -> Result<&str, String> {
 
 fn parse_f(tok: Option<&str>, line: usize, what: &str) -> Result<f64, String> {
     let t = tok.ok_or_else(|| format!("line {line}: missing {what}"))?;
-    let x: f64 = t.parse().map_err(|_| format!("line {line}: `{t}` is not a number ({what})"))?;
+    let x: f64 = t
+        .parse()
+        .map_err(|_| format!("line {line}: `{t}` is not a number ({what})"))?;
     if !x.is_finite() {
         return Err(format!("line {line}: non-finite coordinate `{t}`"));
     }
@@ -163,9 +193,15 @@ fn read_stl_ascii(data: &[u8]) -> Result<Soup, String> {
         let mut it = line.split_whitespace();
         match it.next() {
             Some(w) if w.eq_ignore_ascii_case("vertex") => {
-                let p = [parse_f(it.next(), ln, "x")?, parse_f(it.next(), ln, "y")?, parse_f(it.next(), ln, "z")?];
+                let p = [
+                    parse_f(it.next(), ln, "x")?,
+                    parse_f(it.next(), ln, "y")?,
+                    parse_f(it.next(), ln, "z")?,
+                ];
                 if in_facet >= 3 {
-                    return Err(format!("line {ln}: facet of line {facet_line} has more than 3 vertices"));
+                    return Err(format!(
+                        "line {ln}: facet of line {facet_line} has more than 3 vertices"
+                    ));
                 }
                 soup.points.push(p);
                 in_facet += 1;
@@ -176,7 +212,9 @@ fn read_stl_ascii(data: &[u8]) -> Result<Soup, String> {
             }
             Some(w) if w.eq_ignore_ascii_case("endfacet") => {
                 if in_facet != 3 {
-                    return Err(format!("line {ln}: facet of line {facet_line} has {in_facet} vertices, not 3"));
+                    return Err(format!(
+                        "line {ln}: facet of line {facet_line} has {in_facet} vertices, not 3"
+                    ));
                 }
                 let b = soup.points.len() as u32 - 3;
                 soup.tris.push([b, b + 1, b + 2]);
@@ -187,7 +225,9 @@ fn read_stl_ascii(data: &[u8]) -> Result<Soup, String> {
         }
     }
     if in_facet != 0 {
-        return Err(format!("ASCII STL truncated: the facet of line {facet_line} is not finished"));
+        return Err(format!(
+            "ASCII STL truncated: the facet of line {facet_line} is not finished"
+        ));
     }
     if !ended && !soup.tris.is_empty() {
         return Err("ASCII STL truncated: no `endsolid` line".into());
@@ -203,7 +243,11 @@ fn read_obj(data: &[u8]) -> Result<Soup, String> {
         let mut it = line.split_whitespace();
         match it.next() {
             Some("v") => {
-                let p = [parse_f(it.next(), ln, "x")?, parse_f(it.next(), ln, "y")?, parse_f(it.next(), ln, "z")?];
+                let p = [
+                    parse_f(it.next(), ln, "x")?,
+                    parse_f(it.next(), ln, "y")?,
+                    parse_f(it.next(), ln, "z")?,
+                ];
                 soup.points.push(p);
             }
             Some("f") => {
@@ -211,7 +255,9 @@ fn read_obj(data: &[u8]) -> Result<Soup, String> {
                 let mut idx = Vec::new();
                 for tok in it {
                     let first = tok.split('/').next().unwrap_or("");
-                    let k: i64 = first.parse().map_err(|_| format!("line {ln}: `{tok}` is not a vertex index"))?;
+                    let k: i64 = first
+                        .parse()
+                        .map_err(|_| format!("line {ln}: `{tok}` is not a vertex index"))?;
                     let k = if k < 0 { n + k } else { k - 1 };
                     if k < 0 || k >= n {
                         return Err(format!("line {ln}: vertex index {tok} out of range (there are {n} vertices so far)"));
@@ -219,7 +265,10 @@ fn read_obj(data: &[u8]) -> Result<Soup, String> {
                     idx.push(k as u32);
                 }
                 if idx.len() < 3 {
-                    return Err(format!("line {ln}: a face needs at least 3 vertices, this one has {}", idx.len()));
+                    return Err(format!(
+                        "line {ln}: a face needs at least 3 vertices, this one has {}",
+                        idx.len()
+                    ));
                 }
                 for j in 1..idx.len() - 1 {
                     soup.tris.push([idx[0], idx[j], idx[j + 1]]);
@@ -303,7 +352,9 @@ fn read_ply(data: &[u8]) -> Result<Soup, String> {
         let Some(nl) = data[pos..].iter().position(|&c| c == b'\n') else {
             return Err("PLY header has no `end_header` line".into());
         };
-        let line = String::from_utf8_lossy(&data[pos..pos + nl]).trim().to_string();
+        let line = String::from_utf8_lossy(&data[pos..pos + nl])
+            .trim()
+            .to_string();
         pos += nl + 1;
         let done = line == "end_header";
         lines.push(line);
@@ -323,23 +374,42 @@ fn read_ply(data: &[u8]) -> Result<Soup, String> {
             Some("format") => match w.get(1).copied() {
                 Some("ascii") => binary = false,
                 Some("binary_little_endian") => binary = true,
-                Some(other) => return Err(format!("line {ln}: PLY format `{other}` not supported (ascii or binary_little_endian)")),
+                Some(other) => return Err(format!(
+                    "line {ln}: PLY format `{other}` not supported (ascii or binary_little_endian)"
+                )),
                 None => return Err(format!("line {ln}: format line without a format")),
             },
             Some("element") => {
-                let count = w.get(2).and_then(|c| c.parse().ok()).ok_or_else(|| format!("line {ln}: bad element line `{l}`"))?;
-                elements.push(PlyElement { name: w.get(1).unwrap_or(&"").to_string(), count, props: Vec::new() });
+                let count = w
+                    .get(2)
+                    .and_then(|c| c.parse().ok())
+                    .ok_or_else(|| format!("line {ln}: bad element line `{l}`"))?;
+                elements.push(PlyElement {
+                    name: w.get(1).unwrap_or(&"").to_string(),
+                    count,
+                    props: Vec::new(),
+                });
             }
             Some("property") => {
-                let el = elements.last_mut().ok_or_else(|| format!("line {ln}: property before any element"))?;
+                let el = elements
+                    .last_mut()
+                    .ok_or_else(|| format!("line {ln}: property before any element"))?;
                 let bad = || format!("line {ln}: bad property line `{l}`");
                 if w.get(1) == Some(&"list") {
                     let c = w.get(2).and_then(|s| PlyType::parse(s)).ok_or_else(bad)?;
                     let t = w.get(3).and_then(|s| PlyType::parse(s)).ok_or_else(bad)?;
-                    el.props.push(PlyProp { name: w.get(4).unwrap_or(&"").to_string(), scalar: t, list: Some(c) });
+                    el.props.push(PlyProp {
+                        name: w.get(4).unwrap_or(&"").to_string(),
+                        scalar: t,
+                        list: Some(c),
+                    });
                 } else {
                     let t = w.get(1).and_then(|s| PlyType::parse(s)).ok_or_else(bad)?;
-                    el.props.push(PlyProp { name: w.get(2).unwrap_or(&"").to_string(), scalar: t, list: None });
+                    el.props.push(PlyProp {
+                        name: w.get(2).unwrap_or(&"").to_string(),
+                        scalar: t,
+                        list: None,
+                    });
                 }
             }
             _ => {}
@@ -348,28 +418,49 @@ fn read_ply(data: &[u8]) -> Result<Soup, String> {
     let header_lines = lines.len();
     let mut soup = Soup::default();
     // an element's records as lists of numbers, passed to `take`
-    let mut take = |el: &PlyElement, rec: usize, values: &[Vec<f64>], at: &dyn Fn() -> String| -> Result<(), String> {
+    let mut take = |el: &PlyElement,
+                    rec: usize,
+                    values: &[Vec<f64>],
+                    at: &dyn Fn() -> String|
+     -> Result<(), String> {
         if el.name == "vertex" {
-            let get = |n: &str| el.props.iter().position(|p| p.name == n).map(|k| values[k][0]);
+            let get = |n: &str| {
+                el.props
+                    .iter()
+                    .position(|p| p.name == n)
+                    .map(|k| values[k][0])
+            };
             let (Some(x), Some(y), Some(z)) = (get("x"), get("y"), get("z")) else {
                 return Err("PLY vertex element has no x, y, z properties".into());
             };
-            soup.points.push(finite([x, y, z], || format!("{} (vertex {})", at(), rec + 1))?);
+            soup.points.push(finite([x, y, z], || {
+                format!("{} (vertex {})", at(), rec + 1)
+            })?);
         } else if el.name == "face" {
             let k = el
                 .props
                 .iter()
-                .position(|p| p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"))
+                .position(|p| {
+                    p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index")
+                })
                 .ok_or("PLY face element has no vertex_indices list")?;
             let idx = &values[k];
             if idx.len() < 3 {
-                return Err(format!("{} (face {}): a face needs at least 3 vertices", at(), rec + 1));
+                return Err(format!(
+                    "{} (face {}): a face needs at least 3 vertices",
+                    at(),
+                    rec + 1
+                ));
             }
             let nverts = soup.points.len();
             let mut ids = Vec::with_capacity(idx.len());
             for &v in idx {
                 if !(v >= 0.0 && (v as usize) < nverts) {
-                    return Err(format!("{} (face {}): vertex index {v} out of range (0..{nverts})", at(), rec + 1));
+                    return Err(format!(
+                        "{} (face {}): vertex index {v} out of range (0..{nverts})",
+                        at(),
+                        rec + 1
+                    ));
                 }
                 ids.push(v as u32);
             }
@@ -386,7 +477,11 @@ fn read_ply(data: &[u8]) -> Result<Soup, String> {
                 for p in &el.props {
                     let mut read = |t: PlyType| -> Result<f64, String> {
                         if pos + t.size() > data.len() {
-                            return Err(format!("binary PLY truncated in element `{}` record {} (byte {pos})", el.name, rec + 1));
+                            return Err(format!(
+                                "binary PLY truncated in element `{}` record {} (byte {pos})",
+                                el.name,
+                                rec + 1
+                            ));
                         }
                         let v = t.read_le(&data[pos..]);
                         pos += t.size();
@@ -397,7 +492,11 @@ fn read_ply(data: &[u8]) -> Result<Soup, String> {
                         Some(c) => {
                             let n = read(c)?;
                             if !(n >= 0.0 && n < 1e6) {
-                                return Err(format!("element `{}` record {}: bad list length {n}", el.name, rec + 1));
+                                return Err(format!(
+                                    "element `{}` record {}: bad list length {n}",
+                                    el.name,
+                                    rec + 1
+                                ));
                             }
                             let mut v = Vec::with_capacity(n as usize);
                             for _ in 0..n as usize {
@@ -413,19 +512,28 @@ fn read_ply(data: &[u8]) -> Result<Soup, String> {
         }
     } else {
         let body = text(&data[pos..])?;
-        let mut rows = body.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
+        let mut rows = body
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty());
         for el in &elements {
             for rec in 0..el.count {
                 let Some((i, row)) = rows.next() else {
-                    return Err(format!("ASCII PLY truncated: element `{}` has {} of its {} records", el.name, rec, el.count));
+                    return Err(format!(
+                        "ASCII PLY truncated: element `{}` has {} of its {} records",
+                        el.name, rec, el.count
+                    ));
                 };
                 let ln = header_lines + i + 1;
                 let mut toks = row.split_whitespace();
                 let mut values = Vec::with_capacity(el.props.len());
                 for p in &el.props {
                     let mut next = || -> Result<f64, String> {
-                        let t = toks.next().ok_or_else(|| format!("line {ln}: missing value for `{}`", p.name))?;
-                        t.parse::<f64>().map_err(|_| format!("line {ln}: `{t}` is not a number"))
+                        let t = toks
+                            .next()
+                            .ok_or_else(|| format!("line {ln}: missing value for `{}`", p.name))?;
+                        t.parse::<f64>()
+                            .map_err(|_| format!("line {ln}: `{t}` is not a number"))
                     };
                     match p.list {
                         None => values.push(vec![next()?]),
@@ -455,7 +563,11 @@ pub fn write_stl_binary(points: &[Vec3], tris: &[[u32; 3]]) -> Vec<u8> {
     out.extend_from_slice(&(tris.len() as u32).to_le_bytes());
     for t in tris {
         let [a, b, c] = t.map(|i| points[i as usize]);
-        let n = geometry::vec3::normalize(geometry::vec3::cross(geometry::vec3::sub(b, a), geometry::vec3::sub(c, a))).unwrap_or([0.0; 3]);
+        let n = geometry::vec3::normalize(geometry::vec3::cross(
+            geometry::vec3::sub(b, a),
+            geometry::vec3::sub(c, a),
+        ))
+        .unwrap_or([0.0; 3]);
         for v in [n, a, b, c] {
             for x in v {
                 out.extend_from_slice(&(x as f32).to_le_bytes());
@@ -482,28 +594,43 @@ mod tests {
         let nan = ok.replace("vertex 1 0 0", "vertex nan 0 0");
         let e = rd(&nan, Format::Stl).unwrap_err().to_string();
         assert!(e.contains("line 5") && e.contains("non-finite"), "{e}");
-        let e = rd("solid x\nendsolid x\n", Format::Stl).unwrap_err().to_string();
+        let e = rd("solid x\nendsolid x\n", Format::Stl)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("no triangle"), "{e}");
     }
 
     #[test]
     fn binary_stl_round_trip_and_truncation() {
-        let pts = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
         let b = write_stl_binary(&pts, &[[0, 1, 2], [0, 3, 1]]);
         let s = read_bytes(&b, Format::Stl, Path::new("t")).unwrap();
         assert_eq!(s.tris.len(), 2);
         assert_eq!(s.points[4], [0.0, 0.0, 1.0]);
-        let e = read_bytes(&b[..b.len() - 7], Format::Stl, Path::new("t")).unwrap_err().to_string();
+        let e = read_bytes(&b[..b.len() - 7], Format::Stl, Path::new("t"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("truncated") && e.contains("triangle 2"), "{e}");
     }
 
     #[test]
     fn obj_polygons_and_bad_index() {
-        let s = rd("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1/1 2/2 3/3 4/4\n", Format::Obj).unwrap();
+        let s = rd(
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1/1 2/2 3/3 4/4\n",
+            Format::Obj,
+        )
+        .unwrap();
         assert_eq!(s.tris, vec![[0, 1, 2], [0, 2, 3]]);
         let s = rd("v 0 0 0\nv 1 0 0\nv 1 1 0\nf -3 -2 -1\n", Format::Obj).unwrap();
         assert_eq!(s.tris, vec![[0, 1, 2]]);
-        let e = rd("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 7\n", Format::Obj).unwrap_err().to_string();
+        let e = rd("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 7\n", Format::Obj)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("line 4") && e.contains("out of range"), "{e}");
     }
 
@@ -524,7 +651,9 @@ mod tests {
         }
         let s = read_bytes(&b, Format::Ply, Path::new("t")).unwrap();
         assert_eq!(s.tris, vec![[0, 1, 2]]);
-        let e = read_bytes(&b[..b.len() - 2], Format::Ply, Path::new("t")).unwrap_err().to_string();
+        let e = read_bytes(&b[..b.len() - 2], Format::Ply, Path::new("t"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("truncated"), "{e}");
     }
 }

@@ -52,18 +52,36 @@ impl Grid {
         let mut dims = [1usize; 3];
         for _ in 0..30 {
             for k in 0..3 {
-                dims[k] = if k < dim { ((ext[k] / h).ceil() as usize).clamp(1, 2048) } else { 1 };
+                dims[k] = if k < dim {
+                    ((ext[k] / h).ceil() as usize).clamp(1, 2048)
+                } else {
+                    1
+                };
             }
             if (dims[0] * dims[1] * dims[2]) as f64 <= 2.0 * target {
                 break;
             }
             h *= 1.25;
         }
-        let hs = [0, 1, 2].map(|k| if dims[k] > 1 || ext[k] > 0.0 { (ext[k] / dims[k] as f64).max(1e-300) } else { 1.0 });
-        let mut g = Grid { lo, h: hs, dims, start: Vec::new(), items: Vec::new() };
+        let hs = [0, 1, 2].map(|k| {
+            if dims[k] > 1 || ext[k] > 0.0 {
+                (ext[k] / dims[k] as f64).max(1e-300)
+            } else {
+                1.0
+            }
+        });
+        let mut g = Grid {
+            lo,
+            h: hs,
+            dims,
+            start: Vec::new(),
+            items: Vec::new(),
+        };
         let ncell = dims[0] * dims[1] * dims[2];
         let mut count = vec![0u32; ncell + 1];
-        let range = |g: &Grid, a: [f64; 3], b: [f64; 3]| -> [[usize; 2]; 3] { [0, 1, 2].map(|k| [g.cell(k, a[k]), g.cell(k, b[k])]) };
+        let range = |g: &Grid, a: [f64; 3], b: [f64; 3]| -> [[usize; 2]; 3] {
+            [0, 1, 2].map(|k| [g.cell(k, a[k]), g.cell(k, b[k])])
+        };
         for (a, b) in boxes {
             let r = range(&g, *a, *b);
             for i in r[0][0]..=r[0][1] {
@@ -124,7 +142,10 @@ impl Grid {
         for l in lo(2)..=hi(2) {
             for j in lo(1)..=hi(1) {
                 for i in lo(0)..=hi(0) {
-                    let d = (i - c[0] as i64).abs().max((j - c[1] as i64).abs()).max((l - c[2] as i64).abs());
+                    let d = (i - c[0] as i64)
+                        .abs()
+                        .max((j - c[1] as i64).abs())
+                        .max((l - c[2] as i64).abs());
                     if d != r {
                         continue;
                     }
@@ -142,7 +163,12 @@ impl Grid {
     }
 
     /// Nearest item to `p` by `dist` (a distance to item): ring search.
-    fn nearest(&self, p: [f64; 3], dim: usize, dist: &mut dyn FnMut(u32) -> f64) -> Option<(u32, f64)> {
+    fn nearest(
+        &self,
+        p: [f64; 3],
+        dim: usize,
+        dist: &mut dyn FnMut(u32) -> f64,
+    ) -> Option<(u32, f64)> {
         let c = [0, 1, 2].map(|k| self.cell(k, p[k]));
         let mut best: Option<(u32, f64)> = None;
         let hmin = self.hmin(dim);
@@ -181,7 +207,11 @@ fn bary2(p: [f64; 2], a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> [f64; 3] {
 fn seg2(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
     let d = [b[0] - a[0], b[1] - a[1]];
     let dd = d[0] * d[0] + d[1] * d[1];
-    let s = if dd > 0.0 { (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / dd).clamp(0.0, 1.0) } else { 0.0 };
+    let s = if dd > 0.0 {
+        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / dd).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     let q = [a[0] + s * d[0] - p[0], a[1] + s * d[1] - p[1]];
     (s, q[0] * q[0] + q[1] * q[1])
 }
@@ -256,21 +286,39 @@ impl TriSurface {
                 normals[v as usize] = vec3::add(normals[v as usize], n);
             }
         }
-        let mut bounds = Bounds2 { umin: f64::INFINITY, umax: f64::NEG_INFINITY, vmin: f64::INFINITY, vmax: f64::NEG_INFINITY };
+        let mut bounds = Bounds2 {
+            umin: f64::INFINITY,
+            umax: f64::NEG_INFINITY,
+            vmin: f64::INFINITY,
+            vmax: f64::NEG_INFINITY,
+        };
         for p in &uv {
             bounds.umin = bounds.umin.min(p[0]);
             bounds.umax = bounds.umax.max(p[0]);
             bounds.vmin = bounds.vmin.min(p[1]);
             bounds.vmax = bounds.vmax.max(p[1]);
         }
-        let mut lengths: Vec<f64> = tris.iter().flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3]))).map(|(a, b)| vec3::dist(xyz[a as usize], xyz[b as usize])).collect();
+        let mut lengths: Vec<f64> = tris
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
+            .map(|(a, b)| vec3::dist(xyz[a as usize], xyz[b as usize]))
+            .collect();
         let resolution = if lengths.is_empty() {
             0.0
         } else {
             let mid = lengths.len() / 2;
             2.0 * *lengths.select_nth_unstable_by(mid, f64::total_cmp).1
         };
-        TriSurface { xyz, uv, tris, normals, bounds, resolution, grid2: OnceLock::new(), grid3: OnceLock::new() }
+        TriSurface {
+            xyz,
+            uv,
+            tris,
+            normals,
+            bounds,
+            resolution,
+            grid2: OnceLock::new(),
+            grid3: OnceLock::new(),
+        }
     }
 
     /// Number of triangles.
@@ -282,7 +330,13 @@ impl TriSurface {
     pub fn min_uv_area(&self) -> f64 {
         self.tris
             .iter()
-            .map(|t| crate::parametrize::area(self.uv[t[0] as usize], self.uv[t[1] as usize], self.uv[t[2] as usize]))
+            .map(|t| {
+                crate::parametrize::area(
+                    self.uv[t[0] as usize],
+                    self.uv[t[1] as usize],
+                    self.uv[t[2] as usize],
+                )
+            })
             .fold(f64::INFINITY, f64::min)
     }
 
@@ -294,8 +348,16 @@ impl TriSurface {
                 .map(|t| {
                     let p = t.map(|v| self.uv[v as usize]);
                     (
-                        [p[0][0].min(p[1][0]).min(p[2][0]), p[0][1].min(p[1][1]).min(p[2][1]), 0.0],
-                        [p[0][0].max(p[1][0]).max(p[2][0]), p[0][1].max(p[1][1]).max(p[2][1]), 0.0],
+                        [
+                            p[0][0].min(p[1][0]).min(p[2][0]),
+                            p[0][1].min(p[1][1]).min(p[2][1]),
+                            0.0,
+                        ],
+                        [
+                            p[0][0].max(p[1][0]).max(p[2][0]),
+                            p[0][1].max(p[1][1]).max(p[2][1]),
+                            0.0,
+                        ],
                     )
                 })
                 .collect();
@@ -310,7 +372,10 @@ impl TriSurface {
                 .iter()
                 .map(|t| {
                     let p = t.map(|v| self.xyz[v as usize]);
-                    ([0, 1, 2].map(|k| p[0][k].min(p[1][k]).min(p[2][k])), [0, 1, 2].map(|k| p[0][k].max(p[1][k]).max(p[2][k])))
+                    (
+                        [0, 1, 2].map(|k| p[0][k].min(p[1][k]).min(p[2][k])),
+                        [0, 1, 2].map(|k| p[0][k].max(p[1][k]).max(p[2][k])),
+                    )
                 })
                 .collect();
             Grid::new(&boxes, 3, 2 * self.tris.len())
@@ -337,17 +402,30 @@ impl TriSurface {
             if l.iter().all(|&x| x >= tol) {
                 return 0.0;
             }
-            seg2(uv, a, b).1.min(seg2(uv, b, cc).1).min(seg2(uv, cc, a).1).sqrt()
+            seg2(uv, a, b)
+                .1
+                .min(seg2(uv, b, cc).1)
+                .min(seg2(uv, cc, a).1)
+                .sqrt()
         };
-        let (t, _) = g.nearest([uv[0], uv[1], 0.0], 2, &mut dist).unwrap_or((0, 0.0));
+        let (t, _) = g
+            .nearest([uv[0], uv[1], 0.0], 2, &mut dist)
+            .unwrap_or((0, 0.0));
         let [a, b, cc] = self.tris[t as usize].map(|v| self.uv[v as usize]);
         let l = bary2(uv, a, b, cc);
         if l.iter().all(|&x| x >= tol) {
             return (t as usize, l);
         }
         // clamp onto the nearest edge
-        let cand = [(0, 1, seg2(uv, a, b)), (1, 2, seg2(uv, b, cc)), (2, 0, seg2(uv, cc, a))];
-        let (i, j, (s, _)) = cand.iter().cloned().fold(cand[0], |m, x| if x.2 .1 < m.2 .1 { x } else { m });
+        let cand = [
+            (0, 1, seg2(uv, a, b)),
+            (1, 2, seg2(uv, b, cc)),
+            (2, 0, seg2(uv, cc, a)),
+        ];
+        let (i, j, (s, _)) =
+            cand.iter()
+                .cloned()
+                .fold(cand[0], |m, x| if x.2 .1 < m.2 .1 { x } else { m });
         let mut l = [0.0; 3];
         l[i] = 1.0 - s;
         l[j] = s;
@@ -356,8 +434,16 @@ impl TriSurface {
 
     fn tri_derivs(&self, t: usize) -> (Vec3, Vec3) {
         let [a, b, c] = self.tris[t];
-        let (p, q, r) = (self.uv[a as usize], self.uv[b as usize], self.uv[c as usize]);
-        let (x0, x1, x2) = (self.xyz[a as usize], self.xyz[b as usize], self.xyz[c as usize]);
+        let (p, q, r) = (
+            self.uv[a as usize],
+            self.uv[b as usize],
+            self.uv[c as usize],
+        );
+        let (x0, x1, x2) = (
+            self.xyz[a as usize],
+            self.xyz[b as usize],
+            self.xyz[c as usize],
+        );
         let (e1, e2) = (vec3::sub(x1, x0), vec3::sub(x2, x0));
         let (du1, dv1, du2, dv2) = (q[0] - p[0], q[1] - p[1], r[0] - p[0], r[1] - p[1]);
         let det = du1 * dv2 - du2 * dv1;
@@ -385,7 +471,14 @@ impl Surface for TriSurface {
     fn derivs(&self, uv: [f64; 2]) -> SurfaceDerivs {
         let (t, l) = self.locate(uv);
         let (du, dv) = self.tri_derivs(t);
-        SurfaceDerivs { point: self.blend(t, l), du, dv, duu: [0.0; 3], duv: [0.0; 3], dvv: [0.0; 3] }
+        SurfaceDerivs {
+            point: self.blend(t, l),
+            du,
+            dv,
+            duu: [0.0; 3],
+            duv: [0.0; 3],
+            dvv: [0.0; 3],
+        }
     }
 
     fn normal(&self, uv: [f64; 2]) -> Option<Vec3> {
@@ -424,8 +517,17 @@ impl Surface for TriSurface {
         };
         let (t, _) = g.nearest(p, 3, &mut dist)?;
         let [a, b, c] = self.tris[t as usize];
-        let l = closest_on_triangle(p, self.xyz[a as usize], self.xyz[b as usize], self.xyz[c as usize]);
-        let uv = [0, 1].map(|k| l[0] * self.uv[a as usize][k] + l[1] * self.uv[b as usize][k] + l[2] * self.uv[c as usize][k]);
+        let l = closest_on_triangle(
+            p,
+            self.xyz[a as usize],
+            self.xyz[b as usize],
+            self.xyz[c as usize],
+        );
+        let uv = [0, 1].map(|k| {
+            l[0] * self.uv[a as usize][k]
+                + l[1] * self.uv[b as usize][k]
+                + l[2] * self.uv[c as usize][k]
+        });
         Some((uv, self.blend(t as usize, l)))
     }
 }
@@ -455,7 +557,10 @@ impl PolyCurve {
         for i in 1..pts.len() {
             t[i] = t[i - 1] + vec3::dist(pts[i - 1], pts[i]);
         }
-        PolyCurve { t: Arc::new(t), pts }
+        PolyCurve {
+            t: Arc::new(t),
+            pts,
+        }
     }
     /// Total length.
     pub fn length(&self) -> f64 {
@@ -491,7 +596,11 @@ impl Curve for PolyCurve {
             let (a, b) = (self.pts[i], self.pts[i + 1]);
             let d = vec3::sub(b, a);
             let dd = vec3::dot(d, d);
-            let s = if dd > 0.0 { (vec3::dot(vec3::sub(p, a), d) / dd).clamp(0.0, 1.0) } else { 0.0 };
+            let s = if dd > 0.0 {
+                (vec3::dot(vec3::sub(p, a), d) / dd).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             let q = vec3::lerp(a, b, s);
             let dist = vec3::dist(p, q);
             if best.map_or(true, |b| dist < b.0) {
@@ -515,7 +624,11 @@ impl Curve2d for PolyCurve2d {
     fn eval(&self, x: f64) -> [f64; 2] {
         let i = segment(&self.t, x);
         let d = self.t[i + 1] - self.t[i];
-        let s = if d > 0.0 { ((x - self.t[i]) / d).clamp(0.0, 1.0) } else { 0.0 };
+        let s = if d > 0.0 {
+            ((x - self.t[i]) / d).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         [0, 1].map(|k| self.uv[i][k] + s * (self.uv[i + 1][k] - self.uv[i][k]))
     }
     fn deriv(&self, x: f64) -> [f64; 2] {
@@ -536,7 +649,10 @@ mod tests {
     #[test]
     fn closest_point_regions() {
         let (a, b, c) = ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
-        assert_eq!(closest_on_triangle([-1.0, -1.0, 3.0], a, b, c), [1.0, 0.0, 0.0]);
+        assert_eq!(
+            closest_on_triangle([-1.0, -1.0, 3.0], a, b, c),
+            [1.0, 0.0, 0.0]
+        );
         let l = closest_on_triangle([0.25, 0.25, 2.0], a, b, c);
         assert!((l[1] - 0.25).abs() < 1e-12 && (l[2] - 0.25).abs() < 1e-12);
         let l = closest_on_triangle([0.5, -1.0, 0.0], a, b, c);
@@ -546,12 +662,19 @@ mod tests {
     #[test]
     fn surface_evaluates_projects_and_clamps() {
         // a unit square in the plane z = x, two triangles
-        let xyz = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 1.0], [1.0, 1.0, 1.0], [0.0, 1.0, 0.0]];
+        let xyz = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [0.0, 1.0, 0.0],
+        ];
         let uv = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
         let s = TriSurface::new(xyz, uv, vec![[0, 1, 2], [0, 2, 3]]);
         assert!(vec3::dist(s.eval([0.25, 0.75]), [0.25, 0.75, 0.25]) < 1e-12);
         let d = s.derivs([0.7, 0.2]);
-        assert!(vec3::dist(d.du, [1.0, 0.0, 1.0]) < 1e-12 && vec3::dist(d.dv, [0.0, 1.0, 0.0]) < 1e-12);
+        assert!(
+            vec3::dist(d.du, [1.0, 0.0, 1.0]) < 1e-12 && vec3::dist(d.dv, [0.0, 1.0, 0.0]) < 1e-12
+        );
         let (uv, q) = s.project([0.5, 0.5, 3.0], None).unwrap();
         assert!(vec3::dist(s.eval(uv), q) < 1e-12);
         assert!((q[0] - q[2]).abs() < 1e-12);
@@ -570,7 +693,10 @@ mod tests {
         assert_eq!(c.eval(5.0), [3.0, 2.0, 0.0]);
         let (t, q) = c.project([4.0, 1.0, 0.0], None).unwrap();
         assert!((t - 4.0).abs() < 1e-12 && q == [3.0, 1.0, 0.0]);
-        let pc = PolyCurve2d { t: c.t.clone(), uv: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]] };
+        let pc = PolyCurve2d {
+            t: c.t.clone(),
+            uv: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
+        };
         assert_eq!(pc.eval(5.0), [1.0, 0.5]);
     }
 }

@@ -36,7 +36,11 @@ impl Topology {
 
 /// Drops degenerate triangles; returns the kept triangles, how many were
 /// dropped and the 1-based number of the first dropped one.
-pub fn drop_degenerate(points: &[Vec3], tris: &[[u32; 3]], area_tol: f64) -> (Vec<[u32; 3]>, usize, Option<usize>) {
+pub fn drop_degenerate(
+    points: &[Vec3],
+    tris: &[[u32; 3]],
+    area_tol: f64,
+) -> (Vec<[u32; 3]>, usize, Option<usize>) {
     let mut out = Vec::with_capacity(tris.len());
     let mut first = None;
     for (i, t) in tris.iter().enumerate() {
@@ -86,7 +90,11 @@ pub fn build(tris: &[[u32; 3]]) -> Result<Topology, (u32, u32, usize)> {
         edge_tris.push(et);
         i = j;
     }
-    Ok(Topology { edges, edge_tris, tri_edges })
+    Ok(Topology {
+        edges,
+        edge_tris,
+        tri_edges,
+    })
 }
 
 /// True when triangle `t` traverses edge `[a, b]` from a to b.
@@ -163,7 +171,12 @@ mod tests {
     use super::*;
 
     fn tet() -> (Vec<Vec3>, Vec<[u32; 3]>) {
-        let p = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let p = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
         (p, vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]])
     }
 
@@ -175,7 +188,13 @@ mod tests {
         let topo = build(&t).unwrap();
         let flipped = orient(&p, &mut t, &topo).unwrap();
         assert!(flipped >= 1);
-        let vol: f64 = t.iter().map(|tr| { let [a, b, c] = tr.map(|v| p[v as usize]); vec3::dot(a, vec3::cross(b, c)) }).sum();
+        let vol: f64 = t
+            .iter()
+            .map(|tr| {
+                let [a, b, c] = tr.map(|v| p[v as usize]);
+                vec3::dot(a, vec3::cross(b, c))
+            })
+            .sum();
         assert!(vol > 0.0);
         let topo = build(&t).unwrap();
         assert_eq!(orient(&p, &mut t, &topo).unwrap(), 0);
@@ -200,7 +219,11 @@ mod tests {
         let mut t = Vec::new();
         for i in 0..n {
             let (a, b) = (2 * i as u32, 2 * i as u32 + 1);
-            let (c, d) = if i + 1 < n { (2 * (i + 1) as u32, 2 * (i + 1) as u32 + 1) } else { (1, 0) };
+            let (c, d) = if i + 1 < n {
+                (2 * (i + 1) as u32, 2 * (i + 1) as u32 + 1)
+            } else {
+                (1, 0)
+            };
             t.push([a, c, d]);
             t.push([a, d, b]);
         }

@@ -34,7 +34,10 @@ pub fn weld(points: &[Vec3], tol: f64) -> (Vec<Vec3>, Vec<u32>) {
         let mut ranges = [[0i64; 2]; 3];
         for k in 0..3 {
             let lo = c[k] as f64 * tol;
-            ranges[k] = [if p[k] - lo < tol { -1 } else { 0 }, if lo + tol - p[k] < tol { 1 } else { 0 }];
+            ranges[k] = [
+                if p[k] - lo < tol { -1 } else { 0 },
+                if lo + tol - p[k] < tol { 1 } else { 0 },
+            ];
         }
         let mut found = None;
         'search: for dx in ranges[0][0]..=ranges[0][1] {
@@ -73,7 +76,12 @@ mod tests {
     fn welds_close_points_across_cell_walls() {
         let tol = 1e-3;
         // 0.0009999 and 0.001 straddle a cell wall
-        let pts = [[0.0009999, 0.0, 0.0], [0.0010001, 0.0, 0.0], [0.5, 0.0, 0.0], [0.5, 2e-3, 0.0]];
+        let pts = [
+            [0.0009999, 0.0, 0.0],
+            [0.0010001, 0.0, 0.0],
+            [0.5, 0.0, 0.0],
+            [0.5, 2e-3, 0.0],
+        ];
         let (kept, map) = weld(&pts, tol);
         assert_eq!(kept.len(), 3);
         assert_eq!(map, vec![0, 0, 1, 2]);

@@ -2,17 +2,19 @@
 //! each quad split into two triangles: no Gmsh needed) imported back: the
 //! faces found must be the CAD faces grouped across smooth curves (those the
 //! CAD separates by sharp edges), and every face parametrized without a
-//! flipped triangle; then the imported models of code-generated shapes are
-//! meshed: all quads, none inverted, watertight, nodes on the input.
+//! flipped triangle; then the imported models are meshed with the default
+//! method: all quads, none inverted, watertight, nodes on the input.
 
 use std::path::{Path, PathBuf};
 
 use geometry::{vec3, FaceId, Model};
 use mesh::stats::MeshStats;
-use quadrille::{MeshOptions, Size};
+use quadrille::{MeshMethod, MeshOptions, Size};
 
 fn cad(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/cad").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/cad")
+        .join(name)
 }
 
 /// Number of groups of CAD faces joined across curves where the two faces'
@@ -21,7 +23,13 @@ fn smooth_groups(model: &Model, angle_deg: f64) -> usize {
     let n = model.faces.len();
     let mut parent: Vec<usize> = (0..n).collect();
     fn find(p: &mut [usize], x: usize) -> usize {
-        if p[x] == x { x } else { let r = find(p, p[x]); p[x] = r; r }
+        if p[x] == x {
+            x
+        } else {
+            let r = find(p, p[x]);
+            p[x] = r;
+            r
+        }
     }
     let cos = angle_deg.to_radians().cos();
     for (c, faces) in model.curve_faces().iter().enumerate() {
@@ -43,7 +51,10 @@ fn smooth_groups(model: &Model, angle_deg: f64) -> usize {
             }
         });
         if smooth {
-            let (a, b) = (find(&mut parent, faces[0].idx()), find(&mut parent, faces[1].idx()));
+            let (a, b) = (
+                find(&mut parent, faces[0].idx()),
+                find(&mut parent, faces[1].idx()),
+            );
             parent[a] = b;
         }
     }
@@ -52,42 +63,76 @@ fn smooth_groups(model: &Model, angle_deg: f64) -> usize {
 
 /// The baseline quad mesh of a CAD model as triangles.
 fn triangles_of(model: &Model, factor: f64) -> trimesh::Soup {
-    let m = quadrille::mesh_model(model, &MeshOptions { size: Size::Factor(factor), threads: Some(1), progress: None }).unwrap();
-    let tris = m.quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
-    trimesh::Soup { points: m.nodes, tris }
+    let m = quadrille::mesh_model(
+        model,
+        &MeshOptions {
+            size: Size::Factor(factor),
+            threads: Some(1),
+            progress: None,
+        },
+    )
+    .unwrap();
+    let tris = m
+        .quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
+    trimesh::Soup {
+        points: m.nodes,
+        tris,
+    }
 }
+
+/// The CAD models exported as triangles, with the size factor of the export:
+/// fine enough that no smooth region of the tessellation bends by 30°
+/// between two triangles.
+const EXPORTED_MODELS: [(&str, f64); 9] = [
+    ("s15o_cylinder.stp", 0.5),
+    ("s11o_cube_cyl.stp", 0.5),
+    ("s14o_cube_corner_sub_sphere.stp", 0.5),
+    ("s10o_cyl_cutsphere.stp", 0.5),
+    ("s17o_sphere.stp", 0.5),
+    ("i10o_simp.step", 0.25),
+    ("i01o_m1.step", 0.5),
+    ("i02o_m2.step", 0.2),
+    ("s12o_cube_rounded_1.stp", 0.5),
+];
 
 #[test]
 fn cad_models_give_their_sharp_edged_faces() {
-    // (model, CAD faces) — the expected count is computed from the CAD
-    // (model, tessellation size factor: fine enough that no smooth region
-    // of the tessellation bends by 30° between two triangles)
-    let models = [
-        ("s15o_cylinder.stp", 0.5),
-        ("s11o_cube_cyl.stp", 0.5),
-        ("s14o_cube_corner_sub_sphere.stp", 0.5),
-        ("s10o_cyl_cutsphere.stp", 0.5),
-        ("s17o_sphere.stp", 0.5),
-        ("i10o_simp.step", 0.25),
-        ("i01o_m1.step", 0.5),
-        ("i02o_m2.step", 0.2),
-        ("s12o_cube_rounded_1.stp", 0.5),
-    ];
+    // the expected count of faces is computed from the CAD
     let mut table = Vec::new();
-    for (name, factor) in models {
+    for (name, factor) in EXPORTED_MODELS {
         let cad_model = occt::load(&cad(name)).unwrap();
         let expected = smooth_groups(&cad_model, 30.0);
         let soup = triangles_of(&cad_model, factor);
         let imp = trimesh::build(soup, &trimesh::Options::default(), Path::new(name)).unwrap();
-        let min_area = imp.report.faces.iter().map(|f| f.min_uv_area).fold(f64::INFINITY, f64::min);
+        let min_area = imp
+            .report
+            .faces
+            .iter()
+            .map(|f| f.min_uv_area)
+            .fold(f64::INFINITY, f64::min);
         table.push(format!("{name}: CAD faces {} → sharp-edged groups {expected}; imported patches {} (faces {}, {} patches split into charts) curves {} min uv area {min_area:.2e}", cad_model.faces.len(), imp.report.patches, imp.model.faces.len(), imp.report.charted_faces, imp.model.curves.len()));
         assert_eq!(imp.report.patches, expected, "{}", table.join("\n"));
-        assert_eq!(imp.model.faces.len(), imp.report.patches - imp.report.charted_faces + imp.report.charts);
+        assert_eq!(
+            imp.model.faces.len(),
+            imp.report.patches - imp.report.charted_faces + imp.report.charts
+        );
         assert!(min_area > 0.0);
         // every imported face lies on the CAD: its corners are CAD points
         for c in &imp.model.corners {
-            let d = cad_model.faces.iter().filter_map(|f| f.surface.project(c.point, None)).map(|(_, q)| vec3::dist(q, c.point)).fold(f64::INFINITY, f64::min);
-            assert!(d < 1e-6 * cad_model.diagonal(), "{name}: corner {:?} is {d} off the CAD", c.point);
+            let d = cad_model
+                .faces
+                .iter()
+                .filter_map(|f| f.surface.project(c.point, None))
+                .map(|(_, q)| vec3::dist(q, c.point))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                d < 1e-6 * cad_model.diagonal(),
+                "{name}: corner {:?} is {d} off the CAD",
+                c.point
+            );
         }
     }
     eprintln!("{}", table.join("\n"));
@@ -95,18 +140,39 @@ fn cad_models_give_their_sharp_edged_faces() {
 
 /// Meshes an imported model and checks the mesh: all quads, none inverted,
 /// watertight, each curve a chain of mesh edges, nodes on the input.
-fn mesh_and_check(imp: &trimesh::Import, what: &str) -> MeshStats {
+fn mesh_and_check(imp: &trimesh::Import, method: MeshMethod, what: &str) -> MeshStats {
     let model = &imp.model;
-    let m = quadrille::mesh_model(model, &MeshOptions { size: Size::Factor(1.0), threads: Some(1), progress: None }).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let what = format!("{what} ({method:?})");
+    let opts = MeshOptions {
+        size: Size::Factor(1.0),
+        threads: Some(1),
+        progress: None,
+    };
+    let (m, _) =
+        quadrille::mesh_model_with(model, &opts, method).unwrap_or_else(|e| panic!("{what}: {e}"));
     let s = MeshStats::compute(&m, Some(model));
-    assert!(s.quads > 0 && s.triangles == 0, "{what}: {} quads {} triangles", s.quads, s.triangles);
+    assert!(
+        s.quads > 0 && s.triangles == 0,
+        "{what}: {} quads {} triangles",
+        s.quads,
+        s.triangles
+    );
     assert_eq!(s.inverted_quads, 0, "{what}");
     assert_eq!(s.open_edges, 0, "{what}");
     let d = s.cad_distance.as_ref().unwrap();
-    assert!(d.max <= 1e-6 * model.diagonal(), "{what}: distance {}", d.max);
+    assert!(
+        d.max <= 1e-6 * model.diagonal(),
+        "{what}: distance {}",
+        d.max
+    );
     // each curve: a chain of mesh edges from its start corner to its end corner
     for (c, ce) in model.curves.iter().enumerate() {
-        let edges: Vec<[u32; 2]> = m.curve_edges.iter().filter(|(_, id)| id.idx() == c).map(|(e, _)| *e).collect();
+        let edges: Vec<[u32; 2]> = m
+            .curve_edges
+            .iter()
+            .filter(|(_, id)| id.idx() == c)
+            .map(|(e, _)| *e)
+            .collect();
         assert!(!edges.is_empty(), "{what}: curve {c} has no mesh edge");
         let mut deg = std::collections::HashMap::new();
         for e in &edges {
@@ -116,9 +182,20 @@ fn mesh_and_check(imp: &trimesh::Import, what: &str) -> MeshStats {
         }
         let ends = deg.values().filter(|&&k| k == 1).count();
         assert!(deg.values().all(|&k| k <= 2), "{what}: curve {c} branches");
-        assert_eq!(ends, if ce.start == ce.end { 0 } else { 2 }, "{what}: curve {c} is not one chain");
-        let len: f64 = edges.iter().map(|e| vec3::dist(m.nodes[e[0] as usize], m.nodes[e[1] as usize])).sum();
-        assert!(len <= ce.range.1 * (1.0 + 1e-9) && len > 0.5 * ce.range.1, "{what}: curve {c} mesh length {len} vs {}", ce.range.1);
+        assert_eq!(
+            ends,
+            if ce.start == ce.end { 0 } else { 2 },
+            "{what}: curve {c} is not one chain"
+        );
+        let len: f64 = edges
+            .iter()
+            .map(|e| vec3::dist(m.nodes[e[0] as usize], m.nodes[e[1] as usize]))
+            .sum();
+        assert!(
+            len <= ce.range.1 * (1.0 + 1e-9) && len > 0.5 * ce.range.1,
+            "{what}: curve {c} mesh length {len} vs {}",
+            ce.range.1
+        );
     }
     s
 }
@@ -126,22 +203,55 @@ fn mesh_and_check(imp: &trimesh::Import, what: &str) -> MeshStats {
 #[test]
 fn imported_box_is_meshed_like_a_cad_box() {
     // a box tessellated as a CAD exporter does: two triangles per face
-    let p: Vec<[f64; 3]> = (0..8).map(|i| [(i & 1) as f64 * 2.0, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64 * 1.5]).collect();
-    let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
-    let tris = quads.iter().flat_map(|q: &[u32; 4]| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
-    let imp = trimesh::build(trimesh::Soup { points: p, tris }, &trimesh::Options::default(), Path::new("box")).unwrap();
+    let p: Vec<[f64; 3]> = (0..8)
+        .map(|i| {
+            [
+                (i & 1) as f64 * 2.0,
+                ((i >> 1) & 1) as f64,
+                ((i >> 2) & 1) as f64 * 1.5,
+            ]
+        })
+        .collect();
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let tris = quads
+        .iter()
+        .flat_map(|q: &[u32; 4]| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
+    let imp = trimesh::build(
+        trimesh::Soup { points: p, tris },
+        &trimesh::Options::default(),
+        Path::new("box"),
+    )
+    .unwrap();
     assert_eq!((imp.model.faces.len(), imp.model.curves.len()), (6, 12));
-    let s = mesh_and_check(&imp, "box");
-    assert_eq!(s.euler_characteristic, 2);
+    for method in [MeshMethod::Unstructured, MeshMethod::Baseline] {
+        let s = mesh_and_check(&imp, method, "box");
+        assert_eq!(s.euler_characteristic, 2);
+    }
 }
 
 #[test]
 fn imported_planar_face_with_holes_keeps_them_as_loops() {
     // the baseline mesh of a CAD model with a flat face pierced by a cylinder
     let cad_model = occt::load(&cad("s11o_cube_cyl.stp")).unwrap();
-    let imp = trimesh::build(triangles_of(&cad_model, 0.5), &trimesh::Options::default(), Path::new("s11o")).unwrap();
+    let imp = trimesh::build(
+        triangles_of(&cad_model, 0.5),
+        &trimesh::Options::default(),
+        Path::new("s11o"),
+    )
+    .unwrap();
     let holed = imp.model.faces.iter().filter(|f| f.loops.len() > 1).count();
-    assert!(holed >= 1, "a flat face with a hole keeps it as an inner loop");
+    assert!(
+        holed >= 1,
+        "a flat face with a hole keeps it as an inner loop"
+    );
     for (f, r) in imp.model.faces.iter().zip(&imp.report.faces) {
         if f.loops.len() > 1 {
             assert_eq!(r.shape, trimesh::Shape::Plane);
@@ -150,27 +260,47 @@ fn imported_planar_face_with_holes_keeps_them_as_loops() {
     }
 }
 
-/// Curved models exported as triangles (our own baseline mesh of the CAD,
-/// split into triangles) mesh end to end: their circles are polylines, which
-/// the curve mesher samples at their vertices (`Curve::breakpoints`), so the
-/// curve meshes follow the size instead of piling up at the vertices.
+/// The CAD models exported as triangles (our own baseline mesh of the CAD,
+/// each quad split in two) mesh end to end with the default method of
+/// `quadrille mesh` (the quasi-structured one; `MeshMethod::Unstructured`
+/// with every stage): all quads, none inverted, watertight with the CAD mesh's
+/// Euler characteristic, every curve a chain, nodes on the input. Their
+/// circles are polylines, which the curve mesher samples at their vertices
+/// (`Curve::breakpoints`), so the curve meshes follow the size instead of
+/// piling up at the vertices. The rounded cube and the sphere are single
+/// smooth closed faces, split into charts on import. (s16o_torus imports,
+/// its handle split into charts, but some of its charts do not mesh yet: see
+/// the notes.)
 #[test]
-fn curved_imports_mesh_end_to_end() {
-    // (model, Euler characteristic of its surface): a cylinder, a cube with
-    // a spherical corner, a rounded cube (one closed smooth face: split into
-    // charts), a sphere (charts). (s16o_torus imports, its handle split into
-    // charts, but some of its charts do not mesh yet: see the notes.)
-    for (name, factor, euler) in [
-        ("s15o_cylinder.stp", 0.5, 2),
-        ("s14o_cube_corner_sub_sphere.stp", 0.5, 2),
-        ("s12o_cube_rounded_1.stp", 0.5, 2),
-        ("s17o_sphere.stp", 0.5, 2),
-    ] {
+fn cad_exports_mesh_end_to_end() {
+    for (name, factor) in EXPORTED_MODELS {
         let cad_model = occt::load(&cad(name)).unwrap();
-        let imp = trimesh::build(triangles_of(&cad_model, factor), &trimesh::Options::default(), Path::new(name)).unwrap();
-        let s = mesh_and_check(&imp, name);
-        assert_eq!(s.euler_characteristic, euler, "{name}: a closed surface");
-        let cad_quads = quadrille::mesh_model(&cad_model, &MeshOptions { size: Size::Factor(1.0), threads: Some(1), progress: None }).unwrap().quads.len();
-        assert!(s.quads < 3 * cad_quads, "{name}: {} quads from the import, {cad_quads} from the CAD", s.quads);
+        let cad_mesh = quadrille::mesh_model(
+            &cad_model,
+            &MeshOptions {
+                size: Size::Factor(1.0),
+                threads: Some(1),
+                progress: None,
+            },
+        )
+        .unwrap();
+        let euler = MeshStats::compute(&cad_mesh, Some(&cad_model)).euler_characteristic;
+        let imp = trimesh::build(
+            triangles_of(&cad_model, factor),
+            &trimesh::Options::default(),
+            Path::new(name),
+        )
+        .unwrap();
+        let s = mesh_and_check(&imp, MeshMethod::Unstructured, name);
+        assert_eq!(
+            s.euler_characteristic, euler,
+            "{name}: the CAD's closed surface"
+        );
+        assert!(
+            s.quads < 3 * cad_mesh.quads.len(),
+            "{name}: {} quads from the import, {} from the CAD",
+            s.quads,
+            cad_mesh.quads.len()
+        );
     }
 }

@@ -18,7 +18,13 @@ fn grid_patch(mesh: &mut Mesh, origin: Vec3, a: Vec3, b: Vec3, n: usize, m: usiz
     let base = mesh.0.len() as u32;
     for j in 0..=m {
         for i in 0..=n {
-            let p = vec3::add(origin, vec3::add(vec3::scale(a, i as f64 / n as f64), vec3::scale(b, j as f64 / m as f64)));
+            let p = vec3::add(
+                origin,
+                vec3::add(
+                    vec3::scale(a, i as f64 / n as f64),
+                    vec3::scale(b, j as f64 / m as f64),
+                ),
+            );
             mesh.0.push(p);
         }
     }
@@ -58,7 +64,9 @@ fn cylinder_mesh(k: usize, h: usize, r: usize) -> Mesh {
         }
         b
     };
-    let side: Vec<u32> = (0..=h).map(|j| ring(1.0, 2.0 * j as f64 / h as f64, &mut p)).collect();
+    let side: Vec<u32> = (0..=h)
+        .map(|j| ring(1.0, 2.0 * j as f64 / h as f64, &mut p))
+        .collect();
     for j in 0..h {
         for i in 0..k {
             let (a, b) = (side[j] + i as u32, side[j] + ((i + 1) % k) as u32);
@@ -68,7 +76,9 @@ fn cylinder_mesh(k: usize, h: usize, r: usize) -> Mesh {
         }
     }
     for (z, up) in [(0.0, false), (2.0, true)] {
-        let mut rings: Vec<u32> = (1..=r).map(|q| ring(q as f64 / r as f64, z, &mut p)).collect();
+        let mut rings: Vec<u32> = (1..=r)
+            .map(|q| ring(q as f64 / r as f64, z, &mut p))
+            .collect();
         let c = p.len() as u32;
         p.push([0.0, 0.0, z]);
         rings.insert(0, c);
@@ -156,26 +166,42 @@ fn check_model(imp: &trimesh::Import) {
     for (fi, f) in model.faces.iter().enumerate() {
         assert!(f.loops[0].outer && f.loops.iter().skip(1).all(|l| !l.outer));
         for (li, lp) in f.loops.iter().enumerate() {
-        for (k, u) in lp.uses.iter().enumerate() {
-            let c = &model.curves[u.curve.idx()];
-            let geom = c.geom.as_ref().unwrap();
-            let (t0, t1) = c.range;
-            for s in 0..=20 {
-                let t = t0 + (t1 - t0) * s as f64 / 20.0;
-                let uv = u.pcurve.eval(t);
-                let d = vec3::dist(f.surface.eval(uv), geom.eval(t));
-                assert!(d < tol, "face {fi} curve {}: S(pcurve(t)) is {d} from C(t)", u.curve.0);
+            for (k, u) in lp.uses.iter().enumerate() {
+                let c = &model.curves[u.curve.idx()];
+                let geom = c.geom.as_ref().unwrap();
+                let (t0, t1) = c.range;
+                for s in 0..=20 {
+                    let t = t0 + (t1 - t0) * s as f64 / 20.0;
+                    let uv = u.pcurve.eval(t);
+                    let d = vec3::dist(f.surface.eval(uv), geom.eval(t));
+                    assert!(
+                        d < tol,
+                        "face {fi} curve {}: S(pcurve(t)) is {d} from C(t)",
+                        u.curve.0
+                    );
+                }
+                let next = &lp.uses[(k + 1) % lp.uses.len()];
+                let nc = &model.curves[next.curve.idx()];
+                let end = u.pcurve.eval(if u.forward { c.range.1 } else { c.range.0 });
+                let start = next
+                    .pcurve
+                    .eval(if next.forward { nc.range.0 } else { nc.range.1 });
+                assert!(
+                    ((end[0] - start[0]).powi(2) + (end[1] - start[1]).powi(2)).sqrt() < tol,
+                    "face {fi}: uses {k} and {} do not meet",
+                    k + 1
+                );
+                assert_eq!(
+                    u.seam,
+                    lp.uses.iter().filter(|v| v.curve == u.curve).count() == 2
+                );
             }
-            let next = &lp.uses[(k + 1) % lp.uses.len()];
-            let nc = &model.curves[next.curve.idx()];
-            let end = u.pcurve.eval(if u.forward { c.range.1 } else { c.range.0 });
-            let start = next.pcurve.eval(if next.forward { nc.range.0 } else { nc.range.1 });
-            assert!(((end[0] - start[0]).powi(2) + (end[1] - start[1]).powi(2)).sqrt() < tol, "face {fi}: uses {k} and {} do not meet", k + 1);
-            assert_eq!(u.seam, lp.uses.iter().filter(|v| v.curve == u.curve).count() == 2);
-        }
-        let poly = model.loop_uv_polyline(geometry::FaceId(fi as u32), li, 64);
-        let a = geometry::model::signed_area(&poly);
-        assert!(if li == 0 { a > 0.0 } else { a < 0.0 }, "face {fi} loop {li}: signed area {a}");
+            let poly = model.loop_uv_polyline(geometry::FaceId(fi as u32), li, 64);
+            let a = geometry::model::signed_area(&poly);
+            assert!(
+                if li == 0 { a > 0.0 } else { a < 0.0 },
+                "face {fi} loop {li}: signed area {a}"
+            );
         }
         // projection of surface points returns them
         let b = f.uv_bounds;
@@ -204,7 +230,10 @@ fn box_gives_6_faces_12_curves_8_corners() {
     // the straight curves keep their lengths
     let mut lens: Vec<f64> = m.curves.iter().map(|c| c.range.1).collect();
     lens.sort_by(f64::total_cmp);
-    assert!((lens[0] - 1.0).abs() < 1e-12 && (lens[11] - 2.0).abs() < 1e-12, "{lens:?}");
+    assert!(
+        (lens[0] - 1.0).abs() < 1e-12 && (lens[11] - 2.0).abs() < 1e-12,
+        "{lens:?}"
+    );
 }
 
 #[test]
@@ -214,18 +243,32 @@ fn cylinder_gives_two_discs_and_a_side_with_a_seam() {
     assert_eq!(m.faces.len(), 3);
     // two circles and the seam of the side
     assert_eq!(m.curves.len(), 3);
-    let closed: Vec<usize> = (0..3).filter(|&c| m.curves[c].start == m.curves[c].end).collect();
+    let closed: Vec<usize> = (0..3)
+        .filter(|&c| m.curves[c].start == m.curves[c].end)
+        .collect();
     assert_eq!(closed.len(), 2);
     for &c in &closed {
         let len = m.curves[c].range.1;
-        assert!((len - std::f64::consts::TAU).abs() < 0.01, "circle length {len}");
+        assert!(
+            (len - std::f64::consts::TAU).abs() < 0.01,
+            "circle length {len}"
+        );
     }
-    let side = m.faces.iter().position(|f| f.loops[0].uses.len() == 4).expect("a side face with 4 uses");
+    let side = m
+        .faces
+        .iter()
+        .position(|f| f.loops[0].uses.len() == 4)
+        .expect("a side face with 4 uses");
     assert_eq!(m.faces[side].curve_uses().filter(|u| u.seam).count(), 2);
     // a rectangle: the circles' length by the seam's, in either order
-    let Shape::Rectangle(w, h) = imp.report.faces[side].shape else { panic!("{:?}", imp.report.faces[side]) };
+    let Shape::Rectangle(w, h) = imp.report.faces[side].shape else {
+        panic!("{:?}", imp.report.faces[side])
+    };
     let (w, h) = (w.max(h), w.min(h));
-    assert!((w - std::f64::consts::TAU).abs() < 0.01 && (h - 2.0).abs() < 1e-9, "{w} × {h}");
+    assert!(
+        (w - std::f64::consts::TAU).abs() < 0.01 && (h - 2.0).abs() < 1e-9,
+        "{w} × {h}"
+    );
     check_model(&imp);
 }
 
@@ -238,12 +281,22 @@ fn closed_sphere_is_split_into_disk_charts() {
     assert_eq!(imp.report.charted_faces, 1);
     assert_eq!(imp.report.charts, m.faces.len());
     // normal cones of ±50° cover the sphere with at least 6 charts
-    assert!((6..=20).contains(&m.faces.len()), "{} charts", m.faces.len());
+    assert!(
+        (6..=20).contains(&m.faces.len()),
+        "{} charts",
+        m.faces.len()
+    );
     // closed: every curve is shared by two faces, no seam
     assert!(m.curve_faces().iter().all(|f| f.len() == 2));
-    assert!(m.faces.iter().all(|f| f.loops.len() == 1 && f.loops[0].uses.iter().all(|u| !u.seam)));
+    assert!(m
+        .faces
+        .iter()
+        .all(|f| f.loops.len() == 1 && f.loops[0].uses.iter().all(|u| !u.seam)));
     // Euler: V − E + F = 2 on the chart layout
-    assert_eq!(m.corners.len() as i64 - m.curves.len() as i64 + m.faces.len() as i64, 2);
+    assert_eq!(
+        m.corners.len() as i64 - m.curves.len() as i64 + m.faces.len() as i64,
+        2
+    );
     for r in &imp.report.faces {
         assert!(r.scale_spread <= trimesh::MAX_SCALE_SPREAD, "{r:?}");
     }
@@ -253,8 +306,18 @@ fn closed_sphere_is_split_into_disk_charts() {
 #[test]
 fn feature_angle_and_user_edges_are_honoured() {
     // a box with 120° between its faces would be smooth at 60°: here a cube at 95°
-    let imp = import(&box_mesh(2), &Options { feature_angle: 95.0, ..Default::default() }).unwrap();
-    assert_eq!(imp.report.patches, 1, "no edge is sharper than 95°: one closed patch");
+    let imp = import(
+        &box_mesh(2),
+        &Options {
+            feature_angle: 95.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        imp.report.patches, 1,
+        "no edge is sharper than 95°: one closed patch"
+    );
     // no single map flattens a cube's surface: charts, one per flat side
     assert_eq!((imp.report.charted_faces, imp.model.faces.len()), (1, 6));
     check_model(&imp);
@@ -263,13 +326,35 @@ fn feature_angle_and_user_edges_are_honoured() {
     grid_patch(&mut sheet, [0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], 4, 4);
     let imp = import(&sheet, &Options::default()).unwrap();
     // one face, its square boundary split at the four 90° corners
-    assert_eq!((imp.model.faces.len(), imp.model.curves.len(), imp.model.corners.len()), (1, 4, 4));
+    assert_eq!(
+        (
+            imp.model.faces.len(),
+            imp.model.curves.len(),
+            imp.model.corners.len()
+        ),
+        (1, 4, 4)
+    );
     // STL numbering: vertex k of facet f is 3f + k + 1; find the middle column's edges
     let bytes = trimesh::read::write_stl_binary(&sheet.0, &sheet.1);
     let soup = trimesh::read::read_bytes(&bytes, Format::Stl, Path::new("s")).unwrap();
     let num = |p: Vec3| soup.points.iter().position(|q| *q == p).unwrap() as u32 + 1;
-    let user: Vec<[u32; 2]> = (0..4).map(|j| [num([0.5, j as f64 / 4.0, 0.0]), num([0.5, (j + 1) as f64 / 4.0, 0.0])]).collect();
-    let imp = trimesh::build(soup, &Options { feature_edges: user, ..Default::default() }, Path::new("s")).unwrap();
+    let user: Vec<[u32; 2]> = (0..4)
+        .map(|j| {
+            [
+                num([0.5, j as f64 / 4.0, 0.0]),
+                num([0.5, (j + 1) as f64 / 4.0, 0.0]),
+            ]
+        })
+        .collect();
+    let imp = trimesh::build(
+        soup,
+        &Options {
+            feature_edges: user,
+            ..Default::default()
+        },
+        Path::new("s"),
+    )
+    .unwrap();
     assert_eq!(imp.model.faces.len(), 2);
     check_model(&imp);
 }
@@ -284,18 +369,39 @@ fn torus_is_split_into_disk_charts() {
     assert!(m.faces.len() >= 4, "{} charts", m.faces.len());
     assert!(m.faces.iter().all(|f| f.loops.len() == 1));
     // Euler characteristic of the torus: V − E + F = 0 on the chart layout
-    assert_eq!(m.corners.len() as i64 - m.curves.len() as i64 + m.faces.len() as i64, 0);
+    assert_eq!(
+        m.corners.len() as i64 - m.curves.len() as i64 + m.faces.len() as i64,
+        0
+    );
     check_model(&imp);
 }
 
 #[test]
 fn bad_meshes_give_clear_errors() {
     // non-manifold: three triangles on one edge
-    let p = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]];
-    let e = import(&(p.clone(), vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]]), &Options::default()).err().unwrap().to_string();
-    assert!(e.contains("non-manifold edge") && e.contains("[0.0, 0.0, 0.0]"), "{e}");
+    let p = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let e = import(
+        &(p.clone(), vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]]),
+        &Options::default(),
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(
+        e.contains("non-manifold edge") && e.contains("[0.0, 0.0, 0.0]"),
+        "{e}"
+    );
     // all degenerate
-    let e = import(&(p.clone(), vec![[0, 1, 1]]), &Options::default()).err().unwrap().to_string();
+    let e = import(&(p.clone(), vec![[0, 1, 1]]), &Options::default())
+        .err()
+        .unwrap()
+        .to_string();
     assert!(e.contains("degenerate"), "{e}");
     // a degenerate triangle among good ones: dropped with a warning
     let mut b = box_mesh(2);
@@ -311,7 +417,16 @@ fn bad_meshes_give_clear_errors() {
     assert_eq!(imp.report.flipped, 2);
     assert_eq!(imp.model.faces.len(), 6);
     // a user edge that is no edge of the mesh
-    let e = import(&box_mesh(2), &Options { feature_edges: vec![[1, 1000]], ..Default::default() }).err().unwrap().to_string();
+    let e = import(
+        &box_mesh(2),
+        &Options {
+            feature_edges: vec![[1, 1000]],
+            ..Default::default()
+        },
+    )
+    .err()
+    .unwrap()
+    .to_string();
     assert!(e.contains("feature edge 1"), "{e}");
 }
 
@@ -338,7 +453,10 @@ fn obj_and_ply_give_the_same_model_as_stl() {
     let b = trimesh::build(soup, &Options::default(), Path::new("c.ply")).unwrap();
     let c = import(&(p, t), &Options::default()).unwrap();
     for m in [&a, &b] {
-        assert_eq!((m.model.faces.len(), m.model.curves.len()), (c.model.faces.len(), c.model.curves.len()));
+        assert_eq!(
+            (m.model.faces.len(), m.model.curves.len()),
+            (c.model.faces.len(), c.model.curves.len())
+        );
         check_model(m);
     }
     let _: Option<Arc<dyn Curve>> = None;
@@ -349,10 +467,18 @@ fn msh_triangles_are_read() {
     // a tetrahedron in MSH 2.2 (orientations mixed: the import repairs them)
     let msh = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n\
 $Elements\n4\n1 2 2 0 1 1 3 2\n2 2 2 0 1 1 2 4\n3 2 2 0 1 2 3 4\n4 2 2 0 1 1 3 4\n$EndElements\n";
-    let soup = trimesh::read::read_bytes(msh.as_bytes(), Format::Msh, Path::new("tet.msh")).unwrap();
+    let soup =
+        trimesh::read::read_bytes(msh.as_bytes(), Format::Msh, Path::new("tet.msh")).unwrap();
     assert_eq!(soup.tris.len(), 4);
     let imp = trimesh::build(soup, &Options::default(), Path::new("tet.msh")).unwrap();
-    assert_eq!((imp.model.faces.len(), imp.model.curves.len(), imp.model.corners.len()), (4, 6, 4));
+    assert_eq!(
+        (
+            imp.model.faces.len(),
+            imp.model.curves.len(),
+            imp.model.corners.len()
+        ),
+        (4, 6, 4)
+    );
     assert_eq!(imp.report.flipped, 1);
     check_model(&imp);
 }

@@ -7,21 +7,33 @@ use std::process::{Command, Output};
 
 /// A CAD model bundled in `data/cad`.
 pub fn cad(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/cad").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/cad")
+        .join(name)
 }
 
 /// Runs the `quadrille` binary with `args`.
 pub fn quadrille(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_quadrille")).args(args).output().unwrap()
+    Command::new(env!("CARGO_BIN_EXE_quadrille"))
+        .args(args)
+        .output()
+        .unwrap()
 }
 
 /// Checks the failure contract of a command: exit code 1, one `error: ` line,
 /// no panic, the message naming `name`; returns stderr.
 pub fn assert_clean_failure(r: &Output, name: &str) -> String {
     let stderr = String::from_utf8_lossy(&r.stderr).into_owned();
-    assert_eq!(r.status.code(), Some(1), "clean error exit, not a crash: {stderr}");
+    assert_eq!(
+        r.status.code(),
+        Some(1),
+        "clean error exit, not a crash: {stderr}"
+    );
     assert!(!stderr.contains("panicked"), "panic: {stderr}");
-    assert!(stderr.starts_with("error: "), "one clear error line: {stderr}");
+    assert!(
+        stderr.starts_with("error: "),
+        "one clear error line: {stderr}"
+    );
     assert!(stderr.contains(name), "error must name {name}: {stderr}");
     stderr
 }

@@ -40,7 +40,10 @@ pub struct MshRead {
 
 /// Reads an MSH 4.1 (ASCII or binary) or MSH 2.2 (ASCII) file.
 pub fn read_msh(path: &Path) -> Result<MshRead, MshError> {
-    let data = std::fs::read(path).map_err(|source| MshError::Io { path: path.to_path_buf(), source })?;
+    let data = std::fs::read(path).map_err(|source| MshError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
     read_msh_bytes(&data, path)
 }
 
@@ -93,9 +96,17 @@ impl Reader<'_> {
             format!("byte {}", self.pos)
         } else {
             let end = self.pos.min(self.data.len());
-            format!("line {}", self.data[..end].iter().filter(|&&b| b == b'\n').count() + 1)
+            format!(
+                "line {}",
+                self.data[..end].iter().filter(|&&b| b == b'\n').count() + 1
+            )
         };
-        Err(MshError::Parse { path: self.path.clone(), location, section: self.section.clone(), message: message.into() })
+        Err(MshError::Parse {
+            path: self.path.clone(),
+            location,
+            section: self.section.clone(),
+            message: message.into(),
+        })
     }
 
     fn skip_ws(&mut self) {
@@ -175,7 +186,11 @@ impl Reader<'_> {
     fn int(&mut self, what: &str) -> R<i64> {
         if self.in_binary_data {
             let b = self.bytes::<4>()?;
-            Ok(if self.little { i32::from_le_bytes(b) } else { i32::from_be_bytes(b) } as i64)
+            Ok(if self.little {
+                i32::from_le_bytes(b)
+            } else {
+                i32::from_be_bytes(b)
+            } as i64)
         } else {
             self.parse(what)
         }
@@ -186,10 +201,18 @@ impl Reader<'_> {
         if self.in_binary_data {
             if self.size_t == 4 {
                 let b = self.bytes::<4>()?;
-                Ok(if self.little { u32::from_le_bytes(b) } else { u32::from_be_bytes(b) } as u64)
+                Ok(if self.little {
+                    u32::from_le_bytes(b)
+                } else {
+                    u32::from_be_bytes(b)
+                } as u64)
             } else {
                 let b = self.bytes::<8>()?;
-                Ok(if self.little { u64::from_le_bytes(b) } else { u64::from_be_bytes(b) })
+                Ok(if self.little {
+                    u64::from_le_bytes(b)
+                } else {
+                    u64::from_be_bytes(b)
+                })
             }
         } else {
             self.parse(what)
@@ -200,7 +223,11 @@ impl Reader<'_> {
     fn float(&mut self, what: &str) -> R<f64> {
         if self.in_binary_data {
             let b = self.bytes::<8>()?;
-            Ok(if self.little { f64::from_le_bytes(b) } else { f64::from_be_bytes(b) })
+            Ok(if self.little {
+                f64::from_le_bytes(b)
+            } else {
+                f64::from_be_bytes(b)
+            })
         } else {
             self.parse(what)
         }
@@ -212,7 +239,9 @@ impl Reader<'_> {
         let n = self.size(what)?;
         let left = self.data.len().saturating_sub(self.pos) as u64;
         if n.saturating_mul(min_bytes.max(1) as u64) > left + 1 {
-            return self.err(format!("{what} {n} is more than the rest of the file can hold"));
+            return self.err(format!(
+                "{what} {n} is more than the rest of the file can hold"
+            ));
         }
         Ok(n as usize)
     }
@@ -226,7 +255,10 @@ impl Reader<'_> {
         }
         let t = self.token()?;
         if t != want {
-            let msg = format!("expected {want}, found {:?} (wrong counts or truncated section?)", truncate(t));
+            let msg = format!(
+                "expected {want}, found {:?} (wrong counts or truncated section?)",
+                truncate(t)
+            );
             self.pos = start;
             self.skip_ws();
             return self.err(msg);
@@ -284,7 +316,11 @@ impl Reader<'_> {
                 }
                 "Nodes" => {
                     self.in_binary_data = self.binary;
-                    nodes = Some(if v2 { self.nodes_v2()? } else { self.nodes_v41()? });
+                    nodes = Some(if v2 {
+                        self.nodes_v2()?
+                    } else {
+                        self.nodes_v41()?
+                    });
                     self.expect_end(&name)?;
                 }
                 "Elements" => {
@@ -292,7 +328,11 @@ impl Reader<'_> {
                         return self.err("$Elements comes before $Nodes");
                     }
                     self.in_binary_data = self.binary;
-                    elements = if v2 { self.elements_v2()? } else { self.elements_v41()? };
+                    elements = if v2 {
+                        self.elements_v2()?
+                    } else {
+                        self.elements_v41()?
+                    };
                     have_elements = true;
                     self.expect_end(&name)?;
                 }
@@ -303,7 +343,9 @@ impl Reader<'_> {
         if out.version.is_empty() {
             return self.err("empty file: no $MeshFormat");
         }
-        let Some(nodes) = nodes else { return self.err("no $Nodes section") };
+        let Some(nodes) = nodes else {
+            return self.err("no $Nodes section");
+        };
         if !have_elements {
             return self.err("no $Elements section");
         }
@@ -318,11 +360,17 @@ impl Reader<'_> {
         let v2 = match version.as_str() {
             "4.1" => false,
             "2.2" | "2.1" | "2" | "2.0" => true,
-            other => return self.err(format!("unsupported MSH version {other} (this reader reads 4.1 and 2.2)")),
+            other => {
+                return self.err(format!(
+                    "unsupported MSH version {other} (this reader reads 4.1 and 2.2)"
+                ))
+            }
         };
         match file_type {
             0 => {}
-            1 if v2 => return self.err("binary MSH 2 is not supported (write MSH 4.1 or ASCII 2.2)"),
+            1 if v2 => {
+                return self.err("binary MSH 2 is not supported (write MSH 4.1 or ASCII 2.2)")
+            }
             1 => {
                 // the rest of the line, then an int 1 telling the endianness
                 while self.pos < self.data.len() && self.data[self.pos] != b'\n' {
@@ -338,11 +386,17 @@ impl Reader<'_> {
                 };
                 self.in_binary_data = false;
                 if data_size != 4 && data_size != 8 {
-                    return self.err(format!("unsupported data size {data_size} (4 or 8 expected)"));
+                    return self.err(format!(
+                        "unsupported data size {data_size} (4 or 8 expected)"
+                    ));
                 }
                 self.size_t = data_size;
             }
-            other => return self.err(format!("file type {other} is neither 0 (ASCII) nor 1 (binary)")),
+            other => {
+                return self.err(format!(
+                    "file type {other} is neither 0 (ASCII) nor 1 (binary)"
+                ))
+            }
         }
         self.binary = file_type == 1;
         out.binary = self.binary;
@@ -395,7 +449,11 @@ impl Reader<'_> {
             let first = nodes.len();
             for _ in 0..n {
                 let t = self.size("a node tag")?;
-                nodes.push(RawNode { tag: t, pos: [0.0; 3], class: NodeClass::Unclassified });
+                nodes.push(RawNode {
+                    tag: t,
+                    pos: [0.0; 3],
+                    class: NodeClass::Unclassified,
+                });
             }
             for node in &mut nodes[first..] {
                 for k in 0..3 {
@@ -415,7 +473,10 @@ impl Reader<'_> {
             }
         }
         if nodes.len() != total {
-            return self.err(format!("the header announces {total} nodes, the blocks hold {}", nodes.len()));
+            return self.err(format!(
+                "the header announces {total} nodes, the blocks hold {}",
+                nodes.len()
+            ));
         }
         Ok(nodes)
     }
@@ -440,7 +501,10 @@ impl Reader<'_> {
             let entity = self.int("an entity tag")?;
             let ty = self.int("an element type")? as i32;
             let known = nodes_per_element(ty);
-            let n = self.count("number of elements in the block", 2 * (1 + known.unwrap_or(1)))?;
+            let n = self.count(
+                "number of elements in the block",
+                2 * (1 + known.unwrap_or(1)),
+            )?;
             for _ in 0..n {
                 let nodes: Vec<u64> = match known {
                     Some(k) => {
@@ -448,7 +512,9 @@ impl Reader<'_> {
                         (0..k).map(|_| self.size("a node tag")).collect::<R<_>>()?
                     }
                     None if self.in_binary_data => {
-                        return self.err(format!("unknown element type {ty} in binary data (its size is unknown)"));
+                        return self.err(format!(
+                            "unknown element type {ty} in binary data (its size is unknown)"
+                        ));
                     }
                     None => {
                         // ASCII: one element per line, skipped below
@@ -456,12 +522,19 @@ impl Reader<'_> {
                         Vec::new()
                     }
                 };
-                out.push(RawElement { dim, entity, ty, nodes });
+                out.push(RawElement {
+                    dim,
+                    entity,
+                    ty,
+                    nodes,
+                });
                 seen += 1;
             }
         }
         if seen != total {
-            return self.err(format!("the header announces {total} elements, the blocks hold {seen}"));
+            return self.err(format!(
+                "the header announces {total} elements, the blocks hold {seen}"
+            ));
         }
         Ok(out)
     }
@@ -475,7 +548,11 @@ impl Reader<'_> {
             for p in &mut pos {
                 *p = self.parse("a node coordinate")?;
             }
-            nodes.push(RawNode { tag, pos, class: NodeClass::Unclassified });
+            nodes.push(RawNode {
+                tag,
+                pos,
+                class: NodeClass::Unclassified,
+            });
         }
         Ok(nodes)
     }
@@ -487,7 +564,10 @@ impl Reader<'_> {
             let toks = self.line_tokens()?;
             let nums: Result<Vec<i64>, _> = toks.iter().map(|t| t.parse::<i64>()).collect();
             let Ok(nums) = nums else {
-                let msg = format!("an element line must hold integers: {:?}", truncate(&toks.join(" ")));
+                let msg = format!(
+                    "an element line must hold integers: {:?}",
+                    truncate(&toks.join(" "))
+                );
                 return self.err(msg);
             };
             if nums.len() < 3 {
@@ -496,7 +576,10 @@ impl Reader<'_> {
             let ty = nums[1] as i32;
             let ntags = nums[2];
             if ntags < 0 || 3 + ntags as usize > nums.len() {
-                return self.err(format!("element {} announces {ntags} tags, the line is too short", nums[0]));
+                return self.err(format!(
+                    "element {} announces {ntags} tags, the line is too short",
+                    nums[0]
+                ));
             }
             let tags = &nums[3..3 + ntags as usize];
             // tags: physical, elementary entity, …; with one tag take it as the entity
@@ -504,7 +587,11 @@ impl Reader<'_> {
             let rest = &nums[3 + ntags as usize..];
             if let Some(k) = nodes_per_element(ty) {
                 if rest.len() != k {
-                    return self.err(format!("element {} of type {ty} has {} nodes, {k} expected", nums[0], rest.len()));
+                    return self.err(format!(
+                        "element {} of type {ty} has {} nodes, {k} expected",
+                        nums[0],
+                        rest.len()
+                    ));
                 }
             }
             if rest.iter().any(|&v| v < 0) {
@@ -516,13 +603,24 @@ impl Reader<'_> {
                 2 | 3 => 2,
                 _ => -1,
             };
-            out.push(RawElement { dim, entity, ty, nodes: rest.iter().map(|&v| v as u64).collect() });
+            out.push(RawElement {
+                dim,
+                entity,
+                ty,
+                nodes: rest.iter().map(|&v| v as u64).collect(),
+            });
         }
         Ok(out)
     }
 
     /// Turns tags into indices and fills the mesh.
-    fn build(&mut self, mut out: MshRead, mut nodes: Vec<RawNode>, elements: Vec<RawElement>, v2: bool) -> R<MshRead> {
+    fn build(
+        &mut self,
+        mut out: MshRead,
+        mut nodes: Vec<RawNode>,
+        elements: Vec<RawElement>,
+        v2: bool,
+    ) -> R<MshRead> {
         self.section = "$Elements".into();
         nodes.sort_by_key(|n| n.tag);
         if let Some(w) = nodes.windows(2).find(|w| w[0].tag == w[1].tag) {
@@ -546,7 +644,12 @@ impl Reader<'_> {
             for (k, &t) in el.nodes.iter().enumerate() {
                 match index(t) {
                     Some(i) => idx[k] = i,
-                    None => return self.err(format!("an element of type {} refers to node {t}, which is not defined", el.ty)),
+                    None => {
+                        return self.err(format!(
+                            "an element of type {} refers to node {t}, which is not defined",
+                            el.ty
+                        ))
+                    }
                 }
             }
             let e = self.entity_id(el.entity)?;
@@ -644,7 +747,9 @@ $Elements\n8\n1 15 2 0 1 1\n2 1 2 0 1 1 2\n3 1 2 0 2 2 3\n4 1 2 0 3 3 4\n5 1 2 0
             assert!(err.starts_with("test.msh: "), "{err}");
         }
         // the line number points at the bad line
-        let err = read(&V22.replace("2 1 0 0\n", "2 1 x 0\n")).unwrap_err().to_string();
+        let err = read(&V22.replace("2 1 0 0\n", "2 1 x 0\n"))
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("line 7") && err.contains("$Nodes"), "{err}");
     }
 
@@ -655,7 +760,10 @@ $Nodes\n1 3 1 3\n2 1 1 3\n1\n2\n3\n0 0 0 0.1 0.2\n1 0 0 0.3 0.4\n0 1 0 0.5 0.6\n
 $Elements\n2 2 1 2\n2 1 2 1\n1 1 2 3\n2 1 99 1\n2 1 2 3 3 3 3\n$EndElements\n";
         let r = read(text).unwrap();
         assert_eq!(r.mesh.triangles, vec![[0, 1, 2]]);
-        assert_eq!(r.mesh.node_class[1], NodeClass::Face(FaceId(0), Some([0.3, 0.4])));
+        assert_eq!(
+            r.mesh.node_class[1],
+            NodeClass::Face(FaceId(0), Some([0.3, 0.4]))
+        );
         assert_eq!(r.skipped_elements, BTreeMap::from([(99, 1)]));
     }
 }

@@ -38,15 +38,32 @@ pub enum MshEncoding {
 /// Nodes that are `Unclassified` are written on the surface of the first
 /// element using them (a file format needs an entity per node); a reader then
 /// sees them as face nodes without parameters.
-pub fn write_msh(path: &Path, mesh: &QuadMesh, model: Option<&Model>, encoding: MshEncoding) -> Result<(), MshError> {
-    validate(mesh).map_err(|message| MshError::InvalidMesh { path: path.to_path_buf(), message })?;
-    write_atomically::<io::Error, _>(path, |w| write_body(w, mesh, model, encoding))
-        .map_err(|source| MshError::Io { path: path.to_path_buf(), source })
+pub fn write_msh(
+    path: &Path,
+    mesh: &QuadMesh,
+    model: Option<&Model>,
+    encoding: MshEncoding,
+) -> Result<(), MshError> {
+    validate(mesh).map_err(|message| MshError::InvalidMesh {
+        path: path.to_path_buf(),
+        message,
+    })?;
+    write_atomically::<io::Error, _>(path, |w| write_body(w, mesh, model, encoding)).map_err(
+        |source| MshError::Io {
+            path: path.to_path_buf(),
+            source,
+        },
+    )
 }
 
 /// Writes `mesh` as MSH 4.1 to any writer (see [`write_msh`]). An
 /// inconsistent mesh gives an `InvalidInput` error before anything is written.
-pub fn write_msh_to<W: Write>(w: &mut W, mesh: &QuadMesh, model: Option<&Model>, encoding: MshEncoding) -> io::Result<()> {
+pub fn write_msh_to<W: Write>(
+    w: &mut W,
+    mesh: &QuadMesh,
+    model: Option<&Model>,
+    encoding: MshEncoding,
+) -> io::Result<()> {
     validate(mesh).map_err(|m| io::Error::new(io::ErrorKind::InvalidInput, m))?;
     write_body(w, mesh, model, encoding)
 }
@@ -58,13 +75,25 @@ fn validate(mesh: &QuadMesh) -> Result<(), String> {
         return Err(format!("{nn} nodes is more than the writer supports"));
     }
     if mesh.node_class.len() != nn {
-        return Err(format!("{} node classifications for {} nodes", mesh.node_class.len(), nn));
+        return Err(format!(
+            "{} node classifications for {} nodes",
+            mesh.node_class.len(),
+            nn
+        ));
     }
     if mesh.quad_face.len() != mesh.quads.len() {
-        return Err(format!("{} quad faces for {} quads", mesh.quad_face.len(), mesh.quads.len()));
+        return Err(format!(
+            "{} quad faces for {} quads",
+            mesh.quad_face.len(),
+            mesh.quads.len()
+        ));
     }
     if mesh.triangle_face.len() != mesh.triangles.len() {
-        return Err(format!("{} triangle faces for {} triangles", mesh.triangle_face.len(), mesh.triangles.len()));
+        return Err(format!(
+            "{} triangle faces for {} triangles",
+            mesh.triangle_face.len(),
+            mesh.triangles.len()
+        ));
     }
     let bad = |what: &str, i: usize| format!("{what} {i} refers to a missing node");
     for (i, q) in mesh.quads.iter().enumerate() {
@@ -87,7 +116,11 @@ fn validate(mesh: &QuadMesh) -> Result<(), String> {
             return Err(bad("corner node", i));
         }
     }
-    if let Some(i) = mesh.nodes.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
+    if let Some(i) = mesh
+        .nodes
+        .iter()
+        .position(|p| p.iter().any(|x| !x.is_finite()))
+    {
         return Err(format!("node {i} has a non-finite coordinate"));
     }
     let too_big = |id: u32| id >= i32::MAX as u32;
@@ -100,7 +133,12 @@ fn validate(mesh: &QuadMesh) -> Result<(), String> {
             NodeClass::Face(k, _) => Some(k.0),
             NodeClass::Unclassified => None,
         })
-        .chain(mesh.quad_face.iter().chain(&mesh.triangle_face).map(|f| f.0));
+        .chain(
+            mesh.quad_face
+                .iter()
+                .chain(&mesh.triangle_face)
+                .map(|f| f.0),
+        );
     for id in ids {
         if too_big(id) {
             return Err(format!("entity id {id} does not fit an MSH entity tag"));
@@ -170,7 +208,12 @@ fn layout(mesh: &QuadMesh, model: Option<&Model>) -> Layout {
     // Unclassified nodes go on the face of the first element using them.
     let mut home: Vec<Option<FaceId>> = vec![None; mesh.nodes.len()];
     let elems = mesh.quads.iter().map(|q| &q[..]).zip(&mesh.quad_face);
-    let elems = elems.chain(mesh.triangles.iter().map(|t| &t[..]).zip(&mesh.triangle_face));
+    let elems = elems.chain(
+        mesh.triangles
+            .iter()
+            .map(|t| &t[..])
+            .zip(&mesh.triangle_face),
+    );
     for (nodes, &f) in elems.clone() {
         for &v in nodes {
             home[v as usize].get_or_insert(f);
@@ -217,7 +260,10 @@ fn layout(mesh: &QuadMesh, model: Option<&Model>) -> Layout {
             }
         }
     }
-    Layout { entities: ents, node_blocks }
+    Layout {
+        entities: ents,
+        node_blocks,
+    }
 }
 
 /// Without a model: curve ends from corner nodes on curve edges, face
@@ -236,7 +282,11 @@ fn derive_adjacency(mesh: &QuadMesh, ents: &mut [BTreeMap<i64, Entity>; 3]) {
     }
     for (tag, list) in ends {
         let e = ents[1].entry(tag).or_default();
-        e.bounding = list.iter().enumerate().map(|(i, &k)| if i == 0 { k } else { -k }).collect();
+        e.bounding = list
+            .iter()
+            .enumerate()
+            .map(|(i, &k)| if i == 0 { k } else { -k })
+            .collect();
     }
     let mut face_edges: HashSet<(u32, u32, i64)> = HashSet::new();
     let key = |a: u32, b: u32| (a.min(b), a.max(b));
@@ -338,10 +388,19 @@ impl<W: Write> Emitter<'_, W> {
     }
 }
 
-fn write_body<W: Write>(w: &mut W, mesh: &QuadMesh, model: Option<&Model>, encoding: MshEncoding) -> io::Result<()> {
+fn write_body<W: Write>(
+    w: &mut W,
+    mesh: &QuadMesh,
+    model: Option<&Model>,
+    encoding: MshEncoding,
+) -> io::Result<()> {
     let binary = encoding == MshEncoding::Binary;
     let lay = layout(mesh, model);
-    let mut e = Emitter { w, binary, line_start: true };
+    let mut e = Emitter {
+        w,
+        binary,
+        line_start: true,
+    };
 
     e.open("MeshFormat")?;
     writeln!(e.w, "4.1 {} 8", binary as u8)?;
@@ -391,7 +450,10 @@ fn write_body<W: Write>(w: &mut W, mesh: &QuadMesh, model: Option<&Model>, encod
                 _ => None,
             }
         };
-        let parametric = dim > 0 && nodes.iter().all(|&v| params(v).is_some_and(|p| p.iter().all(|x| x.is_finite())));
+        let parametric = dim > 0
+            && nodes
+                .iter()
+                .all(|&v| params(v).is_some_and(|p| p.iter().all(|x| x.is_finite())));
         e.int(dim as i64)?;
         e.int(tag)?;
         e.int(parametric as i64)?;
@@ -418,16 +480,28 @@ fn write_body<W: Write>(w: &mut W, mesh: &QuadMesh, model: Option<&Model>, encod
     // Element blocks: (dim, tag, type) → node lists.
     let mut blocks: BTreeMap<(i32, i64, i32), Vec<Vec<u32>>> = BTreeMap::new();
     for (v, k) in &mesh.corner_nodes {
-        blocks.entry((0, k.0 as i64 + 1, 15)).or_default().push(vec![*v]);
+        blocks
+            .entry((0, k.0 as i64 + 1, 15))
+            .or_default()
+            .push(vec![*v]);
     }
     for (ed, c) in &mesh.curve_edges {
-        blocks.entry((1, c.0 as i64 + 1, 1)).or_default().push(ed.to_vec());
+        blocks
+            .entry((1, c.0 as i64 + 1, 1))
+            .or_default()
+            .push(ed.to_vec());
     }
     for (q, f) in mesh.quads.iter().zip(&mesh.quad_face) {
-        blocks.entry((2, f.0 as i64 + 1, 3)).or_default().push(q.to_vec());
+        blocks
+            .entry((2, f.0 as i64 + 1, 3))
+            .or_default()
+            .push(q.to_vec());
     }
     for (t, f) in mesh.triangles.iter().zip(&mesh.triangle_face) {
-        blocks.entry((2, f.0 as i64 + 1, 2)).or_default().push(t.to_vec());
+        blocks
+            .entry((2, f.0 as i64 + 1, 2))
+            .or_default()
+            .push(t.to_vec());
     }
     let ne: u64 = blocks.values().map(|b| b.len() as u64).sum();
     e.open("Elements")?;
@@ -467,7 +541,10 @@ mod tests {
         let mut out = Vec::new();
         write_msh_to(&mut out, &mesh, Some(&model), MshEncoding::Ascii).unwrap();
         let text = String::from_utf8(out).unwrap();
-        assert!(text.starts_with("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n4 4 1 0\n"), "{text}");
+        assert!(
+            text.starts_with("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n4 4 1 0\n"),
+            "{text}"
+        );
         // the face is bounded by its four curves, all forward
         assert!(text.contains("\n1 0 0 0 1 1 0 0 4 1 2 3 4\n"), "{text}");
         // 4 corner nodes in 4 blocks, no curve or face nodes
@@ -484,7 +561,10 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("bad.msh");
         let err = write_msh(&path, &mesh, None, MshEncoding::Ascii).unwrap_err();
-        assert!(err.to_string().contains("quad 0 refers to a missing node"), "{err}");
+        assert!(
+            err.to_string().contains("quad 0 refers to a missing node"),
+            "{err}"
+        );
         assert!(!path.exists());
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
         std::fs::remove_dir_all(&dir).unwrap();
@@ -493,7 +573,11 @@ mod tests {
     #[test]
     fn float_format_round_trips() {
         let mut out = Vec::new();
-        let mut e = Emitter { w: &mut out, binary: false, line_start: true };
+        let mut e = Emitter {
+            w: &mut out,
+            binary: false,
+            line_start: true,
+        };
         for x in [0.1, 1e-300, -2.5e20, 123456.789, 1.0 / 3.0, -0.0] {
             e.float(x).unwrap();
         }

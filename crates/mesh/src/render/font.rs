@@ -115,11 +115,24 @@ pub(crate) fn text_width(text: &str, scale: u32) -> u32 {
 /// Characters outside printable ASCII are drawn as `?`; pixels falling outside
 /// the buffer are skipped.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn draw_text(rgba: &mut [u8], width: u32, height: u32, x: i64, y: i64, text: &str, scale: u32, color: [u8; 3]) {
+pub(crate) fn draw_text(
+    rgba: &mut [u8],
+    width: u32,
+    height: u32,
+    x: i64,
+    y: i64,
+    text: &str,
+    scale: u32,
+    color: [u8; 3],
+) {
     let s = scale.max(1) as i64;
     for (k, ch) in text.chars().enumerate() {
         let code = ch as u32;
-        let idx = if (32..=126).contains(&code) { code - 32 } else { '?' as u32 - 32 };
+        let idx = if (32..=126).contains(&code) {
+            code - 32
+        } else {
+            '?' as u32 - 32
+        };
         let glyph = &GLYPHS[idx as usize];
         let gx = x + k as i64 * CELL_W as i64 * s;
         for (col, bits) in glyph.iter().enumerate() {
@@ -159,7 +172,10 @@ mod tests {
             for x in 0..w {
                 if buf[((y * w + x) * 4) as usize] == 0 {
                     dark += 1;
-                    assert!((2..2 + text_width("Hi 5", 1)).contains(&x) && (3..10).contains(&y), "pixel ({x},{y}) outside text box");
+                    assert!(
+                        (2..2 + text_width("Hi 5", 1)).contains(&x) && (3..10).contains(&y),
+                        "pixel ({x},{y}) outside text box"
+                    );
                 }
             }
         }

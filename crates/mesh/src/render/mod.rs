@@ -24,7 +24,7 @@ mod tests;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
-use geometry::vec3::{cross, dot, dist, normalize, scale, sub, Vec3};
+use geometry::vec3::{cross, dist, dot, normalize, scale, sub, Vec3};
 use tiny_skia::{FillRule, IntSize, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 use crate::atomic::write_atomically;
@@ -188,9 +188,13 @@ impl RenderedImage {
 
     /// The picture encoded as PNG bytes.
     pub fn encode_png(&self) -> Result<Vec<u8>, RenderError> {
-        let size = IntSize::from_wh(self.width, self.height).ok_or_else(|| RenderError::Encode("empty image".into()))?;
-        let pixmap = Pixmap::from_vec(self.rgba.clone(), size).ok_or_else(|| RenderError::Encode("pixel buffer of the wrong size".into()))?;
-        pixmap.encode_png().map_err(|e| RenderError::Encode(e.to_string()))
+        let size = IntSize::from_wh(self.width, self.height)
+            .ok_or_else(|| RenderError::Encode("empty image".into()))?;
+        let pixmap = Pixmap::from_vec(self.rgba.clone(), size)
+            .ok_or_else(|| RenderError::Encode("pixel buffer of the wrong size".into()))?;
+        pixmap
+            .encode_png()
+            .map_err(|e| RenderError::Encode(e.to_string()))
     }
 }
 
@@ -198,7 +202,12 @@ impl RenderedImage {
 /// error no file is left there).
 pub fn render_png(mesh: &QuadMesh, opts: &RenderOptions, path: &Path) -> Result<(), RenderError> {
     let png = render_image(mesh, opts)?.encode_png()?;
-    write_atomically(path, |w| std::io::Write::write_all(w, &png)).map_err(|source| RenderError::Io { path: path.to_path_buf(), source })
+    write_atomically(path, |w| std::io::Write::write_all(w, &png)).map_err(|source| {
+        RenderError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    })
 }
 
 /// Renders `mesh` into an in-memory image.
@@ -246,8 +255,16 @@ pub(crate) fn value_color(v: f64) -> [f32; 3] {
         return [0.42, 0.0, 0.02];
     }
     let t = v.min(1.0) as f32;
-    let (a, b, s) = if t < 0.5 { (RED, YELLOW, t * 2.0) } else { (YELLOW, GREEN, t * 2.0 - 1.0) };
-    [a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s, a[2] + (b[2] - a[2]) * s]
+    let (a, b, s) = if t < 0.5 {
+        (RED, YELLOW, t * 2.0)
+    } else {
+        (YELLOW, GREEN, t * 2.0 - 1.0)
+    };
+    [
+        a[0] + (b[0] - a[0]) * s,
+        a[1] + (b[1] - a[1]) * s,
+        a[2] + (b[2] - a[2]) * s,
+    ]
 }
 
 /// The orthographic camera: world → final-image pixels (x right, y down) and depth.
@@ -264,7 +281,11 @@ pub(crate) struct Camera {
 impl Camera {
     /// `(x, y, depth)` of `p`: image pixels, depth growing toward the viewer.
     pub(crate) fn project(&self, p: Vec3) -> [f64; 3] {
-        [dot(p, self.right) * self.scale + self.offset[0], self.offset[1] - dot(p, self.up) * self.scale, dot(p, self.eye)]
+        [
+            dot(p, self.right) * self.scale + self.offset[0],
+            self.offset[1] - dot(p, self.up) * self.scale,
+            dot(p, self.eye),
+        ]
     }
 
     /// The lit colour (0..255) of a surface of unit normal `n` and base colour `base`.
@@ -278,7 +299,11 @@ impl Camera {
             None => (0.5, false),
         };
         let k = (0.38 + 0.62 * lambert) * if back && darken_back { 0.62 } else { 1.0 };
-        [base[0] * k * 255.0, base[1] * k * 255.0, base[2] * k * 255.0]
+        [
+            base[0] * k * 255.0,
+            base[1] * k * 255.0,
+            base[2] * k * 255.0,
+        ]
     }
 
     /// True when the surface of normal `n` faces away from the viewer.
@@ -312,14 +337,23 @@ impl Scene {
         }
         crate::vtu::check_mesh(mesh).map_err(RenderError::InvalidMesh)?;
         if opts.width < 16 || opts.height < 16 || opts.width > 16384 || opts.height > 16384 {
-            return Err(RenderError::InvalidOptions(format!("image size {}x{} (each side must be 16..16384)", opts.width, opts.height)));
+            return Err(RenderError::InvalidOptions(format!(
+                "image size {}x{} (each side must be 16..16384)",
+                opts.width, opts.height
+            )));
         }
         if !(1..=4).contains(&opts.supersample) {
-            return Err(RenderError::InvalidOptions(format!("supersample {} (must be 1..4)", opts.supersample)));
+            return Err(RenderError::InvalidOptions(format!(
+                "supersample {} (must be 1..4)",
+                opts.supersample
+            )));
         }
         let pixels = opts.width as u64 * opts.height as u64;
         if pixels > MAX_CANVAS_SAMPLES {
-            return Err(RenderError::InvalidOptions(format!("image size {}x{} is over {} pixels", opts.width, opts.height, MAX_CANVAS_SAMPLES)));
+            return Err(RenderError::InvalidOptions(format!(
+                "image size {}x{} is over {} pixels",
+                opts.width, opts.height, MAX_CANVAS_SAMPLES
+            )));
         }
         let mut ss = opts.supersample;
         while ss > 1 && pixels * (ss * ss) as u64 > MAX_CANVAS_SAMPLES {
@@ -327,26 +361,47 @@ impl Scene {
         }
         if let Some(v) = opts.quad_values {
             if v.len() != mesh.quads.len() {
-                return Err(RenderError::InvalidOptions(format!("{} quad values for {} quads", v.len(), mesh.quads.len())));
+                return Err(RenderError::InvalidOptions(format!(
+                    "{} quad values for {} quads",
+                    v.len(),
+                    mesh.quads.len()
+                )));
             }
         }
         if let Some(v) = opts.triangle_values {
             if v.len() != mesh.triangles.len() {
-                return Err(RenderError::InvalidOptions(format!("{} triangle values for {} triangles", v.len(), mesh.triangles.len())));
+                return Err(RenderError::InvalidOptions(format!(
+                    "{} triangle values for {} triangles",
+                    v.len(),
+                    mesh.triangles.len()
+                )));
             }
         }
         if let Some(o) = opts.overlay {
             let finite = |p: &Vec3| p.iter().all(|c| c.is_finite());
-            if !o.segments.iter().all(|s| finite(&s.a) && finite(&s.b)) || !o.points.iter().all(|p| finite(&p.position)) {
-                return Err(RenderError::InvalidOptions("overlay with non-finite coordinates".into()));
+            if !o.segments.iter().all(|s| finite(&s.a) && finite(&s.b))
+                || !o.points.iter().all(|p| finite(&p.position))
+            {
+                return Err(RenderError::InvalidOptions(
+                    "overlay with non-finite coordinates".into(),
+                ));
             }
-            if !(o.line_width.is_finite() && o.line_width >= 0.0 && o.point_radius.is_finite() && o.point_radius >= 0.0) {
-                return Err(RenderError::InvalidOptions(format!("overlay line width {} / point radius {}", o.line_width, o.point_radius)));
+            if !(o.line_width.is_finite()
+                && o.line_width >= 0.0
+                && o.point_radius.is_finite()
+                && o.point_radius >= 0.0)
+            {
+                return Err(RenderError::InvalidOptions(format!(
+                    "overlay line width {} / point radius {}",
+                    o.line_width, o.point_radius
+                )));
             }
         }
         let eye = normalize(opts.eye_dir)
             .filter(|e| e.iter().all(|c| c.is_finite()))
-            .ok_or_else(|| RenderError::InvalidOptions(format!("view direction {:?}", opts.eye_dir)))?;
+            .ok_or_else(|| {
+                RenderError::InvalidOptions(format!("view direction {:?}", opts.eye_dir))
+            })?;
         let right = [opts.up, [0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]]
             .into_iter()
             .filter_map(|u| normalize(cross(u, eye)).filter(|r| r.iter().all(|c| c.is_finite())))
@@ -369,7 +424,9 @@ impl Scene {
             }
         }
         let irregular: Vec<usize> = (0..mesh.nodes.len())
-            .filter(|&n| mesh.is_face_interior(n) && !on_triangle[n] && valences[n] != 4 && valences[n] > 0)
+            .filter(|&n| {
+                mesh.is_face_interior(n) && !on_triangle[n] && valences[n] != 4 && valences[n] > 0
+            })
             .collect();
 
         // layout
@@ -380,13 +437,21 @@ impl Scene {
         let text_lines = opts.title.is_some() as u32 + opts.show_info as u32;
         let top = margin + text_lines * line + if text_lines > 0 { 4 * k } else { 0 };
         let right_panel = if opts.quad_values.is_some() || opts.triangle_values.is_some() {
-            (14 * k + 6 * k + font::text_width("0.75", k)).max(font::text_width(opts.values_label, k)) + margin
+            (14 * k + 6 * k + font::text_width("0.75", k))
+                .max(font::text_width(opts.values_label, k))
+                + margin
         } else {
             0
         };
-        let legend_lines = (opts.show_irregular && !irregular.is_empty()) as u32 + opts.overlay.is_some_and(|o| !o.legend.is_empty()) as u32;
+        let legend_lines = (opts.show_irregular && !irregular.is_empty()) as u32
+            + opts.overlay.is_some_and(|o| !o.legend.is_empty()) as u32;
         let bottom = legend_lines * (line + 8 * k);
-        let mut plot = [margin as f64, top as f64, (w - margin - right_panel.min(w / 3)) as f64, (h - margin - bottom.min(h / 3)) as f64];
+        let mut plot = [
+            margin as f64,
+            top as f64,
+            (w - margin - right_panel.min(w / 3)) as f64,
+            (h - margin - bottom.min(h / 3)) as f64,
+        ];
         if plot[2] - plot[0] < 8.0 || plot[3] - plot[1] < 8.0 {
             plot = [0.0, 0.0, w as f64, h as f64];
         }
@@ -424,9 +489,25 @@ impl Scene {
             s = 1.0;
         }
         let mid = [(lo[0] + hi[0]) * 0.5, (lo[1] + hi[1]) * 0.5];
-        let offset = [(plot[0] + plot[2]) * 0.5 - mid[0] * s, (plot[1] + plot[3]) * 0.5 + mid[1] * s];
-        let camera = Camera { right, up, eye, light, scale: s, offset };
-        Ok(Scene { camera, layout: Layout { k, margin, plot }, valences, irregular, ss })
+        let offset = [
+            (plot[0] + plot[2]) * 0.5 - mid[0] * s,
+            (plot[1] + plot[3]) * 0.5 + mid[1] * s,
+        ];
+        let camera = Camera {
+            right,
+            up,
+            eye,
+            light,
+            scale: s,
+            offset,
+        };
+        Ok(Scene {
+            camera,
+            layout: Layout { k, margin, plot },
+            valences,
+            irregular,
+            ss,
+        })
     }
 
     /// Rasterizes the mesh and draws the overlays.
@@ -445,14 +526,20 @@ impl Scene {
             })
             .collect();
         let feature: HashSet<(u32, u32)> = if opts.show_feature_edges {
-            mesh.curve_edges.iter().map(|([a, b], _)| (*a.min(b), *a.max(b))).collect()
+            mesh.curve_edges
+                .iter()
+                .map(|([a, b], _)| (*a.min(b), *a.max(b)))
+                .collect()
         } else {
             HashSet::new()
         };
         let make_edges = |ids: &[u32], shade: &mut Shade| {
             let n = ids.len();
             shade.n_edges = n;
-            let pts: Vec<[f32; 2]> = ids.iter().map(|&i| [proj[i as usize][0], proj[i as usize][1]]).collect();
+            let pts: Vec<[f32; 2]> = ids
+                .iter()
+                .map(|&i| [proj[i as usize][0], proj[i as usize][1]])
+                .collect();
             // projected area in final pixels, to fade edges of tiny elements
             let mut area = 0.0f32;
             for i in 0..n {
@@ -460,7 +547,11 @@ impl Scene {
                 area += a[0] * b[1] - a[1] * b[0];
             }
             let size = (area.abs() * 0.5).sqrt() / ss as f32;
-            let alpha = if opts.show_edges { ((size - 2.0) / 6.0).clamp(0.0, 1.0) * 0.9 } else { 0.0 };
+            let alpha = if opts.show_edges {
+                ((size - 2.0) / 6.0).clamp(0.0, 1.0) * 0.9
+            } else {
+                0.0
+            };
             for i in 0..n {
                 let (a, b) = (ids[i], ids[(i + 1) % n]);
                 let key = (a.min(b), a.max(b));
@@ -479,7 +570,12 @@ impl Scene {
                 None if cam.is_back(n) => BACK,
                 None => FRONT,
             };
-            let mut shade = Shade { fill: cam.shade(n, base, opts.quad_values.is_some()), edge_color: EDGE, edges: [Edge::default(); 4], n_edges: 0 };
+            let mut shade = Shade {
+                fill: cam.shade(n, base, opts.quad_values.is_some()),
+                edge_color: EDGE,
+                edges: [Edge::default(); 4],
+                n_edges: 0,
+            };
             make_edges(q, &mut shade);
             let v = q.map(|n| proj[n as usize]);
             canvas.fill_triangle([v[0], v[1], v[2]], &shade);
@@ -493,16 +589,28 @@ impl Scene {
                 None if cam.is_back(n) => BACK,
                 None => FRONT,
             };
-            let mut shade = Shade { fill: cam.shade(n, base, opts.triangle_values.is_some()), edge_color: EDGE, edges: [Edge::default(); 4], n_edges: 0 };
+            let mut shade = Shade {
+                fill: cam.shade(n, base, opts.triangle_values.is_some()),
+                edge_color: EDGE,
+                edges: [Edge::default(); 4],
+                n_edges: 0,
+            };
             make_edges(t, &mut shade);
             canvas.fill_triangle(t.map(|n| proj[n as usize]), &shade);
         }
 
         let (ow, oh, rgba) = canvas.downsample(ss);
-        let mut pixmap = match IntSize::from_wh(ow as u32, oh as u32).and_then(|s| Pixmap::from_vec(rgba, s)) {
-            Some(p) => p,
-            None => return RenderedImage { width: ow as u32, height: oh as u32, rgba: vec![255; ow * oh * 4] },
-        };
+        let mut pixmap =
+            match IntSize::from_wh(ow as u32, oh as u32).and_then(|s| Pixmap::from_vec(rgba, s)) {
+                Some(p) => p,
+                None => {
+                    return RenderedImage {
+                        width: ow as u32,
+                        height: oh as u32,
+                        rgba: vec![255; ow * oh * 4],
+                    }
+                }
+            };
         let mut counts = [0usize; 4];
         if opts.show_irregular {
             counts = self.draw_dots(mesh, &canvas, &proj, &mut pixmap);
@@ -515,7 +623,8 @@ impl Scene {
         if let Some(o) = opts.overlay {
             self.draw_overlay(o, &canvas, &mut pixmap);
         }
-        let mut legend_y = pixmap.height() as i64 - self.layout.margin as i64 - (7 * self.layout.k) as i64;
+        let mut legend_y =
+            pixmap.height() as i64 - self.layout.margin as i64 - (7 * self.layout.k) as i64;
         if opts.show_irregular && !self.irregular.is_empty() {
             self.draw_valence_legend(&counts, legend_y, &mut pixmap);
             legend_y -= ((font::CELL_H + 8) * self.layout.k) as i64;
@@ -523,12 +632,22 @@ impl Scene {
         if let Some(o) = opts.overlay.filter(|o| !o.legend.is_empty()) {
             self.draw_legend(&o.legend, legend_y, &mut pixmap);
         }
-        RenderedImage { width: pw, height: ph, rgba: pixmap.take() }
+        RenderedImage {
+            width: pw,
+            height: ph,
+            rgba: pixmap.take(),
+        }
     }
 
     /// Draws the visible irregular vertices; returns how many of each kind
     /// (valence 3, 5, 6+, other) the mesh has.
-    fn draw_dots(&self, mesh: &QuadMesh, canvas: &Canvas, proj: &[[f32; 3]], pixmap: &mut Pixmap) -> [usize; 4] {
+    fn draw_dots(
+        &self,
+        mesh: &QuadMesh,
+        canvas: &Canvas,
+        proj: &[[f32; 3]],
+        pixmap: &mut Pixmap,
+    ) -> [usize; 4] {
         let mut counts = [0usize; 4];
         if self.irregular.is_empty() {
             return counts;
@@ -581,7 +700,13 @@ impl Scene {
                 // a dot a bit over a quarter of the local projected edge length
                 let local = proj_sum[n] / len_cnt[n].max(1) as f64 / ss;
                 let radius = (0.28 * local).clamp(1.6 * k, 4.5 * k);
-                dots.push((p[2], p[0] as f64 / ss, p[1] as f64 / ss, radius, valence_color(v)));
+                dots.push((
+                    p[2],
+                    p[0] as f64 / ss,
+                    p[1] as f64 / ss,
+                    radius,
+                    valence_color(v),
+                ));
             }
         }
         dots.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -592,7 +717,14 @@ impl Scene {
     }
 
     /// Title and info lines at the top left.
-    fn draw_text_lines(&self, mesh: &QuadMesh, opts: &RenderOptions, rgba: &mut [u8], w: u32, h: u32) {
+    fn draw_text_lines(
+        &self,
+        mesh: &QuadMesh,
+        opts: &RenderOptions,
+        rgba: &mut [u8],
+        w: u32,
+        h: u32,
+    ) {
         let k = self.layout.k;
         let m = self.layout.margin as i64;
         let mut y = m;
@@ -603,20 +735,37 @@ impl Scene {
         if opts.show_info {
             // a triangle-only mesh (a background triangulation) has no quad counts
             let s = if mesh.quads.is_empty() && !mesh.triangles.is_empty() {
-                format!("{} triangles, {} nodes", thousands(mesh.triangles.len()), thousands(mesh.nodes.len()))
+                format!(
+                    "{} triangles, {} nodes",
+                    thousands(mesh.triangles.len()),
+                    thousands(mesh.nodes.len())
+                )
             } else {
                 let mut s = format!("{} quads", thousands(mesh.quads.len()));
                 if !mesh.triangles.is_empty() {
                     s += &format!(", {} triangles", thousands(mesh.triangles.len()));
                 }
-                s + &format!(", {} nodes, {} irregular vertices", thousands(mesh.nodes.len()), thousands(self.irregular.len()))
+                s + &format!(
+                    ", {} nodes, {} irregular vertices",
+                    thousands(mesh.nodes.len()),
+                    thousands(self.irregular.len())
+                )
             };
             let mut s = s;
             if let Some(v) = opts.quad_values {
-                let min = v.iter().copied().filter(|x| !x.is_nan()).fold(f64::INFINITY, f64::min);
+                let min = v
+                    .iter()
+                    .copied()
+                    .filter(|x| !x.is_nan())
+                    .fold(f64::INFINITY, f64::min);
                 let neg = v.iter().filter(|x| **x < 0.0).count();
                 if min.is_finite() {
-                    s += &format!(", min {} {:.3}, {} < 0", opts.values_label, min, thousands(neg));
+                    s += &format!(
+                        ", min {} {:.3}, {} < 0",
+                        opts.values_label,
+                        min,
+                        thousands(neg)
+                    );
                 }
             }
             font::draw_text(rgba, w, h, m, y, &s, k, [90, 90, 90]);
@@ -661,10 +810,37 @@ impl Scene {
             for x in 0..3 * k {
                 put(rgba, x0 + bar_w + x, y, TEXT);
             }
-            font::draw_text(rgba, w, h, x0 + bar_w + 5 * k, y - 3 * k, label, k as u32, TEXT);
+            font::draw_text(
+                rgba,
+                w,
+                h,
+                x0 + bar_w + 5 * k,
+                y - 3 * k,
+                label,
+                k as u32,
+                TEXT,
+            );
         }
-        font::draw_text(rgba, w, h, x0 + bar_w + 5 * k, sw_y + bar_w / 2 - 3 * k, "< 0", k as u32, TEXT);
-        font::draw_text(rgba, w, h, x0, y0 - 6 * k - (7 * k), opts.values_label, k as u32, TEXT);
+        font::draw_text(
+            rgba,
+            w,
+            h,
+            x0 + bar_w + 5 * k,
+            sw_y + bar_w / 2 - 3 * k,
+            "< 0",
+            k as u32,
+            TEXT,
+        );
+        font::draw_text(
+            rgba,
+            w,
+            h,
+            x0,
+            y0 - 6 * k - (7 * k),
+            opts.values_label,
+            k as u32,
+            TEXT,
+        );
     }
 
     /// "● 3: n  ● 5: n  ● 6+: n  ● other: n" at the left of text row `y`.
@@ -718,11 +894,25 @@ impl Scene {
     fn draw_overlay(&self, overlay: &Overlay, canvas: &Canvas, pixmap: &mut Pixmap) {
         let k = self.layout.k as f32;
         let px_world = 1.0 / self.camera.scale;
-        let width = if overlay.line_width > 0.0 { overlay.line_width } else { 1.5 };
-        let stroke = Stroke { width, line_cap: tiny_skia::LineCap::Round, ..Stroke::default() };
-        let mut paint = Paint { anti_alias: true, ..Paint::default() };
+        let width = if overlay.line_width > 0.0 {
+            overlay.line_width
+        } else {
+            1.5
+        };
+        let stroke = Stroke {
+            width,
+            line_cap: tiny_skia::LineCap::Round,
+            ..Stroke::default()
+        };
+        let mut paint = Paint {
+            anti_alias: true,
+            ..Paint::default()
+        };
         for s in &overlay.segments {
-            if s.normal.and_then(normalize).is_some_and(|n| dot(n, self.camera.eye).abs() < MIN_FACING) {
+            if s.normal
+                .and_then(normalize)
+                .is_some_and(|n| dot(n, self.camera.eye).abs() < MIN_FACING)
+            {
                 continue;
             }
             let mid = scale([s.a[0] + s.b[0], s.a[1] + s.b[1], s.a[2] + s.b[2]], 0.5);
@@ -738,7 +928,11 @@ impl Scene {
                 pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
             }
         }
-        let r = if overlay.point_radius > 0.0 { overlay.point_radius } else { 4.0 * k };
+        let r = if overlay.point_radius > 0.0 {
+            overlay.point_radius
+        } else {
+            4.0 * k
+        };
         let mut dots: Vec<(f64, [f64; 3], [u8; 3])> = overlay
             .points
             .iter()
@@ -773,18 +967,36 @@ fn l_px(proj: &[[f32; 3]], a: u32, b: u32) -> f64 {
 
 /// A filled, antialiased dot with a thin dark outline.
 fn draw_dot(pixmap: &mut Pixmap, x: f32, y: f32, r: f32, c: [u8; 3]) {
-    let Some(path) = PathBuilder::from_circle(x, y, r) else { return };
-    let mut paint = Paint { anti_alias: true, ..Paint::default() };
+    let Some(path) = PathBuilder::from_circle(x, y, r) else {
+        return;
+    };
+    let mut paint = Paint {
+        anti_alias: true,
+        ..Paint::default()
+    };
     paint.set_color_rgba8(c[0], c[1], c[2], 255);
-    pixmap.fill_path(&path, &paint, FillRule::Winding, Transform::identity(), None);
+    pixmap.fill_path(
+        &path,
+        &paint,
+        FillRule::Winding,
+        Transform::identity(),
+        None,
+    );
     paint.set_color_rgba8(20, 20, 20, 255);
-    let stroke = Stroke { width: (r * 0.22).clamp(0.8, 2.0), ..Stroke::default() };
+    let stroke = Stroke {
+        width: (r * 0.22).clamp(0.8, 2.0),
+        ..Stroke::default()
+    };
     pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
 }
 
 /// `1234567` → `"1,234,567"`.
 fn thousands(n: usize) -> String {
     let digits: Vec<char> = n.to_string().chars().collect();
-    let groups: Vec<String> = digits.rchunks(3).rev().map(|c| c.iter().collect()).collect();
+    let groups: Vec<String> = digits
+        .rchunks(3)
+        .rev()
+        .map(|c| c.iter().collect())
+        .collect();
     groups.join(",")
 }

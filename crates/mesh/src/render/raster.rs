@@ -27,7 +27,13 @@ impl Edge {
     pub(crate) fn new(a: [f32; 2], b: [f32; 2], half_width: f32, alpha: f32) -> Self {
         let d = [b[0] - a[0], b[1] - a[1]];
         let l2 = d[0] * d[0] + d[1] * d[1];
-        Edge { a, d, inv_len2: if l2 > 0.0 { 1.0 / l2 } else { 0.0 }, half_width, alpha }
+        Edge {
+            a,
+            d,
+            inv_len2: if l2 > 0.0 { 1.0 / l2 } else { 0.0 },
+            half_width,
+            alpha,
+        }
     }
 
     /// Distance from `p` to the segment, in canvas pixels.
@@ -72,14 +78,25 @@ pub(crate) struct Canvas {
 impl Canvas {
     /// A canvas cleared to `background`.
     pub(crate) fn new(w: usize, h: usize, ss: u32, background: [u8; 3]) -> Self {
-        Canvas { w, h, ss: ss as f32, color: vec![background; w * h], depth: vec![f32::NEG_INFINITY; w * h] }
+        Canvas {
+            w,
+            h,
+            ss: ss as f32,
+            color: vec![background; w * h],
+            depth: vec![f32::NEG_INFINITY; w * h],
+        }
     }
 
     /// Rasterizes the triangle `p` (x, y, depth) with `shade`, keeping the
     /// nearest surface at each pixel centre.
     pub(crate) fn fill_triangle(&mut self, p: [[f32; 3]; 3], shade: &Shade) {
         let [v0, mut v1, mut v2] = p;
-        if !v0.iter().chain(v1.iter()).chain(v2.iter()).all(|c| c.is_finite()) {
+        if !v0
+            .iter()
+            .chain(v1.iter())
+            .chain(v2.iter())
+            .all(|c| c.is_finite())
+        {
             return;
         }
         let mut area = (v1[0] - v0[0]) * (v2[1] - v0[1]) - (v1[1] - v0[1]) * (v2[0] - v0[0]);
@@ -145,7 +162,11 @@ impl Canvas {
                         }
                     }
                 }
-                self.color[i] = [c[0].clamp(0.0, 255.0) as u8, c[1].clamp(0.0, 255.0) as u8, c[2].clamp(0.0, 255.0) as u8];
+                self.color[i] = [
+                    c[0].clamp(0.0, 255.0) as u8,
+                    c[1].clamp(0.0, 255.0) as u8,
+                    c[2].clamp(0.0, 255.0) as u8,
+                ];
             }
         }
     }
@@ -183,7 +204,12 @@ mod tests {
     use super::*;
 
     fn plain(fill: [f32; 3]) -> Shade {
-        Shade { fill, edge_color: [0.0; 3], edges: [Edge::default(); 4], n_edges: 0 }
+        Shade {
+            fill,
+            edge_color: [0.0; 3],
+            edges: [Edge::default(); 4],
+            n_edges: 0,
+        }
     }
 
     #[test]
@@ -193,11 +219,19 @@ mod tests {
             let far = [[0.0, 0.0, 0.0], [20.0, 0.0, 0.0], [0.0, 20.0, 0.0]];
             let near = [[0.0, 0.0, 1.0], [0.0, 20.0, 1.0], [20.0, 0.0, 1.0]]; // clockwise on purpose
             let (a, b) = if order == 0 { (far, near) } else { (near, far) };
-            let (sa, sb) = if order == 0 { (plain([10.0; 3]), plain([200.0; 3])) } else { (plain([200.0; 3]), plain([10.0; 3])) };
+            let (sa, sb) = if order == 0 {
+                (plain([10.0; 3]), plain([200.0; 3]))
+            } else {
+                (plain([200.0; 3]), plain([10.0; 3]))
+            };
             c.fill_triangle(a, &sa);
             c.fill_triangle(b, &sb);
             assert_eq!(c.color[2 * 20 + 2], [200, 200, 200]);
-            assert_eq!(c.color[19 * 20 + 19], [255, 255, 255], "outside stays background");
+            assert_eq!(
+                c.color[19 * 20 + 19],
+                [255, 255, 255],
+                "outside stays background"
+            );
         }
     }
 
@@ -209,9 +243,20 @@ mod tests {
         s.n_edges = 1;
         c.fill_triangle([[0.0, 0.0, 0.0], [40.0, 0.0, 0.0], [0.0, 40.0, 0.0]], &s);
         c.fill_triangle([[40.0, 0.0, 0.0], [40.0, 40.0, 0.0], [0.0, 40.0, 0.0]], &s);
-        assert!(c.color[20 * 40 + 10][0] <= 100 && c.color[19 * 40 + 10][0] <= 100, "on the edge: dark");
-        assert_eq!(c.color[22 * 40 + 10], [200, 200, 200], "two pixels off the edge: fill");
-        assert_eq!(c.color[10 * 40 + 10], [200, 200, 200], "far from the edge: fill");
+        assert!(
+            c.color[20 * 40 + 10][0] <= 100 && c.color[19 * 40 + 10][0] <= 100,
+            "on the edge: dark"
+        );
+        assert_eq!(
+            c.color[22 * 40 + 10],
+            [200, 200, 200],
+            "two pixels off the edge: fill"
+        );
+        assert_eq!(
+            c.color[10 * 40 + 10],
+            [200, 200, 200],
+            "far from the edge: fill"
+        );
         let (w, h, img) = c.downsample(2);
         assert_eq!((w, h, img.len()), (20, 20, 20 * 20 * 4));
     }
@@ -219,9 +264,22 @@ mod tests {
     #[test]
     fn degenerate_and_offscreen_triangles_are_skipped() {
         let mut c = Canvas::new(10, 10, 1, [0, 0, 0]);
-        c.fill_triangle([[1.0, 1.0, 0.0], [2.0, 2.0, 0.0], [3.0, 3.0, 0.0]], &plain([9.0; 3]));
-        c.fill_triangle([[-50.0, -50.0, 0.0], [-40.0, -50.0, 0.0], [-50.0, -40.0, 0.0]], &plain([9.0; 3]));
-        c.fill_triangle([[f32::NAN, 1.0, 0.0], [2.0, 2.0, 0.0], [3.0, 1.0, 0.0]], &plain([9.0; 3]));
+        c.fill_triangle(
+            [[1.0, 1.0, 0.0], [2.0, 2.0, 0.0], [3.0, 3.0, 0.0]],
+            &plain([9.0; 3]),
+        );
+        c.fill_triangle(
+            [
+                [-50.0, -50.0, 0.0],
+                [-40.0, -50.0, 0.0],
+                [-50.0, -40.0, 0.0],
+            ],
+            &plain([9.0; 3]),
+        );
+        c.fill_triangle(
+            [[f32::NAN, 1.0, 0.0], [2.0, 2.0, 0.0], [3.0, 1.0, 0.0]],
+            &plain([9.0; 3]),
+        );
         assert!(c.color.iter().all(|p| *p == [0, 0, 0]));
     }
 }

@@ -38,7 +38,9 @@ pub fn imports() -> &'static Vec<(String, occt::Import)> {
 
 /// The uv polylines of every loop of a face (open: last point ≠ first).
 pub fn loop_polys(model: &Model, f: usize, samples: usize) -> Vec<Vec<[f64; 2]>> {
-    (0..model.faces[f].loops.len()).map(|l| model.loop_uv_polyline(FaceId(f as u32), l, samples)).collect()
+    (0..model.faces[f].loops.len())
+        .map(|l| model.loop_uv_polyline(FaceId(f as u32), l, samples))
+        .collect()
 }
 
 /// Even-odd point-in-polygon over all loops.
@@ -70,7 +72,11 @@ pub fn dist_to_loops(polys: &[Vec<[f64; 2]>], p: [f64; 2]) -> f64 {
             let b = poly[(i + 1) % n];
             let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
             let l2 = dx * dx + dy * dy;
-            let t = if l2 > 0.0 { (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0) } else { 0.0 };
+            let t = if l2 > 0.0 {
+                (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             let (qx, qy) = (a[0] + t * dx - p[0], a[1] + t * dy - p[1]);
             best = best.min((qx * qx + qy * qy).sqrt());
         }

@@ -18,7 +18,11 @@ fn rotated_grid(n: usize, i: usize, j: usize) -> (QuadPatch, [u32; 4]) {
                 _ => NodeRef::Curve(CurveId(0), id(x, y)),
             };
             let uv = [x as f64 / n as f64, y as f64 / n as f64];
-            p.nodes.push(LocalNode { uv, node, pole: None });
+            p.nodes.push(LocalNode {
+                uv,
+                node,
+                pole: None,
+            });
             p.pos.push([uv[0], uv[1], 0.0]);
         }
     }
@@ -27,7 +31,8 @@ fn rotated_grid(n: usize, i: usize, j: usize) -> (QuadPatch, [u32; 4]) {
             if y == j && (x == i || x == i + 1) {
                 continue;
             }
-            p.quads.push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
+            p.quads
+                .push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
         }
     }
     let (a, b, e) = (id(i, j), id(i + 1, j), id(i + 2, j));
@@ -60,12 +65,17 @@ fn valences(p: &QuadPatch) -> Vec<usize> {
 
 fn inner_irregular(p: &QuadPatch) -> usize {
     let val = valences(p);
-    (0..p.nodes.len()).filter(|&v| p.nodes[v].node == NodeRef::Interior && val[v] > 0 && val[v] != 4).count()
+    (0..p.nodes.len())
+        .filter(|&v| p.nodes[v].node == NodeRef::Interior && val[v] > 0 && val[v] != 4)
+        .count()
 }
 
 fn assert_valid_disk(face: &Face, p: &QuadPatch) {
     for q in &p.quads {
-        assert!(quad_quality(face, &p.nodes, &p.pos, q) > 0.0, "quad {q:?} invalid");
+        assert!(
+            quad_quality(face, &p.nodes, &p.pos, q) > 0.0,
+            "quad {q:?} invalid"
+        );
     }
     let val = valences(p);
     let used = val.iter().filter(|&&k| k > 0).count() as i64;
@@ -75,35 +85,79 @@ fn assert_valid_disk(face: &Face, p: &QuadPatch) {
             edges.insert(edge_key(q[k], q[(k + 1) % 4]));
         }
     }
-    assert_eq!(used - edges.len() as i64 + p.quads.len() as i64, 1, "Euler characteristic of a disk");
+    assert_eq!(
+        used - edges.len() as i64 + p.quads.len() as i64,
+        1,
+        "Euler characteristic of a disk"
+    );
 }
 
-fn snapshot(p: &QuadPatch) -> (Vec<[u32; 4]>, Vec<u32>, Vec<[f64; 2]>, Vec<[f64; 3]>, Vec<NodeRef>) {
-    (p.quads.clone(), p.quad_tri.clone(), p.nodes.iter().map(|n| n.uv).collect(), p.pos.clone(), p.nodes.iter().map(|n| n.node).collect())
+fn snapshot(
+    p: &QuadPatch,
+) -> (
+    Vec<[u32; 4]>,
+    Vec<u32>,
+    Vec<[f64; 2]>,
+    Vec<[f64; 3]>,
+    Vec<NodeRef>,
+) {
+    (
+        p.quads.clone(),
+        p.quad_tri.clone(),
+        p.nodes.iter().map(|n| n.uv).collect(),
+        p.pos.clone(),
+        p.nodes.iter().map(|n| n.node).collect(),
+    )
 }
 
 fn singularity(index: i32, position: Vec3) -> Singularity {
-    Singularity { index, position, site: SingularitySite::Vertex(0) }
+    Singularity {
+        index,
+        position,
+        site: SingularitySite::Vertex(0),
+    }
 }
 
 #[test]
 fn step_one_makes_a_grid_with_two_pairs_fully_regular() {
     let model = primitives::square(1.0);
     let face = &model.faces[0];
-    assert_eq!(face.surface.eval([0.25, 0.5]), [0.25, 0.5, 0.0], "the test assumes uv = xy");
+    assert_eq!(
+        face.surface.eval([0.25, 0.5]),
+        [0.25, 0.5, 0.0],
+        "the test assumes uv = xy"
+    );
     let n = 8;
     let (mut p, [b, c, d, e]) = rotated_grid(n, 3, 3);
     let val = valences(&p);
-    assert_eq!([val[b as usize], val[c as usize], val[d as usize], val[e as usize]], [3, 3, 5, 5]);
+    assert_eq!(
+        [
+            val[b as usize],
+            val[c as usize],
+            val[d as usize],
+            val[e as usize]
+        ],
+        [3, 3, 5, 5]
+    );
     assert_valid_disk(face, &p);
-    let boundary_before: Vec<(usize, [f64; 3])> = (0..p.nodes.len()).filter(|&v| p.nodes[v].node != NodeRef::Interior).map(|v| (v, p.pos[v])).collect();
-    let opts = CavityOptions { steps: [true, false, false, false], ..Default::default() };
+    let boundary_before: Vec<(usize, [f64; 3])> = (0..p.nodes.len())
+        .filter(|&v| p.nodes[v].node != NodeRef::Interior)
+        .map(|v| (v, p.pos[v]))
+        .collect();
+    let opts = CavityOptions {
+        steps: [true, false, false, false],
+        ..Default::default()
+    };
     let r = remesh_cavities(face, &mut p, &[], &opts);
     assert_eq!(r.irregular_before, 4);
     assert_eq!(r.irregular_after, 0, "{r:?}");
     assert!(r.replaced[0] >= 1, "{r:?}");
     assert_eq!(inner_irregular(&p), 0);
-    assert_eq!(p.quads.len(), n * n, "a regular disk with sides n is the n × n grid");
+    assert_eq!(
+        p.quads.len(),
+        n * n,
+        "a regular disk with sides n is the n × n grid"
+    );
     assert_eq!(p.quad_tri.len(), p.quads.len());
     assert_valid_disk(face, &p);
     // the face boundary did not move
@@ -119,7 +173,10 @@ fn a_singular_vertex_is_never_removed() {
     let (mut p, [b, _, _, _]) = rotated_grid(8, 3, 3);
     // a cross-field singularity of index +1 right at b (valence 3)
     let sing = [singularity(1, p.pos[b as usize])];
-    let opts = CavityOptions { steps: [true, false, true, true], ..Default::default() };
+    let opts = CavityOptions {
+        steps: [true, false, true, true],
+        ..Default::default()
+    };
     let r = remesh_cavities(face, &mut p, &sing, &opts);
     assert_eq!(r.singular, 1);
     assert_eq!(valences(&p)[b as usize], 3, "{r:?}");
@@ -138,7 +195,9 @@ fn a_singular_vertex_is_never_removed() {
 fn rotate_edge(p: &mut QuadPatch, q1: usize, q2: usize) {
     let (a, b) = (p.quads[q1], p.quads[q2]);
     // q1 = [a, x, y, d] with x → y the shared edge, q2 = [x, e, f, y]
-    let k = (0..4).find(|&k| b.contains(&a[k]) && b.contains(&a[(k + 1) % 4])).expect("a shared edge");
+    let k = (0..4)
+        .find(|&k| b.contains(&a[k]) && b.contains(&a[(k + 1) % 4]))
+        .expect("a shared edge");
     let r1 = [a[(k + 3) % 4], a[k], a[(k + 1) % 4], a[(k + 2) % 4]];
     let (x, y) = (r1[1], r1[2]);
     let m = b.iter().position(|&v| v == x).unwrap();
@@ -164,7 +223,9 @@ fn step_two_absorbs_two_pairs_into_a_pentagon_singularity() {
     let p5 = library().iter().find(|p| p.name == "P5").unwrap();
     let r = refine(p5, &[4; 5]);
     let mut p = QuadPatch::default();
-    let on_boundary: Vec<bool> = (0..r.coords.len() as u32).map(|v| r.boundary.contains(&v)).collect();
+    let on_boundary: Vec<bool> = (0..r.coords.len() as u32)
+        .map(|v| r.boundary.contains(&v))
+        .collect();
     for (v, c) in r.coords.iter().enumerate() {
         let uv = [0.5 + 0.45 * c[0], 0.5 + 0.45 * c[1]];
         let node = if !on_boundary[v] {
@@ -174,13 +235,19 @@ fn step_two_absorbs_two_pairs_into_a_pentagon_singularity() {
         } else {
             NodeRef::Curve(CurveId(0), v as u32)
         };
-        p.nodes.push(LocalNode { uv, node, pole: None });
+        p.nodes.push(LocalNode {
+            uv,
+            node,
+            pole: None,
+        });
         p.pos.push([uv[0], uv[1], 0.0]);
     }
     p.quads = r.quads.clone();
     p.quad_tri = (0..p.quads.len() as u32).collect();
     let val = valences(&p);
-    let centre = (0..p.nodes.len()).find(|&v| !on_boundary[v] && val[v] == 5).unwrap() as u32;
+    let centre = (0..p.nodes.len())
+        .find(|&v| !on_boundary[v] && val[v] == 5)
+        .unwrap() as u32;
     assert_eq!(inner_irregular(&p), 1);
     assert_valid_disk(face, &p);
     // rotate an edge two to three edge lengths from the centre, away from it and the boundary
@@ -192,10 +259,17 @@ fn step_two_absorbs_two_pairs_into_a_pentagon_singularity() {
         for q2 in q1 + 1..p.quads.len() {
             let (a, b) = (p.quads[q1], p.quads[q2]);
             let shared: Vec<u32> = a.iter().copied().filter(|v| b.contains(v)).collect();
-            if shared.len() != 2 || !interior_quad(&a) || !interior_quad(&b) || a.iter().chain(&b).any(|&v| val[v as usize] != 4) {
+            if shared.len() != 2
+                || !interior_quad(&a)
+                || !interior_quad(&b)
+                || a.iter().chain(&b).any(|&v| val[v as usize] != 4)
+            {
                 continue;
             }
-            let mid = vec3::scale(vec3::add(p.pos[shared[0] as usize], p.pos[shared[1] as usize]), 0.5);
+            let mid = vec3::scale(
+                vec3::add(p.pos[shared[0] as usize], p.pos[shared[1] as usize]),
+                0.5,
+            );
             let dist = vec3::dist(mid, c);
             if dist > 2.0 * h && dist < 3.5 * h {
                 pick = Some((q1, q2));
@@ -208,13 +282,19 @@ fn step_two_absorbs_two_pairs_into_a_pentagon_singularity() {
     assert_eq!(inner_irregular(&p), 5);
     assert_valid_disk(face, &p);
     let sing = [singularity(-1, c)];
-    let opts = CavityOptions { steps: [false, true, false, false], ..Default::default() };
+    let opts = CavityOptions {
+        steps: [false, true, false, false],
+        ..Default::default()
+    };
     let rep = remesh_cavities(face, &mut p, &sing, &opts);
     assert_eq!(rep.singular, 1);
     assert!(rep.replaced[1] >= 1, "{rep:?}");
     assert_eq!(rep.irregular_after, 1, "{rep:?}");
     let val = valences(&p);
-    let left: Vec<usize> = (0..p.nodes.len()).filter(|&v| p.nodes[v].node == NodeRef::Interior && val[v] > 0 && val[v] != 4).map(|v| val[v]).collect();
+    let left: Vec<usize> = (0..p.nodes.len())
+        .filter(|&v| p.nodes[v].node == NodeRef::Interior && val[v] > 0 && val[v] != 4)
+        .map(|v| val[v])
+        .collect();
     assert_eq!(left, vec![5], "only the singularity is left");
     assert_valid_disk(face, &p);
 }
@@ -239,7 +319,15 @@ fn the_work_cap_stops_early_and_bad_input_is_refused() {
     let face = &model.faces[0];
     let (mut p, _) = rotated_grid(8, 3, 3);
     let before = snapshot(&p);
-    let r = remesh_cavities(face, &mut p, &[], &CavityOptions { max_work: Some(0), ..Default::default() });
+    let r = remesh_cavities(
+        face,
+        &mut p,
+        &[],
+        &CavityOptions {
+            max_work: Some(0),
+            ..Default::default()
+        },
+    );
     assert!(r.capped);
     assert_eq!(r.replaced, [0; 4]);
     assert_eq!(before, snapshot(&p));

@@ -13,14 +13,18 @@
 use faer::c64;
 
 use super::linsolve::{LowerPattern, SparseSpd};
-use super::topology::{conj, cmul, Cplx, FaceTopology, NONE};
+use super::topology::{cmul, conj, Cplx, FaceTopology, NONE};
 use super::CrossFieldError;
 use geometry::vec3;
 
 /// Scalar CR stiffness of triangle `t`: `k_ab = (e_a · e_b) / |T|`, where
 /// `e_a` is the edge vector opposite local vertex `a`.
 pub fn cr_stiffness(topo: &FaceTopology, t: usize) -> [[f64; 3]; 3] {
-    let e = [topo.opposite_edge_vector(t, 0), topo.opposite_edge_vector(t, 1), topo.opposite_edge_vector(t, 2)];
+    let e = [
+        topo.opposite_edge_vector(t, 0),
+        topo.opposite_edge_vector(t, 1),
+        topo.opposite_edge_vector(t, 2),
+    ];
     let inv = 1.0 / topo.areas[t];
     let mut k = [[0.0; 3]; 3];
     for a in 0..3 {
@@ -50,7 +54,12 @@ pub struct CrSystem {
 /// Assembles the CR system on the triangles where `active[t]` holds, with the
 /// unknowns on the edges where `fixed[e]` is false (and that touch an active
 /// triangle). `u` provides the values of the fixed edges.
-pub fn assemble(topo: &FaceTopology, active: &[bool], fixed: &[bool], u: &[Cplx]) -> Result<CrSystem, CrossFieldError> {
+pub fn assemble(
+    topo: &FaceTopology,
+    active: &[bool],
+    fixed: &[bool],
+    u: &[Cplx],
+) -> Result<CrSystem, CrossFieldError> {
     let ne = topo.edges.len();
     let mut index = vec![NONE; ne];
     let mut free = Vec::new();
@@ -58,7 +67,9 @@ pub fn assemble(topo: &FaceTopology, active: &[bool], fixed: &[bool], u: &[Cplx]
         if fixed[e] {
             continue;
         }
-        let touches = topo.edge_tris[e].iter().any(|&t| t != NONE && active[t as usize]);
+        let touches = topo.edge_tris[e]
+            .iter()
+            .any(|&t| t != NONE && active[t as usize]);
         if touches {
             index[e] = free.len() as u32;
             free.push(e as u32);
@@ -111,7 +122,9 @@ pub fn assemble(topo: &FaceTopology, active: &[bool], fixed: &[bool], u: &[Cplx]
                 }
                 let ib = ib as usize;
                 if ia >= ib {
-                    let p = pattern.position(ia, ib).ok_or_else(|| CrossFieldError::Solver("pattern is missing an entry".into()))?;
+                    let p = pattern.position(ia, ib).ok_or_else(|| {
+                        CrossFieldError::Solver("pattern is missing an entry".into())
+                    })?;
                     stiffness[p] += c64::new(kab[0], kab[1]);
                 }
             }
@@ -122,5 +135,11 @@ pub fn assemble(topo: &FaceTopology, active: &[bool], fixed: &[bool], u: &[Cplx]
     // dissection of `linsolve` (disk: 5.6M vs 6.1M entries; pentagon: 4.7M
     // vs 6.3M), and its symbolic analysis is faster as well.
     let spd = SparseSpd::analyze(pattern, None)?;
-    Ok(CrSystem { free, spd, stiffness, mass, coupling })
+    Ok(CrSystem {
+        free,
+        spd,
+        stiffness,
+        mass,
+        coupling,
+    })
 }

@@ -13,7 +13,11 @@ use super::{FaceMesh, VertexClass};
 
 fn key(p: [f64; 3]) -> [u64; 3] {
     // +0.0 and −0.0 are the same point
-    [(p[0] + 0.0).to_bits(), (p[1] + 0.0).to_bits(), (p[2] + 0.0).to_bits()]
+    [
+        (p[0] + 0.0).to_bits(),
+        (p[1] + 0.0).to_bits(),
+        (p[2] + 0.0).to_bits(),
+    ]
 }
 
 /// A convex polygon in the z = 0 plane (vertices counter-clockwise), split
@@ -22,7 +26,10 @@ fn key(p: [f64; 3]) -> [u64; 3] {
 pub fn convex_polygon(corners: &[[f64; 2]], n: usize) -> FaceMesh {
     let m = corners.len();
     let n = n.max(1);
-    let c = [corners.iter().map(|p| p[0]).sum::<f64>() / m as f64, corners.iter().map(|p| p[1]).sum::<f64>() / m as f64];
+    let c = [
+        corners.iter().map(|p| p[0]).sum::<f64>() / m as f64,
+        corners.iter().map(|p| p[1]).sum::<f64>() / m as f64,
+    ];
     let mut mesh = FaceMesh::default();
     let mut ids: BTreeMap<[u64; 3], u32> = BTreeMap::new();
     for k in 0..m {
@@ -31,7 +38,11 @@ pub fn convex_polygon(corners: &[[f64; 2]], n: usize) -> FaceMesh {
         for i in 0..=n {
             for j in 0..=n - i {
                 let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
-                let p = [c[0] + (b[0] - c[0]) * s + (d[0] - c[0]) * t, c[1] + (b[1] - c[1]) * s + (d[1] - c[1]) * t, 0.0];
+                let p = [
+                    c[0] + (b[0] - c[0]) * s + (d[0] - c[0]) * t,
+                    c[1] + (b[1] - c[1]) * s + (d[1] - c[1]) * t,
+                    0.0,
+                ];
                 let class = if i + j < n {
                     VertexClass::Interior
                 } else if i == n {
@@ -52,9 +63,11 @@ pub fn convex_polygon(corners: &[[f64; 2]], n: usize) -> FaceMesh {
         }
         for i in 0..n {
             for j in 0..n - i {
-                mesh.triangles.push([local[i][j], local[i + 1][j], local[i][j + 1]]);
+                mesh.triangles
+                    .push([local[i][j], local[i + 1][j], local[i][j + 1]]);
                 if i + j + 1 < n {
-                    mesh.triangles.push([local[i + 1][j], local[i + 1][j + 1], local[i][j + 1]]);
+                    mesh.triangles
+                        .push([local[i + 1][j], local[i + 1][j + 1], local[i][j + 1]]);
                 }
             }
         }

@@ -14,7 +14,10 @@
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymbolicCholeskyRaw, SymmetricOrdering,
+};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::traits::ComplexField;
@@ -48,7 +51,11 @@ impl LowerPattern {
             row_idx.extend(rows.iter().copied().filter(|&r| r > j));
             col_ptr.push(row_idx.len());
         }
-        LowerPattern { n, col_ptr, row_idx }
+        LowerPattern {
+            n,
+            col_ptr,
+            row_idx,
+        }
     }
 
     /// Number of stored entries.
@@ -136,9 +143,15 @@ pub fn nested_dissection(pattern: &LowerPattern, coords: &[[f64; 3]]) -> Vec<usi
                 hi[k] = hi[k].max(coords[v as usize][k]);
             }
         }
-        let axis = (0..3).max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b]))).unwrap_or(0);
+        let axis = (0..3)
+            .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
+            .unwrap_or(0);
         let mid = nodes.len() / 2;
-        nodes.select_nth_unstable_by(mid, |&a, &b| coords[a as usize][axis].total_cmp(&coords[b as usize][axis]).then(a.cmp(&b)));
+        nodes.select_nth_unstable_by(mid, |&a, &b| {
+            coords[a as usize][axis]
+                .total_cmp(&coords[b as usize][axis])
+                .then(a.cmp(&b))
+        });
         let right: Vec<u32> = nodes[mid..].to_vec();
         stamp += 1;
         for &v in &right {
@@ -146,7 +159,9 @@ pub fn nested_dissection(pattern: &LowerPattern, coords: &[[f64; 3]]) -> Vec<usi
         }
         let (mut left, mut sep) = (Vec::with_capacity(mid), Vec::new());
         for &v in &nodes[..mid] {
-            let touches = adj[ptr[v as usize]..ptr[v as usize + 1]].iter().any(|&w| mark[w as usize] == stamp);
+            let touches = adj[ptr[v as usize]..ptr[v as usize + 1]]
+                .iter()
+                .any(|&w| mark[w as usize] == stamp);
             if touches {
                 sep.push(v);
             } else {
@@ -185,16 +200,26 @@ impl SparseSpd {
     /// Symbolic analysis of `pattern` (ordering + elimination tree); done once.
     /// With `coords` (one point per unknown) the ordering is the geometric
     /// nested dissection of [`nested_dissection`], else faer's AMD.
-    pub fn analyze(pattern: LowerPattern, coords: Option<&[[f64; 3]]>) -> Result<SparseSpd, CrossFieldError> {
+    pub fn analyze(
+        pattern: LowerPattern,
+        coords: Option<&[[f64; 3]]>,
+    ) -> Result<SparseSpd, CrossFieldError> {
         Self::analyze_with(pattern, coords, SupernodalThreshold::AUTO)
     }
 
     /// [`SparseSpd::analyze`] with faer's choice between the simplicial and
     /// the supernodal factorization forced, or left to faer
     /// ([`SupernodalThreshold::AUTO`]).
-    pub fn analyze_with(pattern: LowerPattern, coords: Option<&[[f64; 3]]>, threshold: SupernodalThreshold) -> Result<SparseSpd, CrossFieldError> {
+    pub fn analyze_with(
+        pattern: LowerPattern,
+        coords: Option<&[[f64; 3]]>,
+        threshold: SupernodalThreshold,
+    ) -> Result<SparseSpd, CrossFieldError> {
         let err = |e| CrossFieldError::Solver(format!("symbolic Cholesky failed: {e:?}"));
-        let params = CholeskySymbolicParams { supernodal_flop_ratio_threshold: threshold, ..Default::default() };
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: threshold,
+            ..Default::default()
+        };
         let symbolic = match coords {
             Some(c) if c.len() == pattern.n && pattern.n > 64 => {
                 let fwd = nested_dissection(&pattern, c);
@@ -203,9 +228,21 @@ impl SparseSpd {
                     inv[v] = k;
                 }
                 let perm = PermRef::new_checked(&fwd, &inv, pattern.n);
-                factorize_symbolic_cholesky(pattern.symbolic(), Side::Lower, SymmetricOrdering::Custom(perm), params).map_err(err)?
+                factorize_symbolic_cholesky(
+                    pattern.symbolic(),
+                    Side::Lower,
+                    SymmetricOrdering::Custom(perm),
+                    params,
+                )
+                .map_err(err)?
             }
-            _ => factorize_symbolic_cholesky(pattern.symbolic(), Side::Lower, SymmetricOrdering::Amd, params).map_err(err)?,
+            _ => factorize_symbolic_cholesky(
+                pattern.symbolic(),
+                Side::Lower,
+                SymmetricOrdering::Amd,
+                params,
+            )
+            .map_err(err)?,
         };
         Ok(SparseSpd { pattern, symbolic })
     }
@@ -221,12 +258,20 @@ impl SparseSpd {
     pub fn factor<T: ComplexField>(&self, values: &[T]) -> Result<Factor<'_, T>, CrossFieldError> {
         let oom = |_| CrossFieldError::Solver("out of memory".into());
         let mut l = Vec::new();
-        l.try_reserve_exact(self.symbolic.len_val()).map_err(|_| CrossFieldError::Solver("out of memory".into()))?;
+        l.try_reserve_exact(self.symbolic.len_val())
+            .map_err(|_| CrossFieldError::Solver("out of memory".into()))?;
         l.resize(self.symbolic.len_val(), T::zero_impl());
-        let factor_scratch = MemBuffer::try_new(self.symbolic.factorize_numeric_llt_scratch::<T>(Par::Seq, Default::default())).map_err(oom)?;
-        let scratch = MemBuffer::try_new(self.symbolic.solve_in_place_scratch::<T>(1, Par::Seq)).map_err(oom)?;
+        let factor_scratch = MemBuffer::try_new(
+            self.symbolic
+                .factorize_numeric_llt_scratch::<T>(Par::Seq, Default::default()),
+        )
+        .map_err(oom)?;
+        let scratch = MemBuffer::try_new(self.symbolic.solve_in_place_scratch::<T>(1, Par::Seq))
+            .map_err(oom)?;
         let max_pattern = match self.symbolic.raw() {
-            SymbolicCholeskyRaw::Supernodal(sym) => sym.nnz_per_super().iter().copied().max().unwrap_or(0),
+            SymbolicCholeskyRaw::Supernodal(sym) => {
+                sym.nnz_per_super().iter().copied().max().unwrap_or(0)
+            }
             SymbolicCholeskyRaw::Simplicial(_) => 0,
         };
         let mut f = Factor {
@@ -246,20 +291,38 @@ impl SparseSpd {
     /// of this pattern, reusing its buffers (the factor of a 100k-triangle
     /// face holds about 90 MB, whose allocation, zeroing and page faults
     /// cost up to a tenth of a factorization).
-    pub fn refactor<T: ComplexField>(&self, values: &[T], f: &mut Factor<'_, T>) -> Result<(), CrossFieldError> {
+    pub fn refactor<T: ComplexField>(
+        &self,
+        values: &[T],
+        f: &mut Factor<'_, T>,
+    ) -> Result<(), CrossFieldError> {
         if values.len() != self.pattern.nnz() {
-            return Err(CrossFieldError::Solver("value count does not match the pattern".into()));
+            return Err(CrossFieldError::Solver(
+                "value count does not match the pattern".into(),
+            ));
         }
         if !std::ptr::eq(f.symbolic, &self.symbolic) {
-            return Err(CrossFieldError::Solver("factorization of another pattern".into()));
+            return Err(CrossFieldError::Solver(
+                "factorization of another pattern".into(),
+            ));
         }
         if matches!(self.symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_)) {
             f.values.fill(T::zero_impl());
         }
         let mat = SparseColMatRef::new(self.pattern.symbolic(), values);
         self.symbolic
-            .factorize_numeric_llt::<T>(&mut f.values, mat, Side::Lower, Default::default(), Par::Seq, MemStack::new(&mut f.factor_scratch), Default::default())
-            .map_err(|e| CrossFieldError::Solver(format!("Cholesky factorization failed: {e:?}")))?;
+            .factorize_numeric_llt::<T>(
+                &mut f.values,
+                mat,
+                Side::Lower,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut f.factor_scratch),
+                Default::default(),
+            )
+            .map_err(|e| {
+                CrossFieldError::Solver(format!("Cholesky factorization failed: {e:?}"))
+            })?;
         if let SymbolicCholeskyRaw::Supernodal(sym) = self.symbolic.raw() {
             f.inv_diag.clear();
             for s in 0..sym.n_supernodes() {
@@ -267,7 +330,10 @@ impl SparseSpd {
                 let nrows = end - start + sym.nnz_per_super()[s];
                 let block = &f.values[sym.col_ptr_for_val()[s]..];
                 for j in 0..end - start {
-                    f.inv_diag.push(<T::Real as ComplexField>::recip_impl(&T::real_part_impl(&block[j * nrows + j])));
+                    f.inv_diag
+                        .push(<T::Real as ComplexField>::recip_impl(&T::real_part_impl(
+                            &block[j * nrows + j],
+                        )));
                 }
             }
         }
@@ -285,7 +351,12 @@ impl<T: ComplexField> Factor<'_, T> {
         }
         let m = MatMut::from_column_major_slice_mut(rhs, self.n, 1);
         let mut buf = self.scratch.borrow_mut();
-        LltRef::new(self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, m, Par::Seq, MemStack::new(&mut buf));
+        LltRef::new(self.symbolic, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            m,
+            Par::Seq,
+            MemStack::new(&mut buf),
+        );
     }
 
     /// `L Lᴴ x = b` on the supernodal factor, one right-hand side. faer's
@@ -402,7 +473,12 @@ impl<T: ComplexField> Factor<'_, T> {
                 let c1 = &block[(j + 1) * nrows + ncols..(j + 2) * nrows];
                 let c2 = &block[(j + 2) * nrows + ncols..(j + 3) * nrows];
                 let c3 = &block[(j + 3) * nrows + ncols..(j + 4) * nrows];
-                let (mut a0, mut a1, mut a2, mut a3) = (T::zero_impl(), T::zero_impl(), T::zero_impl(), T::zero_impl());
+                let (mut a0, mut a1, mut a2, mut a3) = (
+                    T::zero_impl(),
+                    T::zero_impl(),
+                    T::zero_impl(),
+                    T::zero_impl(),
+                );
                 for p in 0..np {
                     let gp = &g[p];
                     a0 += T::conj_impl(&c0[p]) * gp;
@@ -435,7 +511,12 @@ impl<T: ComplexField> Factor<'_, T> {
             for j in (0..ncols).rev() {
                 let col = &block[j * nrows..j * nrows + ncols];
                 let (c, below) = (&col[j + 1..], &xs[j + 1..]);
-                let (mut a0, mut a1, mut a2, mut a3) = (T::zero_impl(), T::zero_impl(), T::zero_impl(), T::zero_impl());
+                let (mut a0, mut a1, mut a2, mut a3) = (
+                    T::zero_impl(),
+                    T::zero_impl(),
+                    T::zero_impl(),
+                    T::zero_impl(),
+                );
                 let m = c.len();
                 let mut i = 0;
                 while i + 4 <= m {
@@ -470,7 +551,9 @@ fn prefetch<T>(v: &T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: a prefetch is only a hint; `v` is a valid reference.
     unsafe {
-        core::arch::x86_64::_mm_prefetch::<{ core::arch::x86_64::_MM_HINT_T0 }>(v as *const T as *const i8);
+        core::arch::x86_64::_mm_prefetch::<{ core::arch::x86_64::_MM_HINT_T0 }>(
+            v as *const T as *const i8,
+        );
     }
     #[cfg(not(target_arch = "x86_64"))]
     let _ = v;
@@ -488,7 +571,9 @@ mod tests {
         let topo = super::super::FaceTopology::build(&mesh).unwrap();
         let fixed = topo.feature.clone();
         let u = vec![[1.0, 0.0]; topo.edges.len()];
-        let sys = super::super::assembly::assemble(&topo, &vec![true; topo.triangles.len()], &fixed, &u).unwrap();
+        let sys =
+            super::super::assembly::assemble(&topo, &vec![true; topo.triangles.len()], &fixed, &u)
+                .unwrap();
         let mut vals: Vec<c64> = sys.stiffness.iter().map(|k| k * 0.01).collect();
         for j in 0..sys.free.len() {
             vals[sys.spd.pattern.diag(j)] += c64::new(sys.mass[j], 0.0);
@@ -524,10 +609,15 @@ mod tests {
     #[test]
     fn supernodal_and_simplicial_solves_agree() {
         let (p, vals, coords) = disk_system(30);
-        let b: Vec<c64> = (0..p.n).map(|i| c64::new((i as f64 * 0.37).sin(), (i as f64 * 0.11).cos())).collect();
+        let b: Vec<c64> = (0..p.n)
+            .map(|i| c64::new((i as f64 * 0.37).sin(), (i as f64 * 0.11).cos()))
+            .collect();
         let mut xs = Vec::new();
         for ordering in [Some(&coords[..]), None] {
-            for threshold in [SupernodalThreshold::FORCE_SUPERNODAL, SupernodalThreshold::FORCE_SIMPLICIAL] {
+            for threshold in [
+                SupernodalThreshold::FORCE_SUPERNODAL,
+                SupernodalThreshold::FORCE_SIMPLICIAL,
+            ] {
                 let spd = SparseSpd::analyze_with(p.clone(), ordering, threshold).unwrap();
                 let f = spd.factor(&vals).unwrap();
                 let mut x = b.clone();
@@ -537,12 +627,21 @@ mod tests {
             }
         }
         for x in &xs[1..] {
-            let d = x.iter().zip(&xs[0]).map(|(a, b)| (a - b).norm()).fold(0.0, f64::max);
+            let d = x
+                .iter()
+                .zip(&xs[0])
+                .map(|(a, b)| (a - b).norm())
+                .fold(0.0, f64::max);
             assert!(d < 1e-10);
         }
         // real scalar systems take the same path
         let re: Vec<f64> = vals.iter().map(|v| v.re).collect();
-        let spd = SparseSpd::analyze_with(p.clone(), Some(&coords), SupernodalThreshold::FORCE_SUPERNODAL).unwrap();
+        let spd = SparseSpd::analyze_with(
+            p.clone(),
+            Some(&coords),
+            SupernodalThreshold::FORCE_SUPERNODAL,
+        )
+        .unwrap();
         let f = spd.factor(&re).unwrap();
         let mut x: Vec<f64> = b.iter().map(|v| v.re).collect();
         f.solve_in_place(&mut x);

@@ -27,7 +27,9 @@ pub fn level_alphas(diagonal: f64, h_min: f64, levels: usize) -> Vec<f64> {
     if a1 >= a0 || levels <= 1 {
         return vec![a1];
     }
-    (0..levels).map(|l| a0 + (a1 - a0) * l as f64 / (levels - 1) as f64).collect()
+    (0..levels)
+        .map(|l| a0 + (a1 - a0) * l as f64 / (levels - 1) as f64)
+        .collect()
 }
 
 /// Normalizes `v`; returns `None` when its norm is below 1e-12.
@@ -45,8 +47,16 @@ fn normalized(v: c64) -> Option<c64> {
 /// vertex on a feature curve gets its three edges fixed, valued by the
 /// discrete Laplace equation on that layer with `u = 1` on feature edges and
 /// natural conditions on the layer's inner side. Marks these edges fixed.
-pub fn extend_boundary_conditions(topo: &FaceTopology, fixed: &mut [bool], u: &mut [Cplx]) -> Result<usize, CrossFieldError> {
-    let active: Vec<bool> = topo.triangles.iter().map(|t| t.iter().any(|&v| topo.on_feature[v as usize])).collect();
+pub fn extend_boundary_conditions(
+    topo: &FaceTopology,
+    fixed: &mut [bool],
+    u: &mut [Cplx],
+) -> Result<usize, CrossFieldError> {
+    let active: Vec<bool> = topo
+        .triangles
+        .iter()
+        .map(|t| t.iter().any(|&v| topo.on_feature[v as usize]))
+        .collect();
     let sys = assemble(topo, &active, fixed, u)?;
     let n = sys.free.len();
     if n == 0 {
@@ -75,7 +85,10 @@ pub fn extend_boundary_conditions(topo: &FaceTopology, fixed: &mut [bool], u: &m
 /// edge: the cross containing the projection of a fixed generic 3D direction
 /// onto the first triangle of each edge.
 pub fn closed_surface_start(topo: &FaceTopology, u: &mut [Cplx]) {
-    let dirs = [[0.8017837257372732, 0.5345224838248488, 0.2672612419124244], [-0.2672612419124244, 0.8017837257372732, -0.5345224838248488]];
+    let dirs = [
+        [0.8017837257372732, 0.5345224838248488, 0.2672612419124244],
+        [-0.2672612419124244, 0.8017837257372732, -0.5345224838248488],
+    ];
     for e in 0..topo.edges.len() {
         let t = topo.edge_tris[e][0];
         if t == NONE {
@@ -174,7 +187,12 @@ pub fn extrapolation_weight(sol: &[c64], prev: &[c64], prev2: &[c64], mass: &[f6
 /// with 8 solves per level its −1 ends 0.016 from its place with converged
 /// levels (without extrapolation: 0.074, and 0.048 with 10 solves per
 /// level).
-pub fn diffuse(topo: &FaceTopology, fixed: &[bool], u: &mut [Cplx], opts: &CrossFieldOptions) -> Result<Vec<LevelStats>, CrossFieldError> {
+pub fn diffuse(
+    topo: &FaceTopology,
+    fixed: &[bool],
+    u: &mut [Cplx],
+    opts: &CrossFieldOptions,
+) -> Result<Vec<LevelStats>, CrossFieldError> {
     let active = vec![true; topo.triangles.len()];
     let sys = assemble(topo, &active, fixed, u)?;
     let n = sys.free.len();
@@ -182,7 +200,11 @@ pub fn diffuse(topo: &FaceTopology, fixed: &[bool], u: &mut [Cplx], opts: &Cross
         return Ok(Vec::new());
     }
     // projected iterate; solutions of the current solve and of the two before
-    let mut cur: Vec<c64> = sys.free.iter().map(|&e| c64::new(u[e as usize][0], u[e as usize][1])).collect();
+    let mut cur: Vec<c64> = sys
+        .free
+        .iter()
+        .map(|&e| c64::new(u[e as usize][0], u[e as usize][1]))
+        .collect();
     let mut sol = vec![c64::new(0.0, 0.0); n];
     let mut prev = vec![c64::new(0.0, 0.0); n];
     let mut prev2 = vec![c64::new(0.0, 0.0); n];
@@ -219,8 +241,12 @@ pub fn diffuse(topo: &FaceTopology, fixed: &[bool], u: &mut [Cplx], opts: &Cross
                 let (y, p) = (sol[j], prev[j]);
                 change = f64::max(change, f64::max((y.re - p.re).abs(), (y.im - p.im).abs()));
             }
-            let converged = change <= opts.tolerance && (iterations == 1 || (last_change <= opts.tolerance && change <= last_change));
-            let omega = if !converged && iterations % EXTRAPOLATION_PERIOD == 0 && iterations < opts.max_iterations {
+            let converged = change <= opts.tolerance
+                && (iterations == 1 || (last_change <= opts.tolerance && change <= last_change));
+            let omega = if !converged
+                && iterations % EXTRAPOLATION_PERIOD == 0
+                && iterations < opts.max_iterations
+            {
                 extrapolation_weight(&sol, &prev, &prev2, &sys.mass)
             } else {
                 0.0
@@ -228,7 +254,9 @@ pub fn diffuse(topo: &FaceTopology, fixed: &[bool], u: &mut [Cplx], opts: &Cross
             for j in 0..n {
                 let y = sol[j] + (sol[j] - prev[j]) * omega;
                 // an exact zero keeps the previous direction ((1, 0) after a zero start)
-                cur[j] = normalized(y).or_else(|| normalized(cur[j])).unwrap_or(c64::new(1.0, 0.0));
+                cur[j] = normalized(y)
+                    .or_else(|| normalized(cur[j]))
+                    .unwrap_or(c64::new(1.0, 0.0));
             }
             // prev2 ← prev ← sol (the raw solutions, not extrapolated)
             std::mem::swap(&mut prev, &mut prev2);
@@ -238,7 +266,13 @@ pub fn diffuse(topo: &FaceTopology, fixed: &[bool], u: &mut [Cplx], opts: &Cross
             }
             last_change = change;
         }
-        stats.push(LevelStats { alpha, iterations, final_change: change, factor_seconds: factor_time, seconds: t0.elapsed().as_secs_f64() });
+        stats.push(LevelStats {
+            alpha,
+            iterations,
+            final_change: change,
+            factor_seconds: factor_time,
+            seconds: t0.elapsed().as_secs_f64(),
+        });
     }
     for (j, &e) in sys.free.iter().enumerate() {
         u[e as usize] = [cur[j].re, cur[j].im];

@@ -71,7 +71,9 @@ impl FaceMesh {
     /// cross-field input: its local nodes, their 3D positions and classes,
     /// and its triangles (counter-clockwise in (u, v); seam and pole copies
     /// are welded by [`FaceTopology::build`]).
-    pub fn from_face_triangulation(ft: &crate::face_triangulation::FaceTriangulation<'_>) -> FaceMesh {
+    pub fn from_face_triangulation(
+        ft: &crate::face_triangulation::FaceTriangulation<'_>,
+    ) -> FaceMesh {
         use crate::face_triangulation::NodeRef;
         FaceMesh {
             uv: ft.nodes.iter().map(|n| n.uv).collect(),
@@ -129,7 +131,12 @@ pub struct CrossFieldOptions {
 
 impl Default for CrossFieldOptions {
     fn default() -> Self {
-        CrossFieldOptions { levels: 4, tolerance: 1e-3, max_iterations: 8, extend_boundary_conditions: true }
+        CrossFieldOptions {
+            levels: 4,
+            tolerance: 1e-3,
+            max_iterations: 8,
+            extend_boundary_conditions: true,
+        }
     }
 }
 
@@ -163,9 +170,14 @@ pub struct CrossField {
 }
 
 /// Computes the cross field of one face (see the module documentation).
-pub fn compute_cross_field(mesh: &FaceMesh, opts: &CrossFieldOptions) -> Result<CrossField, CrossFieldError> {
+pub fn compute_cross_field(
+    mesh: &FaceMesh,
+    opts: &CrossFieldOptions,
+) -> Result<CrossField, CrossFieldError> {
     if opts.levels == 0 || !(opts.tolerance > 0.0) {
-        return Err(CrossFieldError::InvalidInput("levels must be ≥ 1 and tolerance > 0".into()));
+        return Err(CrossFieldError::InvalidInput(
+            "levels must be ≥ 1 and tolerance > 0".into(),
+        ));
     }
     let topology = FaceTopology::build(mesh)?;
     let ne = topology.edges.len();
@@ -182,7 +194,12 @@ pub fn compute_cross_field(mesh: &FaceMesh, opts: &CrossFieldOptions) -> Result<
         mbo::extend_boundary_conditions(&topology, &mut fixed, &mut u)?;
     }
     let levels = mbo::diffuse(&topology, &fixed, &mut u, opts)?;
-    Ok(CrossField { topology, u, fixed, levels })
+    Ok(CrossField {
+        topology,
+        u,
+        fixed,
+        levels,
+    })
 }
 
 impl CrossField {
@@ -194,7 +211,10 @@ impl CrossField {
 
     /// The representation of local edge `a`'s cross in the frame of triangle `t`.
     pub fn in_triangle(&self, t: usize, a: usize) -> Cplx {
-        topology::cmul(self.topology.rot4[t][a], self.u[self.topology.tri_edges[t][a] as usize])
+        topology::cmul(
+            self.topology.rot4[t][a],
+            self.u[self.topology.tri_edges[t][a] as usize],
+        )
     }
 
     /// The cross at barycentric coordinates `bary` of triangle `t` (CR

@@ -17,7 +17,11 @@ fn cr_stiffness_matches_cotangent_form_and_mass_sums_to_area() {
     };
     let topo = FaceTopology::build(&mesh).unwrap();
     let k = cr_stiffness(&topo, 0);
-    let g = [topo.corner_angle(0, 0), topo.corner_angle(0, 1), topo.corner_angle(0, 2)];
+    let g = [
+        topo.corner_angle(0, 0),
+        topo.corner_angle(0, 1),
+        topo.corner_angle(0, 2),
+    ];
     assert!((g.iter().sum::<f64>() - std::f64::consts::PI).abs() < 1e-12);
     for a in 0..3 {
         // rows sum to zero
@@ -63,7 +67,10 @@ fn topology_counts_and_welding() {
 fn bad_input_is_an_error_not_a_panic() {
     let mut m = fixtures::square_grid(1.0, 2);
     m.triangles.push([0, 1, 99]);
-    assert!(matches!(compute_cross_field(&m, &CrossFieldOptions::default()), Err(CrossFieldError::InvalidInput(_))));
+    assert!(matches!(
+        compute_cross_field(&m, &CrossFieldOptions::default()),
+        Err(CrossFieldError::InvalidInput(_))
+    ));
     let mut m = fixtures::square_grid(1.0, 2);
     m.triangles[0] = [m.triangles[0][1], m.triangles[0][0], m.triangles[0][2]];
     assert!(compute_cross_field(&m, &CrossFieldOptions::default()).is_err());
@@ -87,7 +94,10 @@ fn square_field_is_constant_and_boundary_aligned() {
     let topo = &f.topology;
     for e in 0..topo.edges.len() {
         let u = f.u[e];
-        assert!(((u[0] * u[0] + u[1] * u[1]).sqrt() - 1.0).abs() < 1e-9, "unit norm");
+        assert!(
+            ((u[0] * u[0] + u[1] * u[1]).sqrt() - 1.0).abs() < 1e-9,
+            "unit norm"
+        );
         if topo.feature[e] {
             assert_eq!(u, [1.0, 0.0]);
         }
@@ -118,10 +128,22 @@ fn levels_follow_algorithm_one() {
 fn bc_extension_fixes_the_boundary_layer() {
     let d = fixtures::disk(12);
     let with = compute_cross_field(&d, &CrossFieldOptions::default()).unwrap();
-    let without = compute_cross_field(&d, &CrossFieldOptions { extend_boundary_conditions: false, ..Default::default() }).unwrap();
+    let without = compute_cross_field(
+        &d,
+        &CrossFieldOptions {
+            extend_boundary_conditions: false,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let topo = &with.topology;
     for (e, &[a, b]) in topo.edges.iter().enumerate() {
-        let touches = topo.edge_tris[e].iter().any(|&t| t != topology::NONE && topo.triangles[t as usize].iter().any(|&v| topo.on_feature[v as usize]));
+        let touches = topo.edge_tris[e].iter().any(|&t| {
+            t != topology::NONE
+                && topo.triangles[t as usize]
+                    .iter()
+                    .any(|&v| topo.on_feature[v as usize])
+        });
         assert_eq!(with.fixed[e], touches, "edge {a}-{b}");
     }
     assert!(with.free_edges() < without.free_edges());

@@ -103,8 +103,14 @@ fn weld(mesh: &FaceMesh, diagonal: f64) -> (Vec<u32>, usize) {
     let n = mesh.xyz.len();
     let mut parent: Vec<u32> = (0..n as u32).collect();
     let tol = 1e-9 * diagonal.max(f64::MIN_POSITIVE);
-    let mut cand: Vec<u32> = (0..n as u32).filter(|&i| mesh.vertex_class[i as usize] != VertexClass::Interior).collect();
-    cand.sort_by(|&a, &b| mesh.xyz[a as usize][0].total_cmp(&mesh.xyz[b as usize][0]).then(a.cmp(&b)));
+    let mut cand: Vec<u32> = (0..n as u32)
+        .filter(|&i| mesh.vertex_class[i as usize] != VertexClass::Interior)
+        .collect();
+    cand.sort_by(|&a, &b| {
+        mesh.xyz[a as usize][0]
+            .total_cmp(&mesh.xyz[b as usize][0])
+            .then(a.cmp(&b))
+    });
     for (k, &a) in cand.iter().enumerate() {
         let pa = mesh.xyz[a as usize];
         for &b in &cand[k + 1..] {
@@ -150,12 +156,20 @@ impl FaceTopology {
         if mesh.triangles.is_empty() {
             return Err(CrossFieldError::InvalidInput("no triangles".into()));
         }
-        if let Some(i) = mesh.xyz.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
-            return Err(CrossFieldError::InvalidInput(format!("vertex {i} has a non-finite coordinate")));
+        if let Some(i) = mesh
+            .xyz
+            .iter()
+            .position(|p| p.iter().any(|c| !c.is_finite()))
+        {
+            return Err(CrossFieldError::InvalidInput(format!(
+                "vertex {i} has a non-finite coordinate"
+            )));
         }
         for (t, tri) in mesh.triangles.iter().enumerate() {
             if tri.iter().any(|&v| v as usize >= n_in) {
-                return Err(CrossFieldError::InvalidInput(format!("triangle {t} references a missing vertex")));
+                return Err(CrossFieldError::InvalidInput(format!(
+                    "triangle {t} references a missing vertex"
+                )));
             }
         }
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
@@ -188,11 +202,19 @@ impl FaceTopology {
         let triangles: Vec<[u32; 3]> = mesh
             .triangles
             .iter()
-            .map(|t| [vertex_map[t[0] as usize], vertex_map[t[1] as usize], vertex_map[t[2] as usize]])
+            .map(|t| {
+                [
+                    vertex_map[t[0] as usize],
+                    vertex_map[t[1] as usize],
+                    vertex_map[t[2] as usize],
+                ]
+            })
             .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
             .collect();
         if triangles.is_empty() {
-            return Err(CrossFieldError::InvalidInput("all triangles collapse after welding".into()));
+            return Err(CrossFieldError::InvalidInput(
+                "all triangles collapse after welding".into(),
+            ));
         }
 
         // Edges: (key, triangle, local edge, forward) sorted by key then triangle.
@@ -250,7 +272,9 @@ impl FaceTopology {
         }
         for fe in &mesh.feature_edges {
             if fe.iter().any(|&v| v as usize >= n_in) {
-                return Err(CrossFieldError::InvalidInput("feature edge references a missing vertex".into()));
+                return Err(CrossFieldError::InvalidInput(
+                    "feature edge references a missing vertex".into(),
+                ));
             }
             let (p, q) = (vertex_map[fe[0] as usize], vertex_map[fe[1] as usize]);
             let key = [p.min(q), p.max(q)];
@@ -272,7 +296,9 @@ impl FaceTopology {
             let d = vec3::sub(positions[b as usize], positions[a as usize]);
             let l = vec3::norm(d);
             if !(l > 0.0) {
-                return Err(CrossFieldError::InvalidInput(format!("edge {e} ({a}, {b}) has zero length")));
+                return Err(CrossFieldError::InvalidInput(format!(
+                    "edge {e} ({a}, {b}) has zero length"
+                )));
             }
             h_min = h_min.min(l);
             edge_dir.push(vec3::scale(d, 1.0 / l));
@@ -282,12 +308,20 @@ impl FaceTopology {
         let mut areas = Vec::with_capacity(triangles.len());
         let mut rot4 = Vec::with_capacity(triangles.len());
         for (t, tri) in triangles.iter().enumerate() {
-            let p = [positions[tri[0] as usize], positions[tri[1] as usize], positions[tri[2] as usize]];
+            let p = [
+                positions[tri[0] as usize],
+                positions[tri[1] as usize],
+                positions[tri[2] as usize],
+            ];
             let c = vec3::cross(vec3::sub(p[1], p[0]), vec3::sub(p[2], p[0]));
             let twice = vec3::norm(c);
-            let lmax = (0..3).map(|a| vec3::dist(p[a], p[(a + 1) % 3])).fold(0.0, f64::max);
+            let lmax = (0..3)
+                .map(|a| vec3::dist(p[a], p[(a + 1) % 3]))
+                .fold(0.0, f64::max);
             if !(twice > 1e-14 * lmax * lmax) {
-                return Err(CrossFieldError::InvalidInput(format!("triangle {t} is degenerate (zero area)")));
+                return Err(CrossFieldError::InvalidInput(format!(
+                    "triangle {t} is degenerate (zero area)"
+                )));
             }
             let n = vec3::scale(c, 1.0 / twice);
             let x = edge_dir[tri_edges[t][0] as usize];
@@ -335,7 +369,10 @@ impl FaceTopology {
     /// the triangle (`p[a+2] − p[a+1]`).
     pub fn opposite_edge_vector(&self, t: usize, a: usize) -> Vec3 {
         let tri = self.triangles[t];
-        vec3::sub(self.positions[tri[(a + 2) % 3] as usize], self.positions[tri[(a + 1) % 3] as usize])
+        vec3::sub(
+            self.positions[tri[(a + 2) % 3] as usize],
+            self.positions[tri[(a + 1) % 3] as usize],
+        )
     }
 
     /// Interior angle of triangle `t` at its local vertex `a`.

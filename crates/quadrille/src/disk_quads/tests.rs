@@ -21,11 +21,19 @@ fn find(p: &mut [usize], mut i: usize) -> usize {
 fn brute_force_counts(f: usize) -> BTreeMap<(usize, usize), usize> {
     let mut partner = vec![None::<usize>; 4 * f];
     let mut classes: HashMap<(usize, usize), HashSet<Vec<usize>>> = HashMap::new();
-    fn dfs(f: usize, used: usize, partner: &mut Vec<Option<usize>>, classes: &mut HashMap<(usize, usize), HashSet<Vec<usize>>>) {
+    fn dfs(
+        f: usize,
+        used: usize,
+        partner: &mut Vec<Option<usize>>,
+        classes: &mut HashMap<(usize, usize), HashSet<Vec<usize>>>,
+    ) {
         let Some(s) = (0..4 * used).find(|&s| partner[s].is_none()) else {
             if used == f {
                 if let Some(key) = evaluate(f, partner) {
-                    classes.entry(key).or_default().insert(side_rooted_canonical(f, partner));
+                    classes
+                        .entry(key)
+                        .or_default()
+                        .insert(side_rooted_canonical(f, partner));
                 }
             }
             return;
@@ -111,7 +119,11 @@ fn evaluate(f: usize, partner: &[Option<usize>]) -> Option<(usize, usize)> {
         *quads_at.entry(x).or_default() += 1;
     }
     for (x, &k) in &quads_at {
-        let ok = if on_boundary.contains(x) { (1..=3).contains(&k) } else { (3..=5).contains(&k) };
+        let ok = if on_boundary.contains(x) {
+            (1..=3).contains(&k)
+        } else {
+            (3..=5).contains(&k)
+        };
         if !ok {
             return None;
         }
@@ -125,7 +137,13 @@ fn side_rooted_canonical(f: usize, partner: &[Option<usize>]) -> Vec<usize> {
     for root in 0..4 * f {
         for mirror in [false, true] {
             // local side j of a quad entered through original side e
-            let map = |e: usize, j: usize| if mirror { 4 * (e / 4) + (e % 4 + 4 - j) % 4 } else { 4 * (e / 4) + (e % 4 + j) % 4 };
+            let map = |e: usize, j: usize| {
+                if mirror {
+                    4 * (e / 4) + (e % 4 + 4 - j) % 4
+                } else {
+                    4 * (e / 4) + (e % 4 + j) % 4
+                }
+            };
             let mut order: Vec<usize> = vec![root]; // entry side per visited quad
             let mut index = vec![usize::MAX; f];
             index[root / 4] = 0;
@@ -171,10 +189,22 @@ fn small_counts_match_the_hand_counts() {
     let c = table_counts(&enumerate(8, 1));
     assert_eq!(c.get(&(4, 0)), Some(&1), "one quad");
     assert_eq!(c.get(&(6, 0)), Some(&1), "two quads in a row");
-    assert_eq!(c.get(&(6, 1)), Some(&1), "three quads around a valence-3 vertex");
+    assert_eq!(
+        c.get(&(6, 1)),
+        Some(&1),
+        "three quads around a valence-3 vertex"
+    );
     assert_eq!(c.get(&(8, 0)), Some(&2), "1×3 strip and L-tromino");
-    assert_eq!(c.get(&(8, 1)), Some(&2), "2×2 grid and the three-quad star with a quad on one side");
-    assert_eq!(c.get(&(4, 1)), None, "no disk of 4 boundary vertices has one interior vertex of valence 3–5");
+    assert_eq!(
+        c.get(&(8, 1)),
+        Some(&2),
+        "2×2 grid and the three-quad star with a quad on one side"
+    );
+    assert_eq!(
+        c.get(&(4, 1)),
+        None,
+        "no disk of 4 boundary vertices has one interior vertex of valence 3–5"
+    );
 }
 
 #[test]
@@ -185,7 +215,10 @@ fn counts_match_an_independent_brute_force() {
     for f in 1..=4 {
         brute.extend(brute_force_counts(f));
     }
-    let small: BTreeMap<_, _> = shelled.into_iter().filter(|((b, i), _)| (b - 2) / 2 + i <= 4).collect();
+    let small: BTreeMap<_, _> = shelled
+        .into_iter()
+        .filter(|((b, i), _)| (b - 2) / 2 + i <= 4)
+        .collect();
     assert_eq!(small, brute);
     assert!(brute.values().sum::<usize>() >= 8, "{brute:?}");
 }
@@ -199,7 +232,11 @@ fn table_entries_are_valid_disks() {
     for d in t {
         let (b, ni) = (d.boundary, d.interior);
         assert!(b % 2 == 0 && (4..=TABLE_MAX_BOUNDARY).contains(&b) && ni <= TABLE_MAX_INTERIOR);
-        assert_eq!(d.quads.len(), (b - 2) / 2 + ni, "Euler: F = (b − 2)/2 + n_int");
+        assert_eq!(
+            d.quads.len(),
+            (b - 2) / 2 + ni,
+            "Euler: F = (b − 2)/2 + n_int"
+        );
         let val = d.valences();
         assert_eq!(d.boundary_quads, val[..b]);
         assert!(val[..b].iter().all(|&k| (1..=3).contains(&k)));
@@ -212,12 +249,19 @@ fn table_entries_are_valid_disks() {
             s.dedup();
             assert_eq!(s.len(), 4, "a quad repeats a vertex: {q:?}");
             for k in 0..4 {
-                assert!(directed.insert((q[k], q[(k + 1) % 4])), "edge used twice in one direction: {d:?}");
+                assert!(
+                    directed.insert((q[k], q[(k + 1) % 4])),
+                    "edge used twice in one direction: {d:?}"
+                );
             }
         }
         for (a, c) in directed.iter().copied() {
             let on_boundary = (a as usize) < b && (c as usize) == (a as usize + 1) % b;
-            assert_eq!(!directed.contains(&(c, a)), on_boundary, "edge {a}→{c} of {d:?}");
+            assert_eq!(
+                !directed.contains(&(c, a)),
+                on_boundary,
+                "edge {a}→{c} of {d:?}"
+            );
         }
         // (two edges joining the same vertices would show as a boundary edge
         // whose reverse is present: refused by the check above)
@@ -226,7 +270,10 @@ fn table_entries_are_valid_disks() {
     // the table holds every size it promises
     let c = table_counts(t);
     for b in (4..=TABLE_MAX_BOUNDARY).step_by(2) {
-        assert!(c.keys().any(|k| k.0 == b), "no disk with {b} boundary vertices");
+        assert!(
+            c.keys().any(|k| k.0 == b),
+            "no disk with {b} boundary vertices"
+        );
     }
 }
 
@@ -249,7 +296,11 @@ fn canonical_form_ignores_labels_rotation_and_mirror() {
     let nv = a.quads_at.len() as u16;
     let perm: Vec<u16> = (0..nv).map(|i| (i * 5 + 3) % nv).collect();
     let mut c = a.clone();
-    c.quads = a.quads.iter().map(|q| q.map(|v| perm[v as usize])).collect();
+    c.quads = a
+        .quads
+        .iter()
+        .map(|q| q.map(|v| perm[v as usize]))
+        .collect();
     c.boundary = a.boundary.iter().map(|&v| perm[v as usize]).collect();
     c.boundary.rotate_left(3);
     c.quads_at = vec![0; nv as usize];
@@ -265,22 +316,44 @@ fn canonical_form_ignores_labels_rotation_and_mirror() {
     // a different disk has a different code
     // (after the first attach the boundary is 0, 4, 5, 1, 2, 3: edge 4 → 5 is
     // opposite the shared edge, 0 → 4 and 5 → 1 are beside it)
-    let strip = Disk::single_quad().attach(0, 1).unwrap().attach(1, 1).unwrap();
-    let l1 = Disk::single_quad().attach(0, 1).unwrap().attach(0, 1).unwrap();
-    let l2 = Disk::single_quad().attach(0, 1).unwrap().attach(2, 1).unwrap();
+    let strip = Disk::single_quad()
+        .attach(0, 1)
+        .unwrap()
+        .attach(1, 1)
+        .unwrap();
+    let l1 = Disk::single_quad()
+        .attach(0, 1)
+        .unwrap()
+        .attach(0, 1)
+        .unwrap();
+    let l2 = Disk::single_quad()
+        .attach(0, 1)
+        .unwrap()
+        .attach(2, 1)
+        .unwrap();
     assert_ne!(strip.canonical(), l1.canonical());
-    assert_eq!(l1.canonical(), l2.canonical(), "the two L-trominoes are mirror images");
+    assert_eq!(
+        l1.canonical(),
+        l2.canonical(),
+        "the two L-trominoes are mirror images"
+    );
 }
 
 #[test]
 fn closing_a_square_is_refused() {
     let d = Disk::single_quad();
-    assert!(d.attach(0, 3).is_none(), "b = 4: the path ends are adjacent");
+    assert!(
+        d.attach(0, 3).is_none(),
+        "b = 4: the path ends are adjacent"
+    );
     let two = d.attach(0, 1).unwrap();
     assert_eq!(two.boundary.len(), 6);
     // three edges whose ends are joined by an edge of the other quad
     let blocked = (0..6).filter(|&at| two.attach(at, 3).is_none()).count();
-    assert_eq!(blocked, 6, "every 3-edge path of a domino has adjacent ends or a vertex above valence limits");
+    assert_eq!(
+        blocked, 6,
+        "every 3-edge path of a domino has adjacent ends or a vertex above valence limits"
+    );
 }
 
 /// The cavity of an interior valence-6 vertex in an otherwise regular mesh:
@@ -291,11 +364,19 @@ fn closing_a_square_is_refused() {
 #[test]
 fn a_valence_six_vertex_is_replaced_by_a_more_regular_disk() {
     let cavity: Vec<CavityVertex> = (0..12)
-        .map(|j| CavityVertex { ideal: 4, outside: if j % 2 == 0 { 2 } else { 3 }, allowed: (3, 5) })
+        .map(|j| CavityVertex {
+            ideal: 4,
+            outside: if j % 2 == 0 { 2 } else { 3 },
+            allowed: (3, 5),
+        })
         .collect();
     let t = table();
     let p = best_replacement(t, &cavity).expect("a replacement");
-    assert!(p.irregularity < 4, "I_r {} not below the valence-6 star's 4", p.irregularity);
+    assert!(
+        p.irregularity < 4,
+        "I_r {} not below the valence-6 star's 4",
+        p.irregularity
+    );
     let d = &t[p.disk];
     assert_eq!(d.boundary, 12);
     // recompute I_r and the valences from the placed quads
@@ -311,7 +392,10 @@ fn a_valence_six_vertex_is_replaced_by_a_more_regular_disk() {
     let mut ir = 0;
     for (j, c) in cavity.iter().enumerate() {
         let total = inside[&(j as u32)] + c.outside as u32;
-        assert!((3..=5).contains(&total), "boundary vertex {j}: valence {total}");
+        assert!(
+            (3..=5).contains(&total),
+            "boundary vertex {j}: valence {total}"
+        );
         ir += (4 - total as i32).pow(2);
     }
     for v in &interior {
@@ -321,9 +405,15 @@ fn a_valence_six_vertex_is_replaced_by_a_more_regular_disk() {
     }
     assert_eq!(ir as u32, p.irregularity);
     // the boundary cycle 0 → 1 → … → 11 is on the quads' left (counter-clockwise)
-    let directed: HashSet<(u32, u32)> = quads.iter().flat_map(|q| (0..4).map(move |k| (q[k], q[(k + 1) % 4]))).collect();
+    let directed: HashSet<(u32, u32)> = quads
+        .iter()
+        .flat_map(|q| (0..4).map(move |k| (q[k], q[(k + 1) % 4])))
+        .collect();
     for j in 0..12u32 {
-        assert!(directed.contains(&(j, (j + 1) % 12)), "cavity edge {j} not closed");
+        assert!(
+            directed.contains(&(j, (j + 1) % 12)),
+            "cavity edge {j} not closed"
+        );
     }
 }
 
@@ -333,11 +423,30 @@ fn a_valence_six_vertex_is_replaced_by_a_more_regular_disk() {
 #[test]
 fn allowed_ranges_are_respected() {
     // the cavity of a single quad with one side on a curve
-    let mut cavity = vec![CavityVertex { ideal: 4, outside: 3, allowed: (3, 5) }; 4];
-    cavity[0] = CavityVertex { ideal: 2, outside: 1, allowed: (2, 2) };
-    cavity[1] = CavityVertex { ideal: 2, outside: 1, allowed: (2, 2) };
+    let mut cavity = vec![
+        CavityVertex {
+            ideal: 4,
+            outside: 3,
+            allowed: (3, 5)
+        };
+        4
+    ];
+    cavity[0] = CavityVertex {
+        ideal: 2,
+        outside: 1,
+        allowed: (2, 2),
+    };
+    cavity[1] = CavityVertex {
+        ideal: 2,
+        outside: 1,
+        allowed: (2, 2),
+    };
     let p = best_replacement(table(), &cavity).expect("the quad itself fits");
-    assert_eq!(table()[p.disk].interior, 0, "the quad itself (the 4-interior-vertex split scores 4)");
+    assert_eq!(
+        table()[p.disk].interior,
+        0,
+        "the quad itself (the 4-interior-vertex split scores 4)"
+    );
     assert_eq!(p.irregularity, 0);
     cavity[0].allowed = (3, 3);
     cavity[1].allowed = (3, 3);
@@ -349,9 +458,19 @@ fn allowed_ranges_are_respected() {
 #[test]
 fn the_stored_table_is_the_enumerators_output() {
     let fresh = enumerate(TABLE_MAX_BOUNDARY, TABLE_MAX_INTERIOR);
-    assert_eq!(STORED_TABLE, format_table(&fresh), "rewrite it: cargo run --release -p quadrille --example disk_table -- --write");
+    assert_eq!(
+        STORED_TABLE,
+        format_table(&fresh),
+        "rewrite it: cargo run --release -p quadrille --example disk_table -- --write"
+    );
     assert_eq!(parse_table(STORED_TABLE).unwrap(), fresh);
     assert_eq!(table(), &fresh[..]);
-    assert!(parse_table("6 1 0 1 2").is_none(), "a short line is refused");
-    assert!(parse_table("4 0 0 1 2 9").is_none(), "a vertex out of range is refused");
+    assert!(
+        parse_table("6 1 0 1 2").is_none(),
+        "a short line is refused"
+    );
+    assert!(
+        parse_table("4 0 0 1 2 9").is_none(),
+        "a vertex out of range is refused"
+    );
 }

@@ -46,7 +46,10 @@ impl Cand {
         match *self {
             Cand::Pt(x) => x,
             Cand::Pole(seg) => {
-                let v = QVertex { pole: Some(seg), ..QVertex::interior(seg[0], [0.0; 3], NodeClass::Unclassified) };
+                let v = QVertex {
+                    pole: Some(seg),
+                    ..QVertex::interior(seg[0], [0.0; 3], NodeClass::Unclassified)
+                };
                 v.uv_toward(p)
             }
         }
@@ -77,7 +80,9 @@ fn candidates(model: &Model, fid: FaceId, class: NodeClass, xyz: [f64; 3]) -> Ve
         }
         NodeClass::Corner(k) => {
             for u in face.curve_uses() {
-                let Some(ce) = model.curves.get(u.curve.idx()) else { continue };
+                let Some(ce) = model.curves.get(u.curve.idx()) else {
+                    continue;
+                };
                 let (a, b) = (u.pcurve.eval(ce.range.0), u.pcurve.eval(ce.range.1));
                 if ce.degenerate && (ce.start == k || ce.end == k) {
                     out.push(Cand::Pole([a, b]));
@@ -124,7 +129,12 @@ fn candidates(model: &Model, fid: FaceId, class: NodeClass, xyz: [f64; 3]) -> Ve
 /// Ideal valences: 4 inside; on the boundary from the interior angle
 /// ([`super::ideal_boundary_valence`]); poles and other odd fixed vertices keep their
 /// current valence as ideal (they are not counted as irregular).
-pub fn extract_face(model: &Model, mesh: &QuadMesh, fid: FaceId, quad_ids: &[usize]) -> Result<FaceQuads, ExtractError> {
+pub fn extract_face(
+    model: &Model,
+    mesh: &QuadMesh,
+    fid: FaceId,
+    quad_ids: &[usize],
+) -> Result<FaceQuads, ExtractError> {
     if fid.idx() >= model.faces.len() {
         return Err(ExtractError::NoSuchFace(fid));
     }
@@ -146,7 +156,12 @@ pub fn extract_face(model: &Model, mesh: &QuadMesh, fid: FaceId, quad_ids: &[usi
                 NodeClass::Face(f, uv) if f == fid => {
                     let uv = match uv {
                         Some(uv) => uv,
-                        None => face.surface.project(mesh.nodes[n as usize], None).ok_or(ExtractError::NoUv(n as usize, fid))?.0,
+                        None => {
+                            face.surface
+                                .project(mesh.nodes[n as usize], None)
+                                .ok_or(ExtractError::NoUv(n as usize, fid))?
+                                .0
+                        }
                     };
                     interior_uv.insert(n, uv);
                 }
@@ -166,36 +181,69 @@ pub fn extract_face(model: &Model, mesh: &QuadMesh, fid: FaceId, quad_ids: &[usi
     let mut quads: Vec<[u32; 4]> = Vec::with_capacity(quad_ids.len());
     for &qi in quad_ids {
         let q = mesh.quads[qi];
-        let inner: Vec<[f64; 2]> = q.iter().filter_map(|n| interior_uv.get(n).copied()).collect();
+        let inner: Vec<[f64; 2]> = q
+            .iter()
+            .filter_map(|n| interior_uv.get(n).copied())
+            .collect();
         let reference = if !inner.is_empty() {
             inner
         } else {
-            q.iter().filter_map(|n| cands.get(n).filter(|c| c.len() == 1).map(|c| c[0].nearest([0.0, 0.0]))).collect()
+            q.iter()
+                .filter_map(|n| {
+                    cands
+                        .get(n)
+                        .filter(|c| c.len() == 1)
+                        .map(|c| c[0].nearest([0.0, 0.0]))
+                })
+                .collect()
         };
         if reference.is_empty() {
             return Err(ExtractError::NoUv(q[0] as usize, fid));
         }
         let k = reference.len() as f64;
-        let r = [reference.iter().map(|p| p[0]).sum::<f64>() / k, reference.iter().map(|p| p[1]).sum::<f64>() / k];
+        let r = [
+            reference.iter().map(|p| p[0]).sum::<f64>() / k,
+            reference.iter().map(|p| p[1]).sum::<f64>() / k,
+        ];
         let mut lq = [0u32; 4];
         for i in 0..4 {
             let n = q[i];
-            let (key, make): ((u32, usize), Box<dyn Fn() -> QVertex>) = if let Some(&uv) = interior_uv.get(&n) {
-                let xyz = mesh.nodes[n as usize];
-                ((n, 0), Box::new(move || QVertex { global: Some(n), ..QVertex::interior(uv, xyz, NodeClass::Face(fid, Some(uv))) }))
-            } else {
-                let cs = &cands[&n];
-                let best = (0..cs.len()).min_by(|&a, &b| cs[a].dist2(r).total_cmp(&cs[b].dist2(r))).unwrap_or(0);
-                let c = cs[best];
-                let uv = c.nearest(r);
-                let xyz = mesh.nodes[n as usize];
-                let class = mesh.node_class[n as usize];
-                let pole = if let Cand::Pole(s) = c { Some(s) } else { None };
-                (
-                    (n, best),
-                    Box::new(move || QVertex { uv, xyz, class, fixed: true, global: Some(n), pole, ideal: 0, edge_offset: 1, fan: Vec::new(), alive: true }),
-                )
-            };
+            let (key, make): ((u32, usize), Box<dyn Fn() -> QVertex>) =
+                if let Some(&uv) = interior_uv.get(&n) {
+                    let xyz = mesh.nodes[n as usize];
+                    (
+                        (n, 0),
+                        Box::new(move || QVertex {
+                            global: Some(n),
+                            ..QVertex::interior(uv, xyz, NodeClass::Face(fid, Some(uv)))
+                        }),
+                    )
+                } else {
+                    let cs = &cands[&n];
+                    let best = (0..cs.len())
+                        .min_by(|&a, &b| cs[a].dist2(r).total_cmp(&cs[b].dist2(r)))
+                        .unwrap_or(0);
+                    let c = cs[best];
+                    let uv = c.nearest(r);
+                    let xyz = mesh.nodes[n as usize];
+                    let class = mesh.node_class[n as usize];
+                    let pole = if let Cand::Pole(s) = c { Some(s) } else { None };
+                    (
+                        (n, best),
+                        Box::new(move || QVertex {
+                            uv,
+                            xyz,
+                            class,
+                            fixed: true,
+                            global: Some(n),
+                            pole,
+                            ideal: 0,
+                            edge_offset: 1,
+                            fan: Vec::new(),
+                            alive: true,
+                        }),
+                    )
+                };
             let id = *local.entry(key).or_insert_with(|| {
                 verts.push(make());
                 (verts.len() - 1) as u32
@@ -204,7 +252,8 @@ pub fn extract_face(model: &Model, mesh: &QuadMesh, fid: FaceId, quad_ids: &[usi
         }
         quads.push(lq);
     }
-    let mut fq = FaceQuads::new(verts, quads).ok_or_else(|| ExtractError::Inconsistent(fid, "a quad repeats a vertex".into()))?;
+    let mut fq = FaceQuads::new(verts, quads)
+        .ok_or_else(|| ExtractError::Inconsistent(fid, "a quad repeats a vertex".into()))?;
     fq.classify_fixed();
     fq.check().map_err(|e| ExtractError::Inconsistent(fid, e))?;
     Ok(fq)
@@ -244,7 +293,12 @@ pub fn write_back(mesh: &QuadMesh, edited: &[(FaceId, &FaceQuads)]) -> QuadMesh 
         if keep[n] {
             map[n] = out.nodes.len() as u32;
             out.nodes.push(mesh.nodes[n]);
-            out.node_class.push(mesh.node_class.get(n).copied().unwrap_or(NodeClass::Unclassified));
+            out.node_class.push(
+                mesh.node_class
+                    .get(n)
+                    .copied()
+                    .unwrap_or(NodeClass::Unclassified),
+            );
         }
     }
     let mut local_maps: BTreeMap<FaceId, Vec<u32>> = BTreeMap::new();
@@ -278,7 +332,9 @@ pub fn write_back(mesh: &QuadMesh, edited: &[(FaceId, &FaceQuads)]) -> QuadMesh 
         } else {
             for qi in qids {
                 let q = mesh.quads[qi];
-                if q.iter().all(|&n| (n as usize) < nn && map[n as usize] != u32::MAX) {
+                if q.iter()
+                    .all(|&n| (n as usize) < nn && map[n as usize] != u32::MAX)
+                {
                     out.quads.push(q.map(|n| map[n as usize]));
                     out.quad_face.push(fid);
                 }
@@ -294,7 +350,8 @@ pub fn write_back(mesh: &QuadMesh, edited: &[(FaceId, &FaceQuads)]) -> QuadMesh 
     }
     for (e, c) in &mesh.curve_edges {
         if ok(e[0]) && ok(e[1]) {
-            out.curve_edges.push(([map[e[0] as usize], map[e[1] as usize]], *c));
+            out.curve_edges
+                .push(([map[e[0] as usize], map[e[1] as usize]], *c));
         }
     }
     for (n, c) in &mesh.corner_nodes {

@@ -55,7 +55,18 @@ pub struct QVertex {
 impl QVertex {
     /// A movable face-interior vertex at `uv` / `xyz` (ideal valence 4, closed fan).
     pub fn interior(uv: [f64; 2], xyz: Vec3, class: NodeClass) -> Self {
-        QVertex { uv, xyz, class, fixed: false, global: None, pole: None, ideal: 4, edge_offset: 0, fan: Vec::new(), alive: true }
+        QVertex {
+            uv,
+            xyz,
+            class,
+            fixed: false,
+            global: None,
+            pole: None,
+            ideal: 4,
+            edge_offset: 0,
+            fan: Vec::new(),
+            alive: true,
+        }
     }
 
     /// The vertex's (u, v) as seen from `other`: itself, except for a pole,
@@ -66,7 +77,11 @@ impl QVertex {
             Some([p, q]) => {
                 let d = [q[0] - p[0], q[1] - p[1]];
                 let dd = d[0] * d[0] + d[1] * d[1];
-                let s = if dd > 0.0 { (((other[0] - p[0]) * d[0] + (other[1] - p[1]) * d[1]) / dd).clamp(0.0, 1.0) } else { 0.0 };
+                let s = if dd > 0.0 {
+                    (((other[0] - p[0]) * d[0] + (other[1] - p[1]) * d[1]) / dd).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
                 [p[0] + s * d[0], p[1] + s * d[1]]
             }
         }
@@ -124,7 +139,12 @@ impl FaceQuads {
             }
         }
         let n = quads.len();
-        Some(FaceQuads { verts, quads, quad_alive: vec![true; n], log: Vec::new() })
+        Some(FaceQuads {
+            verts,
+            quads,
+            quad_alive: vec![true; n],
+            log: Vec::new(),
+        })
     }
 
     /// Number of live quads.
@@ -156,7 +176,9 @@ impl FaceQuads {
 
     /// Number of live vertices whose valence differs from the ideal one.
     pub fn irregular_count(&self) -> usize {
-        (0..self.verts.len() as u32).filter(|&v| self.is_irregular(v)).count()
+        (0..self.verts.len() as u32)
+            .filter(|&v| self.is_irregular(v))
+            .count()
     }
 
     /// Position of `v` inside quad `q` (`None` when absent).
@@ -174,7 +196,11 @@ impl FaceQuads {
     /// The live quad other than `q` holding the directed edge `b → a` (the
     /// neighbour of `q` across its edge `a → b`), if any.
     pub fn across(&self, q: u32, a: u32, b: u32) -> Option<u32> {
-        self.verts[a as usize].fan.iter().copied().find(|&p| p != q && self.rotated(p, b).is_some_and(|r| r[1] == a))
+        self.verts[a as usize]
+            .fan
+            .iter()
+            .copied()
+            .find(|&p| p != q && self.rotated(p, b).is_some_and(|r| r[1] == a))
     }
 
     /// The quads holding the undirected edge `a`–`b` (one on the boundary, two inside).
@@ -203,7 +229,10 @@ impl FaceQuads {
 
     /// True when `a` and `b` share a mesh edge.
     pub fn linked(&self, a: u32, b: u32) -> bool {
-        self.verts[a as usize].fan.iter().any(|&q| self.rotated(q, a).is_some_and(|r| r[1] == b || r[3] == b))
+        self.verts[a as usize]
+            .fan
+            .iter()
+            .any(|&q| self.rotated(q, a).is_some_and(|r| r[1] == b || r[3] == b))
     }
 
     /// The cyclic star of a vertex with a closed fan: sectors `(c, n_i, o_i, n_{i+1})`
@@ -221,7 +250,10 @@ impl FaceQuads {
                 return None;
             }
             // next sector: the quad holding c → r[3]
-            let next = fan.iter().copied().find(|&p| p != q && self.rotated(p, c).is_some_and(|s| s[1] == r[3]))?;
+            let next = fan
+                .iter()
+                .copied()
+                .find(|&p| p != q && self.rotated(p, c).is_some_and(|s| s[1] == r[3]))?;
             if next == first {
                 break;
             }
@@ -232,7 +264,11 @@ impl FaceQuads {
 
     /// The quads incident to any of `vs`, sorted and deduplicated.
     pub fn quads_around(&self, vs: &[u32]) -> Vec<u32> {
-        let mut out: Vec<u32> = vs.iter().filter(|&&v| self.verts[v as usize].alive).flat_map(|&v| self.verts[v as usize].fan.iter().copied()).collect();
+        let mut out: Vec<u32> = vs
+            .iter()
+            .filter(|&&v| self.verts[v as usize].alive)
+            .flat_map(|&v| self.verts[v as usize].fan.iter().copied())
+            .collect();
         out.sort_unstable();
         out.dedup();
         out
@@ -242,7 +278,11 @@ impl FaceQuads {
 
     /// Marks the current state; [`FaceQuads::rollback`] returns to it.
     pub fn checkpoint(&self) -> Checkpoint {
-        Checkpoint { log: self.log.len(), nv: self.verts.len(), nq: self.quads.len() }
+        Checkpoint {
+            log: self.log.len(),
+            nv: self.verts.len(),
+            nq: self.quads.len(),
+        }
     }
 
     /// Restores the state of `cp` exactly (topology, (u, v), xyz), undoing every later edit.
@@ -275,7 +315,13 @@ impl FaceQuads {
     pub fn touched_since(&self, cp: Checkpoint) -> Vec<u32> {
         let mut out: Vec<u32> = self.log[cp.log.min(self.log.len())..]
             .iter()
-            .filter_map(|u| if let Undo::Vertex(v, _) = u { Some(*v) } else { None })
+            .filter_map(|u| {
+                if let Undo::Vertex(v, _) = u {
+                    Some(*v)
+                } else {
+                    None
+                }
+            })
             .filter(|&v| (v as usize) < cp.nv)
             .collect();
         out.extend(cp.nv as u32..self.verts.len() as u32);
@@ -304,7 +350,13 @@ impl FaceQuads {
     pub fn quads_touched_since(&self, cp: Checkpoint) -> Vec<u32> {
         let mut out: Vec<u32> = self.log[cp.log.min(self.log.len())..]
             .iter()
-            .filter_map(|u| if let Undo::Quad(q, _, _) = u { Some(*q) } else { None })
+            .filter_map(|u| {
+                if let Undo::Quad(q, _, _) = u {
+                    Some(*q)
+                } else {
+                    None
+                }
+            })
             .collect();
         out.extend(cp.nq as u32..self.quads.len() as u32);
         out.sort_unstable();
@@ -318,7 +370,11 @@ impl FaceQuads {
     }
 
     fn save_quad(&mut self, q: u32) {
-        self.log.push(Undo::Quad(q, self.quads[q as usize], self.quad_alive[q as usize]));
+        self.log.push(Undo::Quad(
+            q,
+            self.quads[q as usize],
+            self.quad_alive[q as usize],
+        ));
     }
 
     /// Adds a vertex; returns its id.
@@ -410,7 +466,11 @@ impl FaceQuads {
                 k += 1.0;
             }
         }
-        let c = if k > 0.0 { [s[0] / k, s[1] / k] } else { self.verts[vs[0] as usize].uv };
+        let c = if k > 0.0 {
+            [s[0] / k, s[1] / k]
+        } else {
+            self.verts[vs[0] as usize].uv
+        };
         let mut t = [0.0, 0.0];
         for &v in &vs {
             let p = self.verts[v as usize].uv_toward(c);
@@ -466,7 +526,9 @@ impl FaceQuads {
             }
             if x.fixed {
                 x.edge_offset = links.saturating_sub(nfan);
-                let odd = x.pole.is_some() || matches!(x.class, NodeClass::Face(..) | NodeClass::Unclassified) || x.edge_offset != 1;
+                let odd = x.pole.is_some()
+                    || matches!(x.class, NodeClass::Face(..) | NodeClass::Unclassified)
+                    || x.edge_offset != 1;
                 x.ideal = if x.pole.is_some() && x.edge_offset == 0 && closed {
                     ideal_pole_valence(angle)
                 } else if odd {
@@ -498,7 +560,11 @@ impl FaceQuads {
                     return Err(format!("quad {qi} repeats vertex {}", q[i]));
                 }
                 let (a, b) = (q[i], q[(i + 1) % 4]);
-                let same = self.verts[a as usize].fan.iter().filter(|&&p| self.rotated(p, a).is_some_and(|r| r[1] == b)).count();
+                let same = self.verts[a as usize]
+                    .fan
+                    .iter()
+                    .filter(|&&p| self.rotated(p, a).is_some_and(|r| r[1] == b))
+                    .count();
                 if same != 1 {
                     return Err(format!("directed edge {a}->{b} used {same} times"));
                 }

@@ -23,7 +23,14 @@ pub(crate) fn planar(points: &[[f64; 2]], quads: Vec<[u32; 4]>) -> FaceQuads {
     let verts = points
         .iter()
         .enumerate()
-        .map(|(i, &uv)| QVertex { global: Some(i as u32), ..QVertex::interior(uv, [uv[0], uv[1], 0.0], NodeClass::Face(FaceId(0), Some(uv))) })
+        .map(|(i, &uv)| QVertex {
+            global: Some(i as u32),
+            ..QVertex::interior(
+                uv,
+                [uv[0], uv[1], 0.0],
+                NodeClass::Face(FaceId(0), Some(uv)),
+            )
+        })
         .collect();
     let mut fq = FaceQuads::new(verts, quads).expect("valid quads");
     for v in 0..fq.verts.len() as u32 {
@@ -38,7 +45,9 @@ pub(crate) fn planar(points: &[[f64; 2]], quads: Vec<[u32; 4]>) -> FaceQuads {
 
 /// The (n + 1)² integer points of `[0, n]²`, row by row: point `(i, j)` is `j (n + 1) + i`.
 fn grid_points(n: u32) -> Vec<[f64; 2]> {
-    (0..=n).flat_map(|j| (0..=n).map(move |i| [i as f64, j as f64])).collect()
+    (0..=n)
+        .flat_map(|j| (0..=n).map(move |i| [i as f64, j as f64]))
+        .collect()
 }
 
 /// An n × n grid of unit quads on `[0, n]²`; vertex `(i, j)` has id `j (n + 1) + i`.
@@ -110,7 +119,10 @@ pub(crate) struct Patch {
 impl Patch {
     /// A patch from points and counter-clockwise quads.
     pub fn new(pts: &[[f64; 2]], quads: &[[u32; 4]]) -> Self {
-        Patch { pts: pts.to_vec(), quads: quads.to_vec() }
+        Patch {
+            pts: pts.to_vec(),
+            quads: quads.to_vec(),
+        }
     }
 
     /// Number of quads holding `v`.
@@ -121,11 +133,18 @@ impl Patch {
     /// The boundary loop, counter-clockwise (the patch on its left), starting
     /// at its smallest vertex id. Panics unless the boundary is one loop.
     pub fn boundary_loop(&self) -> Vec<u32> {
-        let directed: std::collections::BTreeSet<(u32, u32)> = self.quads.iter().flat_map(|q| (0..4).map(move |i| (q[i], q[(i + 1) % 4]))).collect();
+        let directed: std::collections::BTreeSet<(u32, u32)> = self
+            .quads
+            .iter()
+            .flat_map(|q| (0..4).map(move |i| (q[i], q[(i + 1) % 4])))
+            .collect();
         let mut next = std::collections::BTreeMap::new();
         for &(a, b) in &directed {
             if !directed.contains(&(b, a)) {
-                assert!(next.insert(a, b).is_none(), "vertex {a} is pinched (two boundary edges leave it)");
+                assert!(
+                    next.insert(a, b).is_none(),
+                    "vertex {a} is pinched (two boundary edges leave it)"
+                );
             }
         }
         let start = *next.keys().next().expect("a patch has a boundary");
@@ -155,12 +174,20 @@ impl Patch {
             .iter()
             .map(|&v| {
                 let (t, f) = (valence(v), self.fan(v));
-                assert!(t > f, "vertex {v} has {f} quads already: valence {t} is impossible after a ring");
+                assert!(
+                    t > f,
+                    "vertex {v} has {f} quads already: valence {t} is impossible after a ring"
+                );
                 t - f - 1
             })
             .collect();
         for j in 0..m {
-            assert!(r[j] > 0 || r[(j + 1) % m] > 0, "loop vertices {} and {} both need 0 radial edges", lp[j], lp[(j + 1) % m]);
+            assert!(
+                r[j] > 0 || r[(j + 1) % m] > 0,
+                "loop vertices {} and {} both need 0 radial edges",
+                lp[j],
+                lp[(j + 1) % m]
+            );
         }
         let lpts: Vec<[f64; 2]> = lp.iter().map(|&v| self.pts[v as usize]).collect();
         let p = |j: usize| lpts[j % m];
@@ -191,7 +218,9 @@ impl Patch {
         };
         // start after a quad whose outer side is not a single point, so that
         // the last quad closes on the first outer vertex without merging it
-        let s = (0..n).find(|&i| span(&rad, (i + n - 1) % n) < 2).expect("some ring quad has an outer edge");
+        let s = (0..n)
+            .find(|&i| span(&rad, (i + n - 1) % n) < 2)
+            .expect("some ring quad has an outer edge");
         rad.rotate_left(s);
         let push = |pts: &mut Vec<[f64; 2]>, x: [f64; 2]| {
             pts.push(x);
@@ -217,7 +246,10 @@ impl Patch {
                         Some((v, sum, wsum)) if v == out[i] => (sum, wsum),
                         _ => ([wt(i) * rad[i].1[0], wt(i) * rad[i].1[1]], wt(i)),
                     };
-                    sum = [sum[0] + wt(nx) * rad[nx].1[0], sum[1] + wt(nx) * rad[nx].1[1]];
+                    sum = [
+                        sum[0] + wt(nx) * rad[nx].1[0],
+                        sum[1] + wt(nx) * rad[nx].1[1],
+                    ];
                     wsum += wt(nx);
                     self.pts[out[i] as usize] = [sum[0] / wsum, sum[1] / wsum];
                     shared = Some((out[i], sum, wsum));
@@ -233,7 +265,10 @@ impl Patch {
                     let c = p(rad[i].0);
                     let (a, b) = (ang(c, rad[i].1), ang(c, rad[nx].1));
                     let mid = a + 0.5 * (b - a).rem_euclid(std::f64::consts::TAU);
-                    let x = push(&mut self.pts, [c[0] + 1.3 * w * mid.cos(), c[1] + 1.3 * w * mid.sin()]);
+                    let x = push(
+                        &mut self.pts,
+                        [c[0] + 1.3 * w * mid.cos(), c[1] + 1.3 * w * mid.sin()],
+                    );
                     if nx != 0 {
                         out[nx] = push(&mut self.pts, rad[nx].1);
                     }
@@ -259,13 +294,26 @@ impl Patch {
     pub fn ring_regular(self, overrides: &[(u32, u32)]) -> Self {
         let lp = self.boundary_loop();
         let m = lp.len();
-        let mut t: Vec<u32> = lp.iter().map(|&v| overrides.iter().find(|o| o.0 == v).map_or((self.fan(v) + 1).max(4), |o| o.1)).collect();
+        let mut t: Vec<u32> = lp
+            .iter()
+            .map(|&v| {
+                overrides
+                    .iter()
+                    .find(|o| o.0 == v)
+                    .map_or((self.fan(v) + 1).max(4), |o| o.1)
+            })
+            .collect();
         let fixed = |v: u32| overrides.iter().any(|o| o.0 == v);
         for j in 0..m {
             let k = (j + 1) % m;
             if t[j] == self.fan(lp[j]) + 1 && t[k] == self.fan(lp[k]) + 1 {
                 let bump = if !fixed(lp[k]) { k } else { j };
-                assert!(!fixed(lp[bump]), "overrides of {} and {} both leave no radial edge", lp[j], lp[k]);
+                assert!(
+                    !fixed(lp[bump]),
+                    "overrides of {} and {} both leave no radial edge",
+                    lp[j],
+                    lp[k]
+                );
                 t[bump] += 1;
             }
         }
@@ -281,9 +329,13 @@ impl Patch {
     pub fn relaxed(mut self, pinned: usize) -> Self {
         let lp = self.boundary_loop();
         let m = lp.len();
-        let c = self.pts[..pinned].iter().fold([0.0, 0.0], |a, p| [a[0] + p[0] / pinned as f64, a[1] + p[1] / pinned as f64]);
+        let c = self.pts[..pinned].iter().fold([0.0, 0.0], |a, p| {
+            [a[0] + p[0] / pinned as f64, a[1] + p[1] / pinned as f64]
+        });
         let radius = self.pts.iter().map(|&p| dist(p, c)).fold(0.0, f64::max);
-        let len: Vec<f64> = (0..m).map(|j| dist(self.pts[lp[j] as usize], self.pts[lp[(j + 1) % m] as usize])).collect();
+        let len: Vec<f64> = (0..m)
+            .map(|j| dist(self.pts[lp[j] as usize], self.pts[lp[(j + 1) % m] as usize]))
+            .collect();
         let total: f64 = len.iter().sum();
         let a0 = ang(c, self.pts[lp[0] as usize]);
         let mut s = 0.0;
@@ -299,11 +351,18 @@ impl Patch {
                 links[q[(i + 1) % 4] as usize].insert(q[i]);
             }
         }
-        let free: Vec<usize> = (pinned..self.pts.len()).filter(|&v| !lp.contains(&(v as u32))).collect();
+        let free: Vec<usize> = (pinned..self.pts.len())
+            .filter(|&v| !lp.contains(&(v as u32)))
+            .collect();
         for _ in 0..200 {
             for &v in &free {
                 let n = links[v].len() as f64;
-                self.pts[v] = links[v].iter().fold([0.0, 0.0], |a, &l| [a[0] + self.pts[l as usize][0] / n, a[1] + self.pts[l as usize][1] / n]);
+                self.pts[v] = links[v].iter().fold([0.0, 0.0], |a, &l| {
+                    [
+                        a[0] + self.pts[l as usize][0] / n,
+                        a[1] + self.pts[l as usize][1] / n,
+                    ]
+                });
             }
         }
         self
@@ -316,7 +375,11 @@ impl Patch {
         fq.check().expect("consistent patch");
         let lp = self.boundary_loop();
         for v in 0..fq.verts.len() as u32 {
-            assert_eq!(fq.verts[v as usize].fixed, lp.contains(&v), "vertex {v}: fixed iff on the outer loop");
+            assert_eq!(
+                fq.verts[v as usize].fixed,
+                lp.contains(&v),
+                "vertex {v}: fixed iff on the outer loop"
+            );
         }
         fq
     }

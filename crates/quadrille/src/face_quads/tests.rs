@@ -14,9 +14,15 @@ fn grid_is_regular_with_boundary_ideals_from_angles() {
     assert_eq!(fq.num_quads(), 16);
     assert_eq!(fq.irregular_count(), 0);
     // corner: 1 quad, 2 edges, 90° → ideal 2; side: 2 quads, 3 edges, 180° → 3; inside: 4
-    assert_eq!((fq.valence(0), fq.verts[0].ideal, fq.verts[0].fixed), (2, 2, true));
+    assert_eq!(
+        (fq.valence(0), fq.verts[0].ideal, fq.verts[0].fixed),
+        (2, 2, true)
+    );
     assert_eq!((fq.valence(2), fq.verts[2].ideal), (3, 3));
-    assert_eq!((fq.valence(12), fq.verts[12].ideal, fq.verts[12].fixed), (4, 4, false));
+    assert_eq!(
+        (fq.valence(12), fq.verts[12].ideal, fq.verts[12].fixed),
+        (4, 4, false)
+    );
     assert_eq!(ideal_boundary_valence(270.0), 4);
     assert_eq!(ideal_boundary_valence(30.0), 2);
 }
@@ -52,10 +58,17 @@ fn rollback_restores_topology_and_positions_exactly() {
     let orig = fq.clone();
     let cp = fq.checkpoint();
     assert!(fq.move_vertex(face, 5, [1.2, 1.1]));
-    assert!(!fq.move_vertex(face, 0, [0.5, 0.5]), "fixed vertices never move");
+    assert!(
+        !fq.move_vertex(face, 0, [0.5, 0.5]),
+        "fixed vertices never move"
+    );
     let q = fq.quads[4];
     fq.set_quad(4, [q[1], q[2], q[3], q[0]]);
-    let v = fq.add_vertex(QVertex::interior([1.5, 1.5], [1.5, 1.5, 0.0], NodeClass::Face(FaceId(0), None)));
+    let v = fq.add_vertex(QVertex::interior(
+        [1.5, 1.5],
+        [1.5, 1.5, 0.0],
+        NodeClass::Face(FaceId(0), None),
+    ));
     fq.kill_quad(0);
     fq.add_quad([0, 1, v, 4]);
     assert_ne!(fq.verts, orig.verts);
@@ -70,13 +83,18 @@ fn rollback_restores_topology_and_positions_exactly() {
 /// Twice the signed area of a planar quad (positive when counter-clockwise).
 fn signed_area2(fq: &FaceQuads, q: u32) -> f64 {
     let p = fq.quads[q as usize].map(|v| fq.verts[v as usize].uv);
-    (0..4).map(|i| p[i][0] * p[(i + 1) % 4][1] - p[(i + 1) % 4][0] * p[i][1]).sum()
+    (0..4)
+        .map(|i| p[i][0] * p[(i + 1) % 4][1] - p[(i + 1) % 4][0] * p[i][1])
+        .sum()
 }
 
 #[test]
 fn patch_rings_make_the_core_interior_with_the_requested_valences() {
     // one unit quad, ringed so that its corners get (3, 5, 3, 5) quads
-    let core = Patch::new(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], &[[0, 1, 2, 3]]);
+    let core = Patch::new(
+        &[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+        &[[0, 1, 2, 3]],
+    );
     assert_eq!(core.boundary_loop(), vec![0, 1, 2, 3]);
     let want = [3, 5, 3, 5];
     let once = core.ring(|v| want[v as usize]);
@@ -103,7 +121,10 @@ fn patch_rings_make_the_core_interior_with_the_requested_valences() {
     assert!(fq2.live_quads().all(|q| signed_area2(&fq2, q) > 0.0));
     // relaxing moves only the rings (the boundary onto a circle), keeps the topology
     let relaxed = twice.clone().relaxed(4);
-    assert_eq!((&relaxed.pts[..4], &relaxed.quads), (&twice.pts[..4], &twice.quads));
+    assert_eq!(
+        (&relaxed.pts[..4], &relaxed.quads),
+        (&twice.pts[..4], &twice.quads)
+    );
     let fq3 = relaxed.build();
     assert!(fq3.live_quads().all(|q| signed_area2(&fq3, q) > 0.0));
     // ids are stable: the core and the first ring keep their points
@@ -114,16 +135,49 @@ fn patch_rings_make_the_core_interior_with_the_requested_valences() {
 #[test]
 fn a_pole_with_a_closed_fan_wants_the_valence_its_cone_angle_holds() {
     // the cone angle θ in right angles, rounded, at least 3
-    assert_eq!(ideal_pole_valence(360.0), 4, "a sphere pole is a smooth point");
-    assert_eq!(ideal_pole_valence(309.0), 3, "a 118° drill tip: 360° · sin 59° ≈ 309°");
-    assert_eq!(ideal_pole_valence(180.0), 3, "never fewer than 3 (no doublets)");
+    assert_eq!(
+        ideal_pole_valence(360.0),
+        4,
+        "a sphere pole is a smooth point"
+    );
+    assert_eq!(
+        ideal_pole_valence(309.0),
+        3,
+        "a 118° drill tip: 360° · sin 59° ≈ 309°"
+    );
+    assert_eq!(
+        ideal_pole_valence(180.0),
+        3,
+        "never fewer than 3 (no doublets)"
+    );
     assert_eq!(ideal_pole_valence(450.0), 5);
     assert_eq!(ideal_pole_valence(f64::NAN), 4);
     // a fixed pole at the centre of a flat 6-star (360°) wants 4 edges, so it
     // is irregular with 6; before it kept its current valence as ideal
     let p = Patch::new(
-        &[[0.0, 0.0], [1.0, 0.0], [0.5, 0.87], [-0.5, 0.87], [-1.0, 0.0], [-0.5, -0.87], [0.5, -0.87], [1.5, 0.87], [0.0, 1.73], [-1.5, 0.87], [-1.5, -0.87], [0.0, -1.73], [1.5, -0.87]],
-        &[[0, 1, 7, 2], [0, 2, 8, 3], [0, 3, 9, 4], [0, 4, 10, 5], [0, 5, 11, 6], [0, 6, 12, 1]],
+        &[
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [0.5, 0.87],
+            [-0.5, 0.87],
+            [-1.0, 0.0],
+            [-0.5, -0.87],
+            [0.5, -0.87],
+            [1.5, 0.87],
+            [0.0, 1.73],
+            [-1.5, 0.87],
+            [-1.5, -0.87],
+            [0.0, -1.73],
+            [1.5, -0.87],
+        ],
+        &[
+            [0, 1, 7, 2],
+            [0, 2, 8, 3],
+            [0, 3, 9, 4],
+            [0, 4, 10, 5],
+            [0, 5, 11, 6],
+            [0, 6, 12, 1],
+        ],
     );
     let mut fq = p.build();
     fq.verts[0].fixed = true;

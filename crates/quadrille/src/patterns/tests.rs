@@ -1,7 +1,10 @@
 use super::*;
 
 fn pattern(name: &str) -> &'static Pattern {
-    library().iter().find(|p| p.name == name).expect("in the library")
+    library()
+        .iter()
+        .find(|p| p.name == name)
+        .expect("in the library")
 }
 
 #[test]
@@ -10,7 +13,15 @@ fn derived_sides_and_chords_reproduce_the_papers_equations() {
     let r3 = pattern("R3");
     assert_eq!(r3.sides(), 4);
     assert_eq!(r3.chords, 5);
-    assert_eq!(r3.w, vec![vec![1, 1, 1, 0, 0], vec![0, 0, 0, 1, 1], vec![1, 0, 1, 0, 0], vec![0, 1, 0, 1, 1]]);
+    assert_eq!(
+        r3.w,
+        vec![
+            vec![1, 1, 1, 0, 0],
+            vec![0, 0, 0, 1, 1],
+            vec![1, 0, 1, 0, 0],
+            vec![0, 1, 0, 1, 1]
+        ]
+    );
     assert_eq!(r3.irregular, 2);
     // R1: opposite sides share a chord
     let r1 = pattern("R1");
@@ -39,12 +50,18 @@ fn derived_sides_and_chords_reproduce_the_papers_equations() {
 fn bad_coarse_meshes_are_refused() {
     let c = vec![[0.0, 0.0]; 6];
     // two quads sharing only a vertex
-    assert!(matches!(Pattern::from_quads("x", c.clone(), vec![[0, 1, 2, 3], [2, 4, 5, 1]]), Err(PatternError::NotADisk(..))));
+    assert!(matches!(
+        Pattern::from_quads("x", c.clone(), vec![[0, 1, 2, 3], [2, 4, 5, 1]]),
+        Err(PatternError::NotADisk(..))
+    ));
     // a vertex index out of range
     assert!(Pattern::from_quads("x", c.clone(), vec![[0, 1, 2, 9]]).is_err());
     // an L of three quads has a concave boundary vertex
     let l = vec![[0.0, 0.0]; 8];
-    assert!(matches!(Pattern::from_quads("L", l, vec![[0, 1, 2, 3], [1, 4, 5, 2], [3, 2, 6, 7]]), Err(PatternError::Concave(..))));
+    assert!(matches!(
+        Pattern::from_quads("L", l, vec![[0, 1, 2, 3], [1, 4, 5, 2], [3, 2, 6, 7]]),
+        Err(PatternError::Concave(..))
+    ));
 }
 
 #[test]
@@ -68,7 +85,10 @@ fn closed_forms_of_the_star_patterns() {
 fn the_corner_dipole_example() {
     let r3 = pattern("R3");
     // [10, 4, 8, 6]: b = 2, a = c = 4, d = e = 2
-    assert_eq!(solve(&r3.w, &[10, 4, 8, 6], MAX_ATTEMPTS), Some(vec![4, 2, 4, 2, 2]));
+    assert_eq!(
+        solve(&r3.w, &[10, 4, 8, 6], MAX_ATTEMPTS),
+        Some(vec![4, 2, 4, 2, 2])
+    );
     // N1 − N3 = 1 ≠ N4 − N2 = 2: no solution, and the search stops
     assert!(solve(&r3.w, &[9, 4, 8, 6], MAX_ATTEMPTS).is_none());
     // large unsolvable input: still terminates (bounded attempts)
@@ -98,24 +118,35 @@ fn matching_tries_every_rotation_and_direction() {
 fn refined_patterns_are_valid_meshes() {
     let r1 = refine(pattern("R1"), &[5, 3]);
     assert_eq!(r1.quads.len(), 15);
-    for (name, sides) in [("R1", vec![5u32, 3, 5, 3]), ("R3", vec![10, 4, 8, 6]), ("T3", vec![6, 8, 10]), ("P5", vec![4, 6, 4, 6, 4]), ("R2c", vec![12, 5, 6, 9]), ("RU", vec![4, 6, 4, 10])] {
+    for (name, sides) in [
+        ("R1", vec![5u32, 3, 5, 3]),
+        ("R3", vec![10, 4, 8, 6]),
+        ("T3", vec![6, 8, 10]),
+        ("P5", vec![4, 6, 4, 6, 4]),
+        ("R2c", vec![12, 5, 6, 9]),
+        ("RU", vec![4, 6, 4, 10]),
+    ] {
         let p = pattern(name);
         let s = solve(&p.w, &sides, MAX_ATTEMPTS).unwrap_or_else(|| panic!("{name} {sides:?}"));
         let r = refine(p, &s);
         // sides between consecutive corners
         let nb = r.boundary.len();
         let m = r.corners.len();
-        let got: Vec<u32> = (0..m).map(|i| ((r.corners[(i + 1) % m] + nb - r.corners[i]) % nb) as u32).collect();
+        let got: Vec<u32> = (0..m)
+            .map(|i| ((r.corners[(i + 1) % m] + nb - r.corners[i]) % nb) as u32)
+            .collect();
         assert_eq!(got, sides, "{name}");
         // valences and Euler
         let nv = r.coords.len();
         let mut val = vec![0usize; nv];
         let mut edges = std::collections::HashSet::new();
         for q in &r.quads {
-            let area: f64 = (0..4).map(|k| {
-                let (a, b) = (r.coords[q[k] as usize], r.coords[q[(k + 1) % 4] as usize]);
-                a[0] * b[1] - b[0] * a[1]
-            }).sum();
+            let area: f64 = (0..4)
+                .map(|k| {
+                    let (a, b) = (r.coords[q[k] as usize], r.coords[q[(k + 1) % 4] as usize]);
+                    a[0] * b[1] - b[0] * a[1]
+                })
+                .sum();
             assert!(area > 0.0, "{name}: quad {q:?} not counter-clockwise");
             for k in 0..4 {
                 val[q[k] as usize] += 1;
@@ -123,11 +154,20 @@ fn refined_patterns_are_valid_meshes() {
             }
         }
         assert!(val.iter().all(|&v| v > 0), "{name}: unused vertex");
-        assert_eq!(nv as i64 - edges.len() as i64 + r.quads.len() as i64, 1, "{name}: Euler");
+        assert_eq!(
+            nv as i64 - edges.len() as i64 + r.quads.len() as i64,
+            1,
+            "{name}: Euler"
+        );
         let on_b: std::collections::HashSet<u32> = r.boundary.iter().copied().collect();
         assert_eq!(on_b.len(), nb);
-        let irregular = (0..nv as u32).filter(|v| !on_b.contains(v) && val[*v as usize] != 4).count();
-        assert_eq!(irregular, p.irregular, "{name}: irregular interior vertices");
+        let irregular = (0..nv as u32)
+            .filter(|v| !on_b.contains(v) && val[*v as usize] != 4)
+            .count();
+        assert_eq!(
+            irregular, p.irregular,
+            "{name}: irregular interior vertices"
+        );
         for (i, &b) in r.boundary.iter().enumerate() {
             let want = if r.corners.contains(&i) { 1 } else { 2 };
             assert_eq!(val[b as usize], want, "{name}: boundary vertex {i}");

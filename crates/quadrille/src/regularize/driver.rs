@@ -34,7 +34,9 @@ use geometry::Face;
 
 use crate::face_quads::FaceQuads;
 
-use super::ops::{apply, apply_topology, candidates_at, effect_valences as effect, score_delta, Op};
+use super::ops::{
+    apply, apply_topology, candidates_at, effect_valences as effect, score_delta, Op,
+};
 use super::reposition::{repair, repair_rounds, REPAIR_ITERATIONS};
 use super::validity::{quad_valid, AngleWindow};
 
@@ -159,32 +161,77 @@ fn better(a: Score) -> bool {
 impl<'a> Regularizer<'a> {
     /// Prepares the state (computes the invalid flags of every quad).
     pub fn new(face: &'a Face, fq: &'a mut FaceQuads) -> Self {
-        let invalid = (0..fq.quads.len() as u32).map(|q| fq.quad_alive[q as usize] && !quad_valid(fq, face, q, AngleWindow::BASE)).collect();
-        Regularizer { face, fq, invalid, counts: OpCounts::default(), compositions: true, tries: 4, max_ops: 3, budget: SEARCH_BUDGET, translation_steps: 8, pair_radius: 2, pair_depth: 4, pair_beam: 5, pair_budget: 600, strict: false, order: 0, repair_rounds: REPAIR_ITERATIONS, target_quads: 0, quad_dir: 0, singles_in_search: false, epoch: 1, stamp: Vec::new(), pair_failed: Vec::new(), quad_failed: Vec::new() }
+        let invalid = (0..fq.quads.len() as u32)
+            .map(|q| fq.quad_alive[q as usize] && !quad_valid(fq, face, q, AngleWindow::BASE))
+            .collect();
+        Regularizer {
+            face,
+            fq,
+            invalid,
+            counts: OpCounts::default(),
+            compositions: true,
+            tries: 4,
+            max_ops: 3,
+            budget: SEARCH_BUDGET,
+            translation_steps: 8,
+            pair_radius: 2,
+            pair_depth: 4,
+            pair_beam: 5,
+            pair_budget: 600,
+            strict: false,
+            order: 0,
+            repair_rounds: REPAIR_ITERATIONS,
+            target_quads: 0,
+            quad_dir: 0,
+            singles_in_search: false,
+            epoch: 1,
+            stamp: Vec::new(),
+            pair_failed: Vec::new(),
+            quad_failed: Vec::new(),
+        }
     }
 
     fn update_quad_dir(&mut self) {
         let q = self.fq.num_quads();
-        self.quad_dir = if self.target_quads == 0 || q == self.target_quads { 0 } else if q > self.target_quads { 1 } else { -1 };
+        self.quad_dir = if self.target_quads == 0 || q == self.target_quads {
+            0
+        } else if q > self.target_quads {
+            1
+        } else {
+            -1
+        };
     }
 
     /// Score change of one operation ([`Score`]).
     fn delta(&self, eff: &super::ops::Effect) -> Score {
         let d = score_delta(self.fq, eff);
-        let dq = if eff.removed.is_some() { -1 } else if eff.created.is_some() { 1 } else { 0 };
+        let dq = if eff.removed.is_some() {
+            -1
+        } else if eff.created.is_some() {
+            1
+        } else {
+            0
+        };
         (d.0, d.1, dq * self.quad_dir)
     }
 
     /// Number of live quads currently invalid for the base window.
     pub fn invalid_count(&self) -> usize {
-        self.fq.live_quads().filter(|&q| self.invalid[q as usize]).count()
+        self.fq
+            .live_quads()
+            .filter(|&q| self.invalid[q as usize])
+            .count()
     }
 
     /// Repairs the invalid quads of the input where repositioning can (each
     /// kept only when its region does not get worse). When some stay invalid,
     /// later operations get [`STUCK_REPAIR_ROUNDS`] repair rounds.
     pub fn initial_repair(&mut self) {
-        let bad: Vec<u32> = self.fq.live_quads().filter(|&q| self.invalid[q as usize]).collect();
+        let bad: Vec<u32> = self
+            .fq
+            .live_quads()
+            .filter(|&q| self.invalid[q as usize])
+            .collect();
         for q in bad {
             if !self.invalid[q as usize] {
                 continue;
@@ -206,15 +253,25 @@ impl<'a> Regularizer<'a> {
     /// edit (updating the flags) when no more of them are invalid than before.
     fn settle(&mut self, cp: crate::face_quads::Checkpoint) -> bool {
         let touched = self.fq.touched_since(cp);
-        let live: Vec<u32> = touched.iter().copied().filter(|&v| self.fq.verts[v as usize].alive).collect();
+        let live: Vec<u32> = touched
+            .iter()
+            .copied()
+            .filter(|&v| self.fq.verts[v as usize].alive)
+            .collect();
         let mut check = self.fq.quads_around(&live);
         let mut all = check.clone();
         all.extend(self.fq.quads_touched_since(cp));
         all.sort_unstable();
         all.dedup();
-        let before = all.iter().filter(|&&q| (q as usize) < self.invalid.len() && self.invalid[q as usize]).count();
+        let before = all
+            .iter()
+            .filter(|&&q| (q as usize) < self.invalid.len() && self.invalid[q as usize])
+            .count();
         check.retain(|&q| self.fq.quad_alive[q as usize]);
-        let flags: Vec<(u32, bool)> = check.iter().map(|&q| (q, !quad_valid(self.fq, self.face, q, AngleWindow::BASE))).collect();
+        let flags: Vec<(u32, bool)> = check
+            .iter()
+            .map(|&q| (q, !quad_valid(self.fq, self.face, q, AngleWindow::BASE)))
+            .collect();
         let after = flags.iter().filter(|f| f.1).count();
         if after > before || (self.strict && after > 0) {
             return false;
@@ -245,7 +302,13 @@ impl<'a> Regularizer<'a> {
                 self.fq.rollback(cp);
                 return false;
             };
-            repair_rounds(self.fq, self.face, &region, AngleWindow::BASE, self.repair_rounds);
+            repair_rounds(
+                self.fq,
+                self.face,
+                &region,
+                AngleWindow::BASE,
+                self.repair_rounds,
+            );
         }
         if self.settle(cp) {
             self.fq.commit();
@@ -258,7 +321,9 @@ impl<'a> Regularizer<'a> {
     }
 
     fn has_irregular(&self, q: u32) -> bool {
-        self.fq.quads[q as usize].iter().any(|&v| self.fq.is_irregular(v))
+        self.fq.quads[q as usize]
+            .iter()
+            .any(|&v| self.fq.is_irregular(v))
     }
 
     /// Tries to lower the score around quad `q`; returns whether something was accepted.
@@ -270,7 +335,9 @@ impl<'a> Regularizer<'a> {
         self.update_quad_dir();
         let mut single: Vec<(Score, usize, Op)> = Vec::new();
         for (i, &op) in cands.iter().enumerate() {
-            let Some(eff) = effect(self.fq, op) else { continue };
+            let Some(eff) = effect(self.fq, op) else {
+                continue;
+            };
             let d = self.delta(&eff);
             if better(d) {
                 single.push((d, i, op));
@@ -294,7 +361,15 @@ impl<'a> Regularizer<'a> {
         for len in 2..=self.max_ops {
             let mut found = Vec::new();
             let mut budget = self.budget;
-            self.extend(&cands, &mut Vec::new(), (0, 0, 0), &[], len, &mut found, &mut budget);
+            self.extend(
+                &cands,
+                &mut Vec::new(),
+                (0, 0, 0),
+                &[],
+                len,
+                &mut found,
+                &mut budget,
+            );
             found.sort();
             found.dedup_by(|a, b| a.1 == b.1);
             for (_, ops) in found.iter().take(self.tries) {
@@ -313,15 +388,35 @@ impl<'a> Regularizer<'a> {
     /// at most one irregular vertex. Sequences of ≥ 2 operations that lower the
     /// score are collected in `found`. Topology only (rolled back after).
     #[allow(clippy::too_many_arguments)]
-    fn extend(&mut self, start: &[Op], path: &mut Vec<Op>, acc: Score, seeds: &[u32], len: usize, found: &mut Vec<(Score, Vec<Op>)>, budget: &mut usize) {
+    fn extend(
+        &mut self,
+        start: &[Op],
+        path: &mut Vec<Op>,
+        acc: Score,
+        seeds: &[u32],
+        len: usize,
+        found: &mut Vec<(Score, Vec<Op>)>,
+        budget: &mut usize,
+    ) {
         let cands: Vec<Op> = if path.is_empty() {
             start.to_vec()
         } else {
-            self.fq.quads_around(seeds).into_iter().flat_map(|p| candidates_at(self.fq, p)).collect()
+            self.fq
+                .quads_around(seeds)
+                .into_iter()
+                .flat_map(|p| candidates_at(self.fq, p))
+                .collect()
         };
         for op in cands {
-            let Some(eff) = effect(self.fq, op) else { continue };
-            if !path.is_empty() && !eff.changes.iter().any(|c| c.1 != c.2 && seeds.binary_search(&c.0).is_ok()) {
+            let Some(eff) = effect(self.fq, op) else {
+                continue;
+            };
+            if !path.is_empty()
+                && !eff
+                    .changes
+                    .iter()
+                    .any(|c| c.1 != c.2 && seeds.binary_search(&c.0).is_ok())
+            {
                 continue;
             }
             let d1 = self.delta(&eff);
@@ -340,7 +435,12 @@ impl<'a> Regularizer<'a> {
             *budget -= 1;
             let cp = self.fq.checkpoint();
             if apply_topology(self.fq, op).is_some() {
-                let mut changed: Vec<u32> = eff.changes.iter().filter(|c| c.1 != c.2).map(|c| c.0).collect();
+                let mut changed: Vec<u32> = eff
+                    .changes
+                    .iter()
+                    .filter(|c| c.1 != c.2)
+                    .map(|c| c.0)
+                    .collect();
                 changed.extend(cp.verts_len() as u32..self.fq.verts.len() as u32);
                 changed.sort_unstable();
                 changed.dedup();
@@ -405,10 +505,26 @@ impl<'a> Regularizer<'a> {
         if s == 0 {
             return None;
         }
-        let mut cluster: Vec<u32> = std::iter::once(v).chain(self.fq.links(v).into_iter().filter(|&l| self.fq.is_irregular(l))).collect();
+        let mut cluster: Vec<u32> = std::iter::once(v)
+            .chain(
+                self.fq
+                    .links(v)
+                    .into_iter()
+                    .filter(|&l| self.fq.is_irregular(l)),
+            )
+            .collect();
         cluster.sort_unstable();
-        let net: i64 = cluster.iter().map(|&c| self.fq.verts[c as usize].ideal as i64 - self.fq.valence(c) as i64).sum();
-        let wanted = |w: u32| if net == 0 { self.index_sign(w) != 0 } else { self.index_sign(w) == -net.signum() };
+        let net: i64 = cluster
+            .iter()
+            .map(|&c| self.fq.verts[c as usize].ideal as i64 - self.fq.valence(c) as i64)
+            .sum();
+        let wanted = |w: u32| {
+            if net == 0 {
+                self.index_sign(w) != 0
+            } else {
+                self.index_sign(w) == -net.signum()
+            }
+        };
         let mut parent: Vec<(u32, u32)> = cluster.iter().map(|&c| (c, c)).collect();
         let mut front = cluster.clone();
         for _ in 0..radius {
@@ -471,7 +587,14 @@ impl<'a> Regularizer<'a> {
         let mut found = Vec::new();
         let mut budget = self.pair_budget;
         self.update_quad_dir();
-        self.pair_extend(&corridor, &mut Vec::new(), (0, 0, 0), &[], &mut found, &mut budget);
+        self.pair_extend(
+            &corridor,
+            &mut Vec::new(),
+            (0, 0, 0),
+            &[],
+            &mut found,
+            &mut budget,
+        );
         found.sort();
         found.dedup_by(|a, b| a.1 == b.1);
         for (_, ops) in found.iter().take(self.tries) {
@@ -508,17 +631,43 @@ impl<'a> Regularizer<'a> {
     /// of one of them; sequences that lower the score go to `found` with their
     /// score change and length. Topology only (rolled back after).
     #[allow(clippy::too_many_arguments)]
-    fn pair_extend(&mut self, corridor: &[u32], path: &mut Vec<Op>, acc: Score, changed: &[u32], found: &mut Vec<Found>, budget: &mut usize) {
-        let mut active: Vec<u32> = corridor.iter().chain(changed).copied().filter(|&x| self.fq.verts[x as usize].alive).collect();
+    fn pair_extend(
+        &mut self,
+        corridor: &[u32],
+        path: &mut Vec<Op>,
+        acc: Score,
+        changed: &[u32],
+        found: &mut Vec<Found>,
+        budget: &mut usize,
+    ) {
+        let mut active: Vec<u32> = corridor
+            .iter()
+            .chain(changed)
+            .copied()
+            .filter(|&x| self.fq.verts[x as usize].alive)
+            .collect();
         active.sort_unstable();
         active.dedup();
-        let mut cands: Vec<Op> = self.fq.quads_around(&active).into_iter().flat_map(|q| candidates_at(self.fq, q)).collect();
+        let mut cands: Vec<Op> = self
+            .fq
+            .quads_around(&active)
+            .into_iter()
+            .flat_map(|q| candidates_at(self.fq, q))
+            .collect();
         cands.sort_unstable();
         cands.dedup();
         let mut expand: Vec<(Score, Op, Vec<u32>)> = Vec::new();
         for op in cands {
-            let Some(eff) = effect(self.fq, op) else { continue };
-            let touches = eff.changes.iter().any(|c| c.1 != c.2 && active.binary_search(&c.0).is_ok()) || eff.removed.is_some_and(|r| active.binary_search(&r.0).is_ok());
+            let Some(eff) = effect(self.fq, op) else {
+                continue;
+            };
+            let touches = eff
+                .changes
+                .iter()
+                .any(|c| c.1 != c.2 && active.binary_search(&c.0).is_ok())
+                || eff
+                    .removed
+                    .is_some_and(|r| active.binary_search(&r.0).is_ok());
             if !touches {
                 continue;
             }
@@ -531,7 +680,15 @@ impl<'a> Regularizer<'a> {
                 continue;
             }
             if path.len() + 1 < self.pair_depth && d.0 <= 2 {
-                expand.push((d, op, eff.changes.iter().filter(|c| c.1 != c.2).map(|c| c.0).collect()));
+                expand.push((
+                    d,
+                    op,
+                    eff.changes
+                        .iter()
+                        .filter(|c| c.1 != c.2)
+                        .map(|c| c.0)
+                        .collect(),
+                ));
             }
         }
         expand.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
@@ -542,7 +699,12 @@ impl<'a> Regularizer<'a> {
             *budget -= 1;
             let cp = self.fq.checkpoint();
             if apply_topology(self.fq, op).is_some() {
-                let mut next: Vec<u32> = changed.iter().copied().chain(ch).chain(cp.verts_len() as u32..self.fq.verts.len() as u32).collect();
+                let mut next: Vec<u32> = changed
+                    .iter()
+                    .copied()
+                    .chain(ch)
+                    .chain(cp.verts_len() as u32..self.fq.verts.len() as u32)
+                    .collect();
                 next.sort_unstable();
                 next.dedup();
                 path.push(op);
@@ -601,7 +763,13 @@ impl<'a> Regularizer<'a> {
     fn apply_repaired(&mut self, op: Op) -> bool {
         match apply(self.fq, self.face, op) {
             Some(region) => {
-                repair_rounds(self.fq, self.face, &region, AngleWindow::BASE, self.repair_rounds);
+                repair_rounds(
+                    self.fq,
+                    self.face,
+                    &region,
+                    AngleWindow::BASE,
+                    self.repair_rounds,
+                );
                 true
             }
             None => false,
@@ -640,12 +808,22 @@ impl<'a> Regularizer<'a> {
     /// operation or composition lowers the score; keeps the whole chain only
     /// then (and only if valid), else rolls it back.
     pub fn translate_at(&mut self, v: u32) -> bool {
-        if (v as usize) >= self.fq.verts.len() || !self.fq.is_irregular(v) || self.fq.verts[v as usize].fixed {
+        if (v as usize) >= self.fq.verts.len()
+            || !self.fq.is_irregular(v)
+            || self.fq.verts[v as usize].fixed
+        {
             return false;
         }
         const RADIUS: usize = 8;
         let cp = self.fq.checkpoint();
-        let mut moving: Vec<u32> = std::iter::once(v).chain(self.fq.links(v).into_iter().filter(|&l| self.fq.is_irregular(l))).collect();
+        let mut moving: Vec<u32> = std::iter::once(v)
+            .chain(
+                self.fq
+                    .links(v)
+                    .into_iter()
+                    .filter(|&l| self.fq.is_irregular(l)),
+            )
+            .collect();
         moving.sort_unstable();
         let mut dist = self.hops_to_irregular(&moving, &moving, RADIUS);
         if dist > RADIUS {
@@ -659,14 +837,27 @@ impl<'a> Regularizer<'a> {
                     if !matches!(op, Op::Swap { .. }) {
                         continue;
                     }
-                    let Some(eff) = effect(self.fq, op) else { continue };
+                    let Some(eff) = effect(self.fq, op) else {
+                        continue;
+                    };
                     let d = score_delta(self.fq, &eff);
-                    if d.0 != 0 || d.1 > 0 || !eff.changes.iter().any(|c| moving.binary_search(&c.0).is_ok()) {
+                    if d.0 != 0
+                        || d.1 > 0
+                        || !eff
+                            .changes
+                            .iter()
+                            .any(|c| moving.binary_search(&c.0).is_ok())
+                    {
                         continue;
                     }
                     let cp2 = self.fq.checkpoint();
                     if apply_topology(self.fq, op).is_some() {
-                        let mut group: Vec<u32> = eff.changes.iter().map(|c| c.0).filter(|&x| self.fq.is_irregular(x)).collect();
+                        let mut group: Vec<u32> = eff
+                            .changes
+                            .iter()
+                            .map(|c| c.0)
+                            .filter(|&x| self.fq.is_irregular(x))
+                            .collect();
                         group.sort_unstable();
                         let h = self.hops_to_irregular(&group, &group, RADIUS);
                         if h < dist && best.as_ref().map_or(true, |b| h < b.0) {
@@ -683,11 +874,24 @@ impl<'a> Regularizer<'a> {
             dist = h;
             moving = group;
             // an improving operation or composition around the moved group?
-            let start: Vec<Op> = self.fq.quads_around(&moving).into_iter().flat_map(|p| candidates_at(self.fq, p)).collect();
+            let start: Vec<Op> = self
+                .fq
+                .quads_around(&moving)
+                .into_iter()
+                .flat_map(|p| candidates_at(self.fq, p))
+                .collect();
             let mut found = Vec::new();
             let mut budget = self.budget;
             self.singles_in_search = true;
-            self.extend(&start, &mut Vec::new(), (0, 0, 0), &moving, 2, &mut found, &mut budget);
+            self.extend(
+                &start,
+                &mut Vec::new(),
+                (0, 0, 0),
+                &moving,
+                2,
+                &mut found,
+                &mut budget,
+            );
             self.singles_in_search = false;
             found.sort();
             found.dedup_by(|a, b| a.1 == b.1);

@@ -121,7 +121,10 @@ impl Default for RegularizeOptions {
     fn default() -> Self {
         RegularizeOptions {
             window: AngleWindow::BASE,
-            target: AngleWindow { min_deg: 85.0, max_deg: 95.0 },
+            target: AngleWindow {
+                min_deg: 85.0,
+                max_deg: 95.0,
+            },
             angle_step: 1.0,
             max_sweeps: 100,
             compositions: true,
@@ -221,7 +224,9 @@ fn four_sided_grid(fq: &FaceQuads) -> Option<usize> {
     if lp.len() != next.len() {
         return None; // several loops
     }
-    let corners: Vec<usize> = (0..lp.len()).filter(|&i| fq.verts[lp[i] as usize].ideal == 2).collect();
+    let corners: Vec<usize> = (0..lp.len())
+        .filter(|&i| fq.verts[lp[i] as usize].ideal == 2)
+        .collect();
     if corners.len() != 4 {
         return None;
     }
@@ -304,22 +309,28 @@ pub struct RegularizeReport {
 impl RegularizeReport {
     /// Sum of the face-local irregular counts, before / after.
     pub fn irregular(&self) -> (usize, usize) {
-        self.faces.iter().fold((0, 0), |a, f| (a.0 + f.irregular.0, a.1 + f.irregular.1))
+        self.faces
+            .iter()
+            .fold((0, 0), |a, f| (a.0 + f.irregular.0, a.1 + f.irregular.1))
     }
     /// Sum of the invalid quad counts, before / after.
     pub fn invalid(&self) -> (usize, usize) {
-        self.faces.iter().fold((0, 0), |a, f| (a.0 + f.invalid.0, a.1 + f.invalid.1))
+        self.faces
+            .iter()
+            .fold((0, 0), |a, f| (a.0 + f.invalid.0, a.1 + f.invalid.1))
     }
     /// Operations over all faces.
     pub fn ops(&self) -> OpCounts {
-        self.faces.iter().fold(OpCounts::default(), |a, f| OpCounts {
-            swaps: a.swaps + f.ops.swaps,
-            collapses: a.collapses + f.ops.collapses,
-            splits: a.splits + f.ops.splits,
-            compositions: a.compositions + f.ops.compositions,
-            rejected: a.rejected + f.ops.rejected,
-            sweeps: a.sweeps.max(f.ops.sweeps),
-        })
+        self.faces
+            .iter()
+            .fold(OpCounts::default(), |a, f| OpCounts {
+                swaps: a.swaps + f.ops.swaps,
+                collapses: a.collapses + f.ops.collapses,
+                splits: a.splits + f.ops.splits,
+                compositions: a.compositions + f.ops.compositions,
+                rejected: a.rejected + f.ops.rejected,
+                sweeps: a.sweeps.max(f.ops.sweeps),
+            })
     }
 }
 
@@ -342,18 +353,30 @@ pub enum RegularizeError {
 /// Regularizes one face in place: initial repair of invalid quads, the
 /// operation loop, then (optionally) Algorithm 2. Fixed vertices are never
 /// moved or removed.
-pub fn regularize_face(face: &Face, fid: FaceId, fq: &mut FaceQuads, opts: &RegularizeOptions) -> FaceReport {
+pub fn regularize_face(
+    face: &Face,
+    fid: FaceId,
+    fq: &mut FaceQuads,
+    opts: &RegularizeOptions,
+) -> FaceReport {
     let before = (fq.num_quads(), fq.num_verts(), fq.irregular_count());
     // the topological phase once per sweep order; the result with the fewest
     // invalid quads, then irregular vertices, is kept (ties: the first)
-    let orders = opts.sweep_orders.min((opts.order_budget / fq.num_quads().max(1)).max(2)).max(1);
+    let orders = opts
+        .sweep_orders
+        .min((opts.order_budget / fq.num_quads().max(1)).max(2))
+        .max(1);
     let input = if orders > 1 { Some(fq.clone()) } else { None };
     // odd orders run without the quad-count preference: each face keeps the
     // better of the two behaviours
     let target = opts.quad_target.quads_for(fq);
     // a result with more quads inverted against the CAD normals than the input
     // is never preferred (regularize_mesh would revert the whole face)
-    let inverted0 = if orders > 1 { validity::inverted_count(fq, face) } else { 0 };
+    let inverted0 = if orders > 1 {
+        validity::inverted_count(fq, face)
+    } else {
+        0
+    };
     let key = |fq: &FaceQuads, invalid: usize| {
         let worse = orders > 1 && validity::inverted_count(fq, face) > inverted0;
         (worse, invalid, fq.irregular_count(), interior_irregular(fq))
@@ -382,7 +405,13 @@ pub fn regularize_face(face: &Face, fid: FaceId, fq: &mut FaceQuads, opts: &Regu
                 break;
             }
             let mut other = input.clone();
-            let (_, ops2, invalid2) = topological_phase(face, &mut other, opts, order, if order % 2 == 1 { 0 } else { target });
+            let (_, ops2, invalid2) = topological_phase(
+                face,
+                &mut other,
+                opts,
+                order,
+                if order % 2 == 1 { 0 } else { target },
+            );
             let k = key(&other, invalid2);
             if k < best {
                 last_gain = order as usize;
@@ -398,7 +427,10 @@ pub fn regularize_face(face: &Face, fid: FaceId, fq: &mut FaceQuads, opts: &Regu
     } else {
         opts.window
     };
-    let invalid_after = fq.live_quads().filter(|&q| !validity::quad_valid(fq, face, q, opts.window)).count();
+    let invalid_after = fq
+        .live_quads()
+        .filter(|&q| !validity::quad_valid(fq, face, q, opts.window))
+        .count();
     FaceReport {
         face: fid,
         quads: (before.0, fq.num_quads()),
@@ -416,19 +448,30 @@ pub fn regularize_face(face: &Face, fid: FaceId, fq: &mut FaceQuads, opts: &Regu
 /// at least `|Σ| / 2` vertices stay irregular (usually `|Σ|`: one edge too
 /// many or too few each).
 fn index_sum(fq: &FaceQuads) -> i64 {
-    (0..fq.verts.len() as u32).filter(|&v| fq.verts[v as usize].alive).map(|v| fq.verts[v as usize].ideal as i64 - fq.valence(v) as i64).sum()
+    (0..fq.verts.len() as u32)
+        .filter(|&v| fq.verts[v as usize].alive)
+        .map(|v| fq.verts[v as usize].ideal as i64 - fq.valence(v) as i64)
+        .sum()
 }
 
 /// Movable (face-interior) vertices whose valence is not 4.
 fn interior_irregular(fq: &FaceQuads) -> usize {
-    (0..fq.verts.len() as u32).filter(|&v| !fq.verts[v as usize].fixed && fq.is_irregular(v)).count()
+    (0..fq.verts.len() as u32)
+        .filter(|&v| !fq.verts[v as usize].fixed && fq.is_irregular(v))
+        .count()
 }
 
 /// Initial repair and the operation loop of one face ([`driver::Regularizer::run`]),
 /// visiting quads and vertices in `order` ([`driver::Regularizer::order`]),
 /// steering the quad count toward `target` (0: off). Returns the
 /// invalid quads before, the operation counts and the invalid quads after.
-fn topological_phase(face: &Face, fq: &mut FaceQuads, opts: &RegularizeOptions, order: u32, target: usize) -> (usize, OpCounts, usize) {
+fn topological_phase(
+    face: &Face,
+    fq: &mut FaceQuads,
+    opts: &RegularizeOptions,
+    order: u32,
+    target: usize,
+) -> (usize, OpCounts, usize) {
     let mut r = driver::Regularizer::new(face, fq);
     r.compositions = opts.compositions;
     r.max_ops = opts.max_sequence;
@@ -470,21 +513,35 @@ fn inverted_by_face(model: &Model, mesh: &QuadMesh) -> Vec<usize> {
 /// `mesh` with the result. Boundary nodes keep their index, position and
 /// classification bit-for-bit. Faces whose quads cannot be read (non-manifold,
 /// missing (u, v)) are left as they are and listed in the report.
-pub fn regularize_mesh(model: &Model, mesh: &mut QuadMesh, opts: &RegularizeOptions) -> Result<RegularizeReport, RegularizeError> {
+pub fn regularize_mesh(
+    model: &Model,
+    mesh: &mut QuadMesh,
+    opts: &RegularizeOptions,
+) -> Result<RegularizeReport, RegularizeError> {
     if mesh.quad_face.len() != mesh.quads.len() {
-        return Err(RegularizeError::Inconsistent(format!("{} quads but {} quad faces", mesh.quads.len(), mesh.quad_face.len())));
+        return Err(RegularizeError::Inconsistent(format!(
+            "{} quads but {} quad faces",
+            mesh.quads.len(),
+            mesh.quad_face.len()
+        )));
     }
     if mesh.node_class.len() != mesh.nodes.len() {
-        return Err(RegularizeError::Inconsistent(format!("{} nodes but {} node classes", mesh.nodes.len(), mesh.node_class.len())));
+        return Err(RegularizeError::Inconsistent(format!(
+            "{} nodes but {} node classes",
+            mesh.nodes.len(),
+            mesh.node_class.len()
+        )));
     }
     let work = || -> Vec<(FaceId, Result<(FaceQuads, FaceReport), String>)> {
         quads_by_face(mesh)
             .into_par_iter()
             .map(|(fid, qids)| {
-                let res = extract_face(model, mesh, fid, &qids).map_err(|e| e.to_string()).map(|mut fq| {
-                    let rep = regularize_face(&model.faces[fid.idx()], fid, &mut fq, opts);
-                    (fq, rep)
-                });
+                let res = extract_face(model, mesh, fid, &qids)
+                    .map_err(|e| e.to_string())
+                    .map(|mut fq| {
+                        let rep = regularize_face(&model.faces[fid.idx()], fid, &mut fq, opts);
+                        (fq, rep)
+                    });
                 (fid, res)
             })
             .collect()
@@ -493,7 +550,10 @@ pub fn regularize_mesh(model: &Model, mesh: &mut QuadMesh, opts: &RegularizeOpti
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n.max(1))
             .build()
-            .map_err(|e| RegularizeError::Threads { threads: n, reason: e.to_string() })?
+            .map_err(|e| RegularizeError::Threads {
+                threads: n,
+                reason: e.to_string(),
+            })?
             .install(work),
         None => work(),
     };
@@ -514,14 +574,23 @@ pub fn regularize_mesh(model: &Model, mesh: &mut QuadMesh, opts: &RegularizeOpti
     let mut refs: Vec<(FaceId, &FaceQuads)> = edited.iter().map(|(f, q)| (*f, q)).collect();
     let mut out = write_back(mesh, &refs);
     let inverted_after = inverted_by_face(model, &out);
-    let worse: Vec<FaceId> = refs.iter().map(|r| r.0).filter(|f| inverted_after.get(f.idx()) > inverted_before.get(f.idx())).collect();
+    let worse: Vec<FaceId> = refs
+        .iter()
+        .map(|r| r.0)
+        .filter(|f| inverted_after.get(f.idx()) > inverted_before.get(f.idx()))
+        .collect();
     let mut worse_still = worse.clone();
     if !worse.is_empty() {
         // second chance in strict mode (no edit may leave an invalid quad), then the input
-        let strict = RegularizeOptions { strict_validity: true, ..opts.clone() };
+        let strict = RegularizeOptions {
+            strict_validity: true,
+            ..opts.clone()
+        };
         let mut retried: Vec<(FaceId, FaceQuads, FaceReport)> = Vec::new();
         for &fid in &worse {
-            let qids: Vec<usize> = (0..mesh.quads.len()).filter(|&q| mesh.quad_face[q] == fid).collect();
+            let qids: Vec<usize> = (0..mesh.quads.len())
+                .filter(|&q| mesh.quad_face[q] == fid)
+                .collect();
             if let Ok(mut fq) = extract_face(model, mesh, fid, &qids) {
                 let rep = regularize_face(&model.faces[fid.idx()], fid, &mut fq, &strict);
                 retried.push((fid, fq, rep));
@@ -532,7 +601,11 @@ pub fn regularize_mesh(model: &Model, mesh: &mut QuadMesh, opts: &RegularizeOpti
         refs.sort_by_key(|r| r.0);
         out = write_back(mesh, &refs);
         let inverted_retry = inverted_by_face(model, &out);
-        worse_still = worse.iter().copied().filter(|f| inverted_retry.get(f.idx()) > inverted_before.get(f.idx())).collect();
+        worse_still = worse
+            .iter()
+            .copied()
+            .filter(|f| inverted_retry.get(f.idx()) > inverted_before.get(f.idx()))
+            .collect();
         for (fid, _, rep) in &retried {
             if !worse_still.contains(fid) {
                 if let Some(r) = report.faces.iter_mut().find(|r| r.face == *fid) {
@@ -545,7 +618,11 @@ pub fn regularize_mesh(model: &Model, mesh: &mut QuadMesh, opts: &RegularizeOpti
             out = write_back(mesh, &refs);
         }
     }
-    for rep in report.faces.iter_mut().filter(|r| worse_still.contains(&r.face)) {
+    for rep in report
+        .faces
+        .iter_mut()
+        .filter(|r| worse_still.contains(&r.face))
+    {
         rep.reverted = true;
         rep.quads.1 = rep.quads.0;
         rep.verts.1 = rep.verts.0;

@@ -145,7 +145,12 @@ fn effect_impl(fq: &FaceQuads, op: Op, with_region: bool) -> Option<Effect> {
                 return None;
             }
             Some(Effect {
-                changes: vec![(h[0], val(h[0]), val(h[0]) - 1), (h[3], val(h[3]), val(h[3]) - 1), (n1, val(n1), val(n1) + 1), (n2, val(n2), val(n2) + 1)],
+                changes: vec![
+                    (h[0], val(h[0]), val(h[0]) - 1),
+                    (h[3], val(h[3]), val(h[3]) - 1),
+                    (n1, val(n1), val(n1) + 1),
+                    (n2, val(n2), val(n2) + 1),
+                ],
                 removed: None,
                 created: None,
                 region: if with_region { h.to_vec() } else { Vec::new() },
@@ -179,7 +184,11 @@ fn effect_impl(fq: &FaceQuads, op: Op, with_region: bool) -> Option<Effect> {
             if common != 2 {
                 return None;
             }
-            if fq.verts[v1 as usize].fan.iter().any(|&p| p != q && fq.quads[p as usize].contains(&v3)) {
+            if fq.verts[v1 as usize]
+                .fan
+                .iter()
+                .any(|&p| p != q && fq.quads[p as usize].contains(&v3))
+            {
                 return None;
             }
             let (keep, gone) = if f1 { (v1, v3) } else { (v3, v1) };
@@ -194,7 +203,11 @@ fn effect_impl(fq: &FaceQuads, op: Op, with_region: bool) -> Option<Effect> {
                 region.retain(|&x| x != gone);
             }
             Some(Effect {
-                changes: vec![(v2, val(v2), val(v2) - 1), (v4, val(v4), val(v4) - 1), (keep, val(keep), merged)],
+                changes: vec![
+                    (v2, val(v2), val(v2) - 1),
+                    (v4, val(v4), val(v4) - 1),
+                    (keep, val(keep), merged),
+                ],
                 removed: Some((gone, val(gone))),
                 created: None,
                 region,
@@ -221,7 +234,11 @@ fn effect_impl(fq: &FaceQuads, op: Op, with_region: bool) -> Option<Effect> {
                 region.dedup();
             }
             Some(Effect {
-                changes: vec![(c, val(c), (k - dist + 1) as u32), (a, val(a), val(a) + 1), (b, val(b), val(b) + 1)],
+                changes: vec![
+                    (c, val(c), (k - dist + 1) as u32),
+                    (a, val(a), val(a) + 1),
+                    (b, val(b), val(b) + 1),
+                ],
                 removed: None,
                 created: Some(dist as u32 + 1),
                 region,
@@ -251,7 +268,11 @@ fn apply_impl(fq: &mut FaceQuads, face: Option<&Face>, op: Op) -> Option<Vec<u32
     match op {
         Op::Swap { q, e, k } => {
             let (h, p) = hexagon(fq, q, e)?;
-            let (a, b) = if k == 1 { ([h[1], h[2], h[3], h[4]], [h[4], h[5], h[0], h[1]]) } else { ([h[2], h[3], h[4], h[5]], [h[5], h[0], h[1], h[2]]) };
+            let (a, b) = if k == 1 {
+                ([h[1], h[2], h[3], h[4]], [h[4], h[5], h[0], h[1]])
+            } else {
+                ([h[2], h[3], h[4], h[5]], [h[5], h[0], h[1], h[2]])
+            };
             fq.set_quad(q, a);
             fq.set_quad(p, b);
         }
@@ -259,7 +280,11 @@ fn apply_impl(fq: &mut FaceQuads, face: Option<&Face>, op: Op) -> Option<Vec<u32
             let r = fq.quads[q as usize];
             let i = d as usize;
             let (v1, v3) = (r[i], r[(i + 2) % 4]);
-            let (keep, gone) = if fq.verts[v1 as usize].fixed { (v1, v3) } else { (v3, v1) };
+            let (keep, gone) = if fq.verts[v1 as usize].fixed {
+                (v1, v3)
+            } else {
+                (v3, v1)
+            };
             let uv = fq.quad_uv_centre(q);
             fq.kill_quad(q);
             let fan = fq.verts[gone as usize].fan.clone();
@@ -277,7 +302,10 @@ fn apply_impl(fq: &mut FaceQuads, face: Option<&Face>, op: Op) -> Option<Vec<u32
             let k = star.len();
             let ia = star.iter().position(|s| s.1[1] == a)?;
             let x = fq.verts[c as usize].clone();
-            let c2 = fq.add_vertex(QVertex { global: None, ..QVertex::interior(x.uv, x.xyz, x.class) });
+            let c2 = fq.add_vertex(QVertex {
+                global: None,
+                ..QVertex::interior(x.uv, x.xyz, x.class)
+            });
             let dist = eff.created? as usize - 1;
             for j in 0..dist {
                 let (sq, _) = star[(ia + j) % k];
@@ -286,10 +314,17 @@ fn apply_impl(fq: &mut FaceQuads, face: Option<&Face>, op: Op) -> Option<Vec<u32
             }
             let newq = fq.add_quad([c, a, c2, b]);
             region.push(c2);
-            let Some(face) = face else { return Some(region) };
+            let Some(face) = face else {
+                return Some(region);
+            };
             // each of c, c' to the mean of its quads' centres (the new quad excluded)
             for v in [c, c2] {
-                let fan: Vec<u32> = fq.verts[v as usize].fan.iter().copied().filter(|&p| p != newq).collect();
+                let fan: Vec<u32> = fq.verts[v as usize]
+                    .fan
+                    .iter()
+                    .copied()
+                    .filter(|&p| p != newq)
+                    .collect();
                 if fan.is_empty() {
                     continue;
                 }
@@ -362,7 +397,11 @@ pub fn candidates_at(fq: &FaceQuads, q: u32) -> Vec<Op> {
                     let j = (i + dist) % k;
                     // (a, b) at distance d and (b, a) at k − d are mirror images: keep one
                     if dist * 2 < k || (dist * 2 == k && i < j) {
-                        out.push(Op::Split { c, a: star[i].1[1], b: star[j].1[1] });
+                        out.push(Op::Split {
+                            c,
+                            a: star[i].1[1],
+                            b: star[j].1[1],
+                        });
                     }
                 }
             }

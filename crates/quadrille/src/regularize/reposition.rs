@@ -62,8 +62,18 @@ pub fn repair(fq: &mut FaceQuads, face: &Face, region: &[u32], w: AngleWindow) -
 
 /// [`repair`] with at most `rounds` rounds (each round also grows the region
 /// by the links of the vertices it moved).
-pub fn repair_rounds(fq: &mut FaceQuads, face: &Face, region: &[u32], w: AngleWindow, rounds: usize) -> bool {
-    let mut verts: Vec<u32> = region.iter().copied().filter(|&v| fq.verts[v as usize].alive).collect();
+pub fn repair_rounds(
+    fq: &mut FaceQuads,
+    face: &Face,
+    region: &[u32],
+    w: AngleWindow,
+    rounds: usize,
+) -> bool {
+    let mut verts: Vec<u32> = region
+        .iter()
+        .copied()
+        .filter(|&v| fq.verts[v as usize].alive)
+        .collect();
     for _ in 0..rounds {
         verts.sort_unstable();
         verts.dedup();
@@ -72,7 +82,9 @@ pub fn repair_rounds(fq: &mut FaceQuads, face: &Face, region: &[u32], w: AngleWi
             .into_iter()
             .filter(|&q| !quad_valid(fq, face, q, w))
             .map(|q| {
-                let m = quad_angles(fq, face, q).map(|a| a.0.iter().fold(0.0f64, |s, &x| s.max(x))).unwrap_or(360.0);
+                let m = quad_angles(fq, face, q)
+                    .map(|a| a.0.iter().fold(0.0f64, |s, &x| s.max(x)))
+                    .unwrap_or(360.0);
                 (m, q)
             })
             .collect();
@@ -85,7 +97,9 @@ pub fn repair_rounds(fq: &mut FaceQuads, face: &Face, region: &[u32], w: AngleWi
             if !fq.quad_alive[q as usize] {
                 continue;
             }
-            let Some(v) = worst_movable_vertex(fq, face, q, w) else { continue };
+            let Some(v) = worst_movable_vertex(fq, face, q, w) else {
+                continue;
+            };
             moved_any |= reposition(fq, face, v);
             for l in fq.links(v) {
                 if !fq.verts[l as usize].fixed && reposition(fq, face, l) {
@@ -102,5 +116,7 @@ pub fn repair_rounds(fq: &mut FaceQuads, face: &Face, region: &[u32], w: AngleWi
     }
     verts.sort_unstable();
     verts.dedup();
-    fq.quads_around(&verts).into_iter().all(|q| quad_valid(fq, face, q, w))
+    fq.quads_around(&verts)
+        .into_iter()
+        .all(|q| quad_valid(fq, face, q, w))
 }

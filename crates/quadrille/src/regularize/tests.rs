@@ -11,7 +11,7 @@ use super::driver::Regularizer;
 use super::ops::{apply, apply_topology, effect, score_delta, Effect, Op};
 use super::validity::{quad_angles, quad_valid, AngleWindow};
 use super::*;
-use crate::face_quads::test_support::{grid, plane, planar, split_patch};
+use crate::face_quads::test_support::{grid, planar, plane, split_patch};
 use crate::face_quads::FaceQuads;
 
 mod stars;
@@ -37,7 +37,11 @@ fn boundary_edges(fq: &FaceQuads) -> Vec<(u32, u32)> {
             directed.insert((r[i], r[(i + 1) % 4]));
         }
     }
-    directed.iter().copied().filter(|&(a, b)| !directed.contains(&(b, a))).collect()
+    directed
+        .iter()
+        .copied()
+        .filter(|&(a, b)| !directed.contains(&(b, a)))
+        .collect()
 }
 
 /// Asserts that `after` (= `op` applied to `before`) differs from `before`
@@ -56,11 +60,22 @@ fn assert_bookkeeping(before: &FaceQuads, after: &FaceQuads, op: Op, eff: &Effec
     for q in after.live_quads() {
         let r = after.quads[q as usize];
         for i in 0..4 {
-            assert!(after.verts[r[i] as usize].alive, "quad {q} uses a dead vertex");
-            assert!(!(0..i).any(|j| r[j] == r[i]), "quad {q} repeats a vertex: {r:?}");
+            assert!(
+                after.verts[r[i] as usize].alive,
+                "quad {q} uses a dead vertex"
+            );
+            assert!(
+                !(0..i).any(|j| r[j] == r[i]),
+                "quad {q} repeats a vertex: {r:?}"
+            );
         }
     }
-    let fans: usize = after.verts.iter().filter(|v| v.alive).map(|v| v.fan.len()).sum();
+    let fans: usize = after
+        .verts
+        .iter()
+        .filter(|v| v.alive)
+        .map(|v| v.fan.len())
+        .sum();
     assert_eq!(fans, 4 * after.num_quads(), "every live quad is in 4 fans");
     for &(v, b, a) in &eff.changes {
         assert_eq!(before.valence(v), b, "valence before of {v}");
@@ -69,20 +84,43 @@ fn assert_bookkeeping(before: &FaceQuads, after: &FaceQuads, op: Op, eff: &Effec
     for v in 0..before.verts.len() as u32 {
         let listed = eff.changes.iter().any(|c| c.0 == v) || eff.removed.is_some_and(|r| r.0 == v);
         if before.verts[v as usize].alive && !listed {
-            assert!(after.verts[v as usize].alive, "vertex {v} removed unexpectedly");
-            assert_eq!(before.valence(v), after.valence(v), "vertex {v} changed valence unexpectedly");
+            assert!(
+                after.verts[v as usize].alive,
+                "vertex {v} removed unexpectedly"
+            );
+            assert_eq!(
+                before.valence(v),
+                after.valence(v),
+                "vertex {v} changed valence unexpectedly"
+            );
         }
         let (x, y) = (&before.verts[v as usize], &after.verts[v as usize]);
         if x.fixed {
             assert!(y.alive && y.fixed, "fixed vertex {v} survives, fixed");
-            assert_eq!(x.uv.map(f64::to_bits), y.uv.map(f64::to_bits), "uv of fixed vertex {v}");
-            assert_eq!(x.xyz.map(f64::to_bits), y.xyz.map(f64::to_bits), "xyz of fixed vertex {v}");
-            assert_eq!((&x.class, x.ideal, x.edge_offset, x.global), (&y.class, y.ideal, y.edge_offset, y.global), "fixed vertex {v}");
+            assert_eq!(
+                x.uv.map(f64::to_bits),
+                y.uv.map(f64::to_bits),
+                "uv of fixed vertex {v}"
+            );
+            assert_eq!(
+                x.xyz.map(f64::to_bits),
+                y.xyz.map(f64::to_bits),
+                "xyz of fixed vertex {v}"
+            );
+            assert_eq!(
+                (&x.class, x.ideal, x.edge_offset, x.global),
+                (&y.class, y.ideal, y.edge_offset, y.global),
+                "fixed vertex {v}"
+            );
         } else if y.alive {
             assert!(!y.fixed, "movable vertex {v} stays movable");
         }
     }
-    assert_eq!(boundary_edges(before), boundary_edges(after), "boundary edges");
+    assert_eq!(
+        boundary_edges(before),
+        boundary_edges(after),
+        "boundary edges"
+    );
     if let Some((r, val)) = eff.removed {
         assert_eq!(before.valence(r), val);
         assert!(!after.verts[r as usize].alive && after.verts[r as usize].fan.is_empty());
@@ -97,8 +135,16 @@ fn assert_bookkeeping(before: &FaceQuads, after: &FaceQuads, op: Op, eff: &Effec
         None => assert_eq!(after.verts.len(), before.verts.len()),
     }
     let (dv, dq) = count_change(op);
-    assert_eq!(after.num_verts() as i64 - before.num_verts() as i64, dv, "ΔV of {op:?}");
-    assert_eq!(after.num_quads() as i64 - before.num_quads() as i64, dq, "ΔQ of {op:?}");
+    assert_eq!(
+        after.num_verts() as i64 - before.num_verts() as i64,
+        dv,
+        "ΔV of {op:?}"
+    );
+    assert_eq!(
+        after.num_quads() as i64 - before.num_quads() as i64,
+        dq,
+        "ΔQ of {op:?}"
+    );
     let vq = |f: &FaceQuads| f.num_verts() as i64 - f.num_quads() as i64;
     assert_eq!(vq(before), vq(after), "V − Q must be invariant");
 }
@@ -115,11 +161,18 @@ fn apply_checked(fq: &mut FaceQuads, op: Op) -> Effect {
     let region = apply_topology(&mut topo, op).expect("operation applied (topology)");
     assert_bookkeeping(&before, &topo, op, &eff);
     for &(v, _, _) in &eff.changes {
-        assert!(region.contains(&v), "changed vertex {v} is in the region {region:?}");
+        assert!(
+            region.contains(&v),
+            "changed vertex {v} is in the region {region:?}"
+        );
     }
     apply(fq, &m.faces[0], op).expect("operation applied");
     assert_bookkeeping(&before, fq, op, &eff);
-    assert_eq!((&topo.quads, &topo.quad_alive), (&fq.quads, &fq.quad_alive), "same topology with and without placement");
+    assert_eq!(
+        (&topo.quads, &topo.quad_alive),
+        (&fq.quads, &fq.quad_alive),
+        "same topology with and without placement"
+    );
     for (x, y) in topo.verts.iter().zip(&fq.verts) {
         assert_eq!((x.alive, &x.fan), (y.alive, &y.fan));
     }
@@ -180,7 +233,15 @@ fn split_follows_its_formula_and_collapse_follows_eq2() {
     let eff = apply_checked(&mut fq, Op::Split { c: 12, a: 7, b: 17 });
     let c2 = fq.verts.len() as u32 - 1;
     assert_eq!(eff.created, Some(3));
-    assert_eq!((fq.valence(12), fq.valence(c2), fq.valence(7), fq.valence(17)), (3, 3, 5, 5));
+    assert_eq!(
+        (
+            fq.valence(12),
+            fq.valence(c2),
+            fq.valence(7),
+            fq.valence(17)
+        ),
+        (3, 3, 5, 5)
+    );
     // the new quad (c, a, c', b) has valences (3, 5, 3, 5): the ideal collapse
     let newq = fq.quads.len() as u32 - 1;
     assert_eq!(fq.quads[newq as usize], [12, 7, c2, 17]);
@@ -211,7 +272,15 @@ fn collapse_to_valence_six_then_perfect_split_at_distance_three() {
     assert_eq!(fq.irregular_count(), 0);
     // split rejected at distance 1 (it would make a doublet)
     let l = fq.ordered_star(12).unwrap();
-    assert!(effect(&fq, Op::Split { c: 12, a: l[0].1[1], b: l[1].1[1] }).is_none());
+    assert!(effect(
+        &fq,
+        Op::Split {
+            c: 12,
+            a: l[0].1[1],
+            b: l[1].1[1]
+        }
+    )
+    .is_none());
 }
 
 #[test]
@@ -239,23 +308,43 @@ fn boundary_vertices_are_fixed_and_boundary_edges_never_swap() {
 fn validity_uses_projected_angles_and_triangle_signs() {
     let m = plane(4.0);
     let face = &m.faces[0];
-    let sq = planar(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], vec![[0, 1, 2, 3]]);
+    let sq = planar(
+        &[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+        vec![[0, 1, 2, 3]],
+    );
     let (ang, signs) = quad_angles(&sq, face, 0).unwrap();
     assert!(signs && ang.iter().all(|a| (a - 90.0).abs() < 1e-9));
     // a dart (reflex vertex at (0.3, 0.3) seen from the opposite corner) is invalid
-    let mut dart = planar(&[[0.0, 0.0], [1.0, 0.0], [0.3, 0.3], [0.0, 1.0]], vec![[0, 1, 2, 3]]);
+    let mut dart = planar(
+        &[[0.0, 0.0], [1.0, 0.0], [0.3, 0.3], [0.0, 1.0]],
+        vec![[0, 1, 2, 3]],
+    );
     dart.verts[2].fixed = false;
     assert!(!quad_valid(&dart, face, 0, AngleWindow::BASE));
     // a bow-tie is invalid
-    let bow = planar(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]], vec![[0, 1, 2, 3]]);
+    let bow = planar(
+        &[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]],
+        vec![[0, 1, 2, 3]],
+    );
     assert!(!quad_valid(&bow, face, 0, AngleWindow::BASE));
     // a thin rhombus fails a tight window but passes the base one at movable vertices
-    let mut thin = planar(&[[0.0, 0.0], [1.0, 0.0], [1.5, 0.2], [0.5, 0.2]], vec![[0, 1, 2, 3]]);
+    let mut thin = planar(
+        &[[0.0, 0.0], [1.0, 0.0], [1.5, 0.2], [0.5, 0.2]],
+        vec![[0, 1, 2, 3]],
+    );
     for v in &mut thin.verts {
         v.fixed = false;
     }
     assert!(quad_valid(&thin, face, 0, AngleWindow::BASE));
-    assert!(!quad_valid(&thin, face, 0, AngleWindow { min_deg: 45.0, max_deg: 135.0 }));
+    assert!(!quad_valid(
+        &thin,
+        face,
+        0,
+        AngleWindow {
+            min_deg: 45.0,
+            max_deg: 135.0
+        }
+    ));
 }
 
 #[test]
@@ -267,9 +356,18 @@ fn an_operation_is_kept_valid_or_rolled_back_exactly() {
     let mut r = Regularizer::new(face, &mut fq);
     assert!(r.try_sequence(&[Op::Swap { q: 5, e: 1, k: 1 }]));
     drop(r);
-    assert!(fq.live_quads().all(|q| quad_valid(&fq, face, q, AngleWindow::BASE)));
-    assert_eq!((fq.valence(8), fq.valence(11), fq.valence(7), fq.valence(12)), (5, 5, 3, 3));
-    assert_ne!(fq.verts[7].uv, [2.0, 1.0], "vertex 7 was moved to repair the flat angle");
+    assert!(fq
+        .live_quads()
+        .all(|q| quad_valid(&fq, face, q, AngleWindow::BASE)));
+    assert_eq!(
+        (fq.valence(8), fq.valence(11), fq.valence(7), fq.valence(12)),
+        (5, 5, 3, 3)
+    );
+    assert_ne!(
+        fq.verts[7].uv,
+        [2.0, 1.0],
+        "vertex 7 was moved to repair the flat angle"
+    );
     // merging the only interior vertex into a corner flattens the boundary at
     // 1 and 3 (180°); nothing can move, so the collapse is undone bit-for-bit
     // (1 and 3 are made CAD corners, which may keep 2 edges)
@@ -293,15 +391,29 @@ fn regularizing_a_triangle_split_patch_removes_most_irregular_vertices() {
     let orig = fq.clone();
     let irr0 = fq.irregular_count();
     let frac0 = irr0 as f64 / fq.num_verts() as f64;
-    assert!(frac0 > 0.3, "the split leaves many irregular vertices: {frac0}");
+    assert!(
+        frac0 > 0.3,
+        "the split leaves many irregular vertices: {frac0}"
+    );
     let vq = fq.num_verts() as i64 - fq.num_quads() as i64;
     let rep = regularize_face(face, FaceId(0), &mut fq, &RegularizeOptions::default());
     fq.check().unwrap();
     let frac1 = fq.irregular_count() as f64 / fq.num_verts() as f64;
     assert_eq!(rep.irregular, (irr0, fq.irregular_count()));
-    assert!(frac1 < 0.10, "irregular fraction {frac0:.3} → {frac1:.3}; {rep:?}");
-    assert_eq!(fq.num_verts() as i64 - fq.num_quads() as i64, vq, "V − Q per face");
-    assert!(fq.live_quads().all(|q| quad_valid(&fq, face, q, AngleWindow::BASE)), "{rep:?}");
+    assert!(
+        frac1 < 0.10,
+        "irregular fraction {frac0:.3} → {frac1:.3}; {rep:?}"
+    );
+    assert_eq!(
+        fq.num_verts() as i64 - fq.num_quads() as i64,
+        vq,
+        "V − Q per face"
+    );
+    assert!(
+        fq.live_quads()
+            .all(|q| quad_valid(&fq, face, q, AngleWindow::BASE)),
+        "{rep:?}"
+    );
     assert_eq!(rep.invalid.1, 0);
     for (v, x) in orig.verts.iter().enumerate() {
         if x.fixed {
@@ -309,60 +421,115 @@ fn regularizing_a_triangle_split_patch_removes_most_irregular_vertices() {
         }
     }
     // Algorithm 2 tightened the window beyond the base one
-    assert!(rep.window.min_deg > 5.0 && rep.window.max_deg < 175.0, "{rep:?}");
+    assert!(
+        rep.window.min_deg > 5.0 && rep.window.max_deg < 175.0,
+        "{rep:?}"
+    );
 }
 
 #[test]
 fn regularize_mesh_keeps_the_boundary_and_validity_of_a_meshed_model() {
     let model = primitives::square(2.0);
-    let mut mesh = crate::mesh_model(&model, &crate::MeshOptions { size: crate::Size::Absolute(0.2), threads: Some(1), progress: None }).unwrap();
+    let mut mesh = crate::mesh_model(
+        &model,
+        &crate::MeshOptions {
+            size: crate::Size::Absolute(0.2),
+            threads: Some(1),
+            progress: None,
+        },
+    )
+    .unwrap();
     let before = mesh.clone();
     let s0 = mesh::stats::MeshStats::compute(&mesh, Some(&model));
-    let rep = regularize_mesh(&model, &mut mesh, &RegularizeOptions { threads: Some(2), ..Default::default() }).unwrap();
+    let rep = regularize_mesh(
+        &model,
+        &mut mesh,
+        &RegularizeOptions {
+            threads: Some(2),
+            ..Default::default()
+        },
+    )
+    .unwrap();
     assert!(rep.skipped.is_empty(), "{:?}", rep.skipped);
-    assert!(rep.faces.iter().all(|f| !f.reverted), "no face had to fall back to its input: {rep:?}");
+    assert!(
+        rep.faces.iter().all(|f| !f.reverted),
+        "no face had to fall back to its input: {rep:?}"
+    );
     let s1 = mesh::stats::MeshStats::compute(&mesh, Some(&model));
     assert_eq!(s1.open_edges, s0.open_edges);
     assert_eq!(s1.euler_characteristic, s0.euler_characteristic);
     assert_eq!(s1.inverted_quads, 0);
-    assert!(s1.irregular_nodes * 4 < s0.irregular_nodes, "{} → {}", s0.irregular_nodes, s1.irregular_nodes);
+    assert!(
+        s1.irregular_nodes * 4 < s0.irregular_nodes,
+        "{} → {}",
+        s0.irregular_nodes,
+        s1.irregular_nodes
+    );
     // boundary nodes: same index, same bits, same classification
     for (n, c) in before.node_class.iter().enumerate() {
         if !matches!(c, mesh::NodeClass::Face(..)) {
-            assert_eq!(before.nodes[n].map(f64::to_bits), mesh.nodes[n].map(f64::to_bits));
+            assert_eq!(
+                before.nodes[n].map(f64::to_bits),
+                mesh.nodes[n].map(f64::to_bits)
+            );
             assert_eq!(mesh.node_class[n], *c);
         }
     }
     assert_eq!(before.curve_edges, mesh.curve_edges);
     // deterministic: another thread count gives the same mesh
     let mut again = before.clone();
-    regularize_mesh(&model, &mut again, &RegularizeOptions { threads: Some(1), ..Default::default() }).unwrap();
+    regularize_mesh(
+        &model,
+        &mut again,
+        &RegularizeOptions {
+            threads: Some(1),
+            ..Default::default()
+        },
+    )
+    .unwrap();
     assert_eq!(again.quads, mesh.quads);
     assert_eq!(again.nodes, mesh.nodes);
 }
-
 
 #[test]
 fn compositions_and_translations_remove_what_single_operations_cannot() {
     let m = plane(8.0);
     let face = &m.faces[0];
-    let opts = RegularizeOptions { redistribute: false, ..Default::default() };
+    let opts = RegularizeOptions {
+        redistribute: false,
+        ..Default::default()
+    };
     let mut single = split_patch(6);
-    let r1 = regularize_face(face, FaceId(0), &mut single, &RegularizeOptions { compositions: false, ..opts.clone() });
+    let r1 = regularize_face(
+        face,
+        FaceId(0),
+        &mut single,
+        &RegularizeOptions {
+            compositions: false,
+            ..opts.clone()
+        },
+    );
     let mut full = split_patch(6);
     let r2 = regularize_face(face, FaceId(0), &mut full, &opts);
     assert_eq!(r1.ops.compositions, 0);
     assert!(r2.ops.compositions > 0, "{r2:?}");
-    assert!(r2.irregular.1 < r1.irregular.1, "singles only: {r1:?}; with compositions: {r2:?}");
+    assert!(
+        r2.irregular.1 < r1.irregular.1,
+        "singles only: {r1:?}; with compositions: {r2:?}"
+    );
     // once single operations are exhausted, none of them improves the score any more
-    assert!(!single.live_quads().any(|q| super::ops::candidates_at(&single, q).into_iter().any(|op| effect(&single, op).is_some_and(|e| {
-        let d = score_delta(&single, &e);
-        // an improving single op left over must be one whose geometry was rejected
-        (d.0 < 0 || (d.0 == 0 && d.1 < 0)) && {
-            let mut g = single.clone();
-            Regularizer::new(face, &mut g).try_sequence(&[op])
-        }
-    }))));
+    assert!(!single
+        .live_quads()
+        .any(|q| super::ops::candidates_at(&single, q)
+            .into_iter()
+            .any(|op| effect(&single, op).is_some_and(|e| {
+                let d = score_delta(&single, &e);
+                // an improving single op left over must be one whose geometry was rejected
+                (d.0 < 0 || (d.0 == 0 && d.1 < 0)) && {
+                    let mut g = single.clone();
+                    Regularizer::new(face, &mut g).try_sequence(&[op])
+                }
+            }))));
 }
 
 #[test]
@@ -390,13 +557,32 @@ fn min_fan_follows_the_spec_per_kind_of_vertex() {
 /// vertices (bits, class, ideal) as in `orig`.
 fn assert_sound(orig: &FaceQuads, fq: &FaceQuads, face: &geometry::Face) {
     fq.check().unwrap();
-    assert!(fq.live_quads().all(|q| quad_valid(fq, face, q, AngleWindow::BASE)));
-    assert_eq!(fq.num_verts() as i64 - fq.num_quads() as i64, orig.num_verts() as i64 - orig.num_quads() as i64, "V − Q");
+    assert!(fq
+        .live_quads()
+        .all(|q| quad_valid(fq, face, q, AngleWindow::BASE)));
+    assert_eq!(
+        fq.num_verts() as i64 - fq.num_quads() as i64,
+        orig.num_verts() as i64 - orig.num_quads() as i64,
+        "V − Q"
+    );
     for (v, x) in orig.verts.iter().enumerate() {
         if x.fixed {
             let y = &fq.verts[v];
             assert!(y.alive && y.fixed);
-            assert_eq!((x.uv.map(f64::to_bits), x.xyz.map(f64::to_bits), &x.class, x.ideal), (y.uv.map(f64::to_bits), y.xyz.map(f64::to_bits), &y.class, y.ideal));
+            assert_eq!(
+                (
+                    x.uv.map(f64::to_bits),
+                    x.xyz.map(f64::to_bits),
+                    &x.class,
+                    x.ideal
+                ),
+                (
+                    y.uv.map(f64::to_bits),
+                    y.xyz.map(f64::to_bits),
+                    &y.class,
+                    y.ideal
+                )
+            );
         }
     }
 }
@@ -410,14 +596,23 @@ fn partner_path_joins_a_vertex_to_the_nearest_one_of_opposite_index() {
     let mut fq = grid(4);
     let mut r = Regularizer::new(face, &mut fq);
     assert!(r.try_sequence(&[Op::Swap { q: 5, e: 1, k: 1 }]));
-    assert_eq!((r.index_sign(7), r.index_sign(8), r.index_sign(6)), (1, -1, 0));
+    assert_eq!(
+        (r.index_sign(7), r.index_sign(8), r.index_sign(6)),
+        (1, -1, 0)
+    );
     // the path starts in the cluster of 7 (7 and its irregular links), ends
     // at an irregular vertex, and is a chain of mesh edges
     let path = r.partner_path(7, 3).expect("a partner within 3 hops");
     assert!(path.contains(&7));
-    assert!(path.iter().filter(|&&v| v != 7).any(|&v| r.index_sign(v) != 0));
+    assert!(path
+        .iter()
+        .filter(|&&v| v != 7)
+        .any(|&v| r.index_sign(v) != 0));
     for &v in &path {
-        assert!(v == 7 || path.iter().any(|&w| w != v && r.fq.linked(v, w)), "{v} is joined to the rest of {path:?}");
+        assert!(
+            v == 7 || path.iter().any(|&w| w != v && r.fq.linked(v, w)),
+            "{v} is joined to the rest of {path:?}"
+        );
     }
     // a regular vertex has no partner; radius 0 finds none
     assert_eq!(r.partner_path(6, 3), None);
@@ -429,7 +624,13 @@ fn pair_search_lowers_the_score_where_the_star_search_has_stopped() {
     let m = plane(8.0);
     let face = &m.faces[0];
     // the star-local method alone (no pair search), to convergence
-    let base = RegularizeOptions { redistribute: false, pair_radius: 0, sweep_orders: 1, quad_target: QuadTarget::Off, ..Default::default() };
+    let base = RegularizeOptions {
+        redistribute: false,
+        pair_radius: 0,
+        sweep_orders: 1,
+        quad_target: QuadTarget::Off,
+        ..Default::default()
+    };
     let mut fq = split_patch(8);
     let orig = fq.clone();
     regularize_face(face, FaceId(0), &mut fq, &base);
@@ -454,8 +655,15 @@ fn pair_search_lowers_the_score_where_the_star_search_has_stopped() {
         v += 1;
     }
     drop(r);
-    assert!(kept > 0, "the pair search found nothing on a patch with {irr} irregular vertices");
-    assert!(fq.irregular_count() < irr, "{irr} → {}", fq.irregular_count());
+    assert!(
+        kept > 0,
+        "the pair search found nothing on a patch with {irr} irregular vertices"
+    );
+    assert!(
+        fq.irregular_count() < irr,
+        "{irr} → {}",
+        fq.irregular_count()
+    );
     assert_sound(&orig, &fq, face);
     assert_sound(&stuck, &fq, face);
 }
@@ -494,7 +702,11 @@ fn more_visiting_orders_never_leave_more_irregular_vertices() {
     let face = &m.faces[0];
     let mut results = Vec::new();
     for orders in [1, 2, 8] {
-        let opts = RegularizeOptions { redistribute: false, sweep_orders: orders, ..Default::default() };
+        let opts = RegularizeOptions {
+            redistribute: false,
+            sweep_orders: orders,
+            ..Default::default()
+        };
         let mut fq = split_patch(8);
         let orig = fq.clone();
         let rep = regularize_face(face, FaceId(0), &mut fq, &opts);
@@ -504,7 +716,10 @@ fn more_visiting_orders_never_leave_more_irregular_vertices() {
         results.push(fq.irregular_count());
     }
     // the best of several local minima, the first of which is the 1-order result
-    assert!(results[1] <= results[0] && results[2] <= results[1], "{results:?}");
+    assert!(
+        results[1] <= results[0] && results[2] <= results[1],
+        "{results:?}"
+    );
     // the split patch starts at about half irregular; every setting gets far below
     let start = split_patch(8).irregular_count();
     assert!(results[2] * 5 < start, "{start} → {results:?}");
@@ -525,8 +740,24 @@ fn quad_target_from_the_boundary_spacing_is_the_matching_grid() {
     assert_eq!(QuadTarget::BoundarySpacing.quads_for(&g), g.num_quads());
     // a 8 × 3 grid of 2 × 1 rectangles (4 corners): its own grid, 24; without
     // the corners, the area rule: 48 / (38 / 22)² ≈ 16
-    let pts: Vec<[f64; 2]> = (0..4).flat_map(|j| (0..9).map(move |i| [2.0 * i as f64, j as f64])).collect();
-    let mut r = planar(&pts, (0..3u32).flat_map(|j| (0..8u32).map(move |i| [j * 9 + i, j * 9 + i + 1, (j + 1) * 9 + i + 1, (j + 1) * 9 + i])).collect());
+    let pts: Vec<[f64; 2]> = (0..4)
+        .flat_map(|j| (0..9).map(move |i| [2.0 * i as f64, j as f64]))
+        .collect();
+    let mut r = planar(
+        &pts,
+        (0..3u32)
+            .flat_map(|j| {
+                (0..8u32).map(move |i| {
+                    [
+                        j * 9 + i,
+                        j * 9 + i + 1,
+                        (j + 1) * 9 + i + 1,
+                        (j + 1) * 9 + i,
+                    ]
+                })
+            })
+            .collect(),
+    );
     assert_eq!(r.verts.iter().filter(|v| v.ideal == 2).count(), 4);
     assert_eq!(QuadTarget::BoundarySpacing.quads_for(&r), 24);
     for v in &mut r.verts {
@@ -534,7 +765,10 @@ fn quad_target_from_the_boundary_spacing_is_the_matching_grid() {
     }
     assert_eq!(QuadTarget::BoundarySpacing.quads_for(&r), 16);
     // an empty face has no target
-    assert_eq!(QuadTarget::BoundarySpacing.quads_for(&FaceQuads::default()), 0);
+    assert_eq!(
+        QuadTarget::BoundarySpacing.quads_for(&FaceQuads::default()),
+        0
+    );
 }
 
 #[test]
@@ -545,7 +779,12 @@ fn steering_the_quad_count_to_the_boundary_density_leaves_fewer_irregular_vertic
         let run = |t: QuadTarget| {
             let mut fq = split_patch(n);
             let orig = fq.clone();
-            let opts = RegularizeOptions { redistribute: false, sweep_orders: 1, quad_target: t, ..Default::default() };
+            let opts = RegularizeOptions {
+                redistribute: false,
+                sweep_orders: 1,
+                quad_target: t,
+                ..Default::default()
+            };
             let rep = regularize_face(face, FaceId(0), &mut fq, &opts);
             assert_eq!(rep.invalid.1, 0);
             assert_sound(&orig, &fq, face);
@@ -555,8 +794,14 @@ fn steering_the_quad_count_to_the_boundary_density_leaves_fewer_irregular_vertic
         let (on, q_on) = run(QuadTarget::BoundarySpacing);
         let perfect = (2 * n * 2 * n) as usize;
         // the count moves toward the boundary's density, and the leftovers drop
-        assert!(q_on < q_off && q_on.abs_diff(perfect) < q_off.abs_diff(perfect), "quads {q_off} → {q_on}, grid {perfect}");
-        assert!(3 * on <= 2 * off, "n = {n}: irregular {off} without the target, {on} with it");
+        assert!(
+            q_on < q_off && q_on.abs_diff(perfect) < q_off.abs_diff(perfect),
+            "quads {q_off} → {q_on}, grid {perfect}"
+        );
+        assert!(
+            3 * on <= 2 * off,
+            "n = {n}: irregular {off} without the target, {on} with it"
+        );
     }
 }
 
@@ -567,7 +812,10 @@ fn a_face_whose_input_stays_invalid_gets_fewer_repair_rounds() {
     let m = plane(4.0);
     let face = &m.faces[0];
     // a dart whose corners are all fixed: nothing can repair it
-    let mut dart = planar(&[[0.0, 0.0], [1.0, 0.0], [0.3, 0.3], [0.0, 1.0]], vec![[0, 1, 2, 3]]);
+    let mut dart = planar(
+        &[[0.0, 0.0], [1.0, 0.0], [0.3, 0.3], [0.0, 1.0]],
+        vec![[0, 1, 2, 3]],
+    );
     let mut r = Regularizer::new(face, &mut dart);
     assert_eq!(r.repair_rounds, REPAIR_ITERATIONS);
     r.initial_repair();
@@ -579,7 +827,10 @@ fn a_face_whose_input_stays_invalid_gets_fewer_repair_rounds() {
     r.initial_repair();
     assert_eq!((r.invalid_count(), r.repair_rounds), (0, REPAIR_ITERATIONS));
     // zero rounds move nothing and report the region's validity
-    let mut dart = planar(&[[0.0, 0.0], [1.0, 0.0], [0.3, 0.3], [0.0, 1.0]], vec![[0, 1, 2, 3]]);
+    let mut dart = planar(
+        &[[0.0, 0.0], [1.0, 0.0], [0.3, 0.3], [0.0, 1.0]],
+        vec![[0, 1, 2, 3]],
+    );
     dart.verts[2].fixed = false;
     let before = dart.verts.clone();
     assert!(!repair_rounds(&mut dart, face, &[2], AngleWindow::BASE, 0));

@@ -28,7 +28,10 @@ pub struct AngleWindow {
 
 impl AngleWindow {
     /// The permissive window used during regularization, (5°, 175°).
-    pub const BASE: AngleWindow = AngleWindow { min_deg: 5.0, max_deg: 175.0 };
+    pub const BASE: AngleWindow = AngleWindow {
+        min_deg: 5.0,
+        max_deg: 175.0,
+    };
 }
 
 /// The projected internal angles (degrees, in [0, 360)) of quad `q` and
@@ -37,8 +40,14 @@ impl AngleWindow {
 pub fn quad_angles(fq: &FaceQuads, face: &Face, q: u32) -> Option<([f64; 4], bool)> {
     let p = fq.quad_xyz(q);
     let c = fq.quad_uv_centre(q);
-    let n = face.normal(c).or_else(|| vec3::normalize(cross(sub(p[2], p[0]), sub(p[3], p[1]))))?;
-    let centre = [0.25 * (p[0][0] + p[1][0] + p[2][0] + p[3][0]), 0.25 * (p[0][1] + p[1][1] + p[2][1] + p[3][1]), 0.25 * (p[0][2] + p[1][2] + p[2][2] + p[3][2])];
+    let n = face
+        .normal(c)
+        .or_else(|| vec3::normalize(cross(sub(p[2], p[0]), sub(p[3], p[1]))))?;
+    let centre = [
+        0.25 * (p[0][0] + p[1][0] + p[2][0] + p[3][0]),
+        0.25 * (p[0][1] + p[1][1] + p[2][1] + p[3][1]),
+        0.25 * (p[0][2] + p[1][2] + p[2][2] + p[3][2]),
+    ];
     let proj = |x: Vec3| -> Vec3 {
         let d = sub(x, centre);
         sub(x, vec3::scale(n, dot(d, n)))
@@ -52,13 +61,16 @@ pub fn quad_angles(fq: &FaceQuads, face: &Face, q: u32) -> Option<([f64; 4], boo
         ang[i] = if a < 0.0 { a + 360.0 } else { a };
     }
     let area = |a: usize, b: usize, c: usize| dot(n, cross(sub(pp[b], pp[a]), sub(pp[c], pp[a])));
-    let signs = area(0, 1, 2) > 0.0 && area(0, 2, 3) > 0.0 && area(1, 2, 3) > 0.0 && area(1, 3, 0) > 0.0;
+    let signs =
+        area(0, 1, 2) > 0.0 && area(0, 2, 3) > 0.0 && area(1, 2, 3) > 0.0 && area(1, 3, 0) > 0.0;
     Some((ang, signs))
 }
 
 /// True when quad `q` is valid for the window `w` (see the module documentation).
 pub fn quad_valid(fq: &FaceQuads, face: &Face, q: u32, w: AngleWindow) -> bool {
-    let Some((ang, signs)) = quad_angles(fq, face, q) else { return false };
+    let Some((ang, signs)) = quad_angles(fq, face, q) else {
+        return false;
+    };
     if !signs {
         return false;
     }
@@ -79,7 +91,9 @@ pub fn quad_violation(fq: &FaceQuads, face: &Face, q: u32, w: AngleWindow) -> f6
     if !quad_valid(fq, face, q, AngleWindow::BASE) {
         return f64::INFINITY;
     }
-    let Some((ang, _)) = quad_angles(fq, face, q) else { return f64::INFINITY };
+    let Some((ang, _)) = quad_angles(fq, face, q) else {
+        return f64::INFINITY;
+    };
     let vs = fq.quads[q as usize];
     let mut worst: f64 = 0.0;
     for i in 0..4 {
@@ -118,7 +132,8 @@ pub fn inverted_count(fq: &FaceQuads, face: &Face) -> usize {
         .filter(|&q| {
             let p = fq.quad_xyz(q);
             let c = fq.quad_uv_centre(q);
-            let own = vec3::normalize(cross(sub(p[2], p[0]), sub(p[3], p[1]))).unwrap_or([0.0, 0.0, 1.0]);
+            let own =
+                vec3::normalize(cross(sub(p[2], p[0]), sub(p[3], p[1]))).unwrap_or([0.0, 0.0, 1.0]);
             let n = fq.quads[q as usize].map(|v| {
                 let x = &fq.verts[v as usize];
                 let at = match x.pole {

@@ -32,7 +32,9 @@ fn grid_graph(n: usize) -> BackgroundGraph {
 
 /// Deterministic pseudo-random numbers in [0, 1).
 fn lcg(state: &mut u64) -> f64 {
-    *state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    *state = state
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
     (*state >> 11) as f64 / (1u64 << 53) as f64
 }
 
@@ -40,7 +42,15 @@ fn lcg(state: &mut u64) -> f64 {
 fn grading_matches_the_edge_relaxation_fixpoint() {
     let g = grid_graph(12);
     let mut seed = 7u64;
-    let start: Vec<f64> = (0..g.len()).map(|_| if lcg(&mut seed) < 0.3 { 0.1 + 3.0 * lcg(&mut seed) } else { f64::INFINITY }).collect();
+    let start: Vec<f64> = (0..g.len())
+        .map(|_| {
+            if lcg(&mut seed) < 0.3 {
+                0.1 + 3.0 * lcg(&mut seed)
+            } else {
+                f64::INFINITY
+            }
+        })
+        .collect();
     let gradient = 0.25;
     let mut dijkstra = start.clone();
     grade(&g, &mut dijkstra, gradient);
@@ -50,7 +60,8 @@ fn grading_matches_the_edge_relaxation_fixpoint() {
         let mut changed = false;
         for a in 0..g.len() {
             for &b in &g.neighbours[a] {
-                let cand = brute[a] + gradient * vec3::dist(g.positions[a], g.positions[b as usize]);
+                let cand =
+                    brute[a] + gradient * vec3::dist(g.positions[a], g.positions[b as usize]);
                 if cand < brute[b as usize] {
                     brute[b as usize] = cand;
                     changed = true;
@@ -62,14 +73,22 @@ fn grading_matches_the_edge_relaxation_fixpoint() {
         }
     }
     for v in 0..g.len() {
-        assert!((dijkstra[v] - brute[v]).abs() < 1e-12, "vertex {v}: {} vs {}", dijkstra[v], brute[v]);
+        assert!(
+            (dijkstra[v] - brute[v]).abs() < 1e-12,
+            "vertex {v}: {} vs {}",
+            dijkstra[v],
+            brute[v]
+        );
         assert!(dijkstra[v] <= start[v], "a size grew");
         for &w in &g.neighbours[v] {
             let d = vec3::dist(g.positions[v], g.positions[w as usize]);
             assert!(dijkstra[w as usize] <= dijkstra[v] + gradient * d + 1e-12);
         }
     }
-    assert!(dijkstra.iter().all(|s| s.is_finite()), "a connected graph with a seed is finite everywhere");
+    assert!(
+        dijkstra.iter().all(|s| s.is_finite()),
+        "a connected graph with a seed is finite everywhere"
+    );
 }
 
 #[test]
@@ -87,7 +106,15 @@ fn one_small_size_spreads_as_a_cone() {
 }
 
 fn fields(model: &Model, h: f64, sizing: SizeMapOptions) -> ModelFields {
-    model_fields(model, &FieldOptions { size: Size::Absolute(h), sizing, ..Default::default() }).expect("fields")
+    model_fields(
+        model,
+        &FieldOptions {
+            size: Size::Absolute(h),
+            sizing,
+            ..Default::default()
+        },
+    )
+    .expect("fields")
 }
 
 /// A 10 × 0.1 strip: its long sides are 0.1 apart and share no corner, and
@@ -102,21 +129,43 @@ fn close_curves_and_short_curves_get_small_sizes() {
     for (v, r) in map.graph.refs.iter().enumerate() {
         if *r != NodeRef::Interior {
             on_curves += 1;
-            assert!(map.feature[v] <= 0.1 + 1e-9, "vertex {v} ({r:?}): feature size {}", map.feature[v]);
+            assert!(
+                map.feature[v] <= 0.1 + 1e-9,
+                "vertex {v} ({r:?}): feature size {}",
+                map.feature[v]
+            );
             assert!(map.size[v] <= 0.1 + 1e-9);
         }
     }
     assert!(on_curves > 20);
     // everything is within 0.05 of a long side, so the whole map is ≤ 0.1 + 0.2·0.05
-    assert!(map.size.iter().all(|&s| s <= 0.11 + 1e-9), "max {}", map.size.iter().cloned().fold(0.0, f64::max));
+    assert!(
+        map.size.iter().all(|&s| s <= 0.11 + 1e-9),
+        "max {}",
+        map.size.iter().cloned().fold(0.0, f64::max)
+    );
     // the long sides are quantized against it: ≈ 10 / (2·0.1) coarse segments, not 10 / 2
     let plan = f.curve_plan(&model);
     for c in [0, 2] {
-        assert!(plan.counts[c] >= 45 && plan.counts[c] <= 55, "curve {c}: {} coarse segments", plan.counts[c]);
+        assert!(
+            plan.counts[c] >= 45 && plan.counts[c] <= 55,
+            "curve {c}: {} coarse segments",
+            plan.counts[c]
+        );
     }
-    assert_eq!(plan.counts[0], plan.counts[2], "opposite sides of a 4-sided face");
+    assert_eq!(
+        plan.counts[0], plan.counts[2],
+        "opposite sides of a 4-sided face"
+    );
     // without small-feature adaptation the long sides follow the requested size
-    let plain = fields(&model, 1.0, SizeMapOptions { small_features: false, ..Default::default() });
+    let plain = fields(
+        &model,
+        1.0,
+        SizeMapOptions {
+            small_features: false,
+            ..Default::default()
+        },
+    );
     let plan = plain.curve_plan(&model);
     assert!(plan.counts[0] <= 6, "{} coarse segments", plan.counts[0]);
 }
@@ -128,8 +177,17 @@ fn a_square_without_small_features_keeps_the_requested_size() {
     let model = primitives::square(2.0);
     let f = fields(&model, 0.25, SizeMapOptions::default());
     let map = f.size_map.as_ref().unwrap();
-    assert!(map.size.iter().all(|&s| (s - 0.25).abs() < 0.01), "range {:?}", map.size.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &s| (a.min(s), b.max(s))));
-    assert_eq!(f.curve_plan(&model).counts, plan_curves(&model, 0.25).counts);
+    assert!(
+        map.size.iter().all(|&s| (s - 0.25).abs() < 0.01),
+        "range {:?}",
+        map.size
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), &s| (a.min(s), b.max(s)))
+    );
+    assert_eq!(
+        f.curve_plan(&model).counts,
+        plan_curves(&model, 0.25).counts
+    );
     // the face's own copy is the model map
     let face = f.faces[0].outcome.as_ref().unwrap();
     assert_eq!(face.size.as_ref().unwrap(), &map.face_sizes(0));
@@ -140,7 +198,11 @@ fn a_square_without_small_features_keeps_the_requested_size() {
 #[test]
 fn a_curve_size_is_honoured_and_graded() {
     let model = primitives::square(2.0);
-    let sizing = SizeMapOptions { gradient: 0.3, entity_sizes: vec![(Entity::Curve(CurveId(0)), 0.05)], ..Default::default() };
+    let sizing = SizeMapOptions {
+        gradient: 0.3,
+        entity_sizes: vec![(Entity::Curve(CurveId(0)), 0.05)],
+        ..Default::default()
+    };
     let f = fields(&model, 0.25, sizing);
     let map = f.size_map.as_ref().unwrap();
     for (v, p) in map.graph.positions.iter().enumerate() {
@@ -153,12 +215,20 @@ fn a_curve_size_is_honoured_and_graded() {
         // a little longer than the straight distance y (plus one background
         // edge, 2 · 0.25 / 8, near the side)
         let bound = 0.05 + 0.3 * (1.25 * p[1] + 0.0625);
-        assert!(map.size[v] <= bound + 1e-9, "vertex at {p:?}: size {} above {bound}", map.size[v]);
+        assert!(
+            map.size[v] <= bound + 1e-9,
+            "vertex at {p:?}: size {} above {bound}",
+            map.size[v]
+        );
         if p[1] < 1e-12 {
             assert!((map.size[v] - 0.05).abs() < 1e-12);
         }
         if p[1] > 1.2 {
-            assert!((map.size[v] - 0.25).abs() < 0.01, "far from the side the requested size returns: {}", map.size[v]);
+            assert!(
+                (map.size[v] - 0.25).abs() < 0.01,
+                "far from the side the requested size returns: {}",
+                map.size[v]
+            );
         }
     }
     let plan = f.curve_plan(&model);
@@ -169,8 +239,14 @@ fn a_curve_size_is_honoured_and_graded() {
     // sides 1 and 3 are graded: denser near y = 0
     let cm = discretize_curve(&model, &plan, CurveId(1));
     let first = vec3::dist(cm.points[0], cm.points[2]);
-    let last = vec3::dist(cm.points[cm.points.len() - 3], cm.points[cm.points.len() - 1]);
-    assert!(first < 0.5 * last, "graded side: first coarse segment {first}, last {last}");
+    let last = vec3::dist(
+        cm.points[cm.points.len() - 3],
+        cm.points[cm.points.len() - 1],
+    );
+    assert!(
+        first < 0.5 * last,
+        "graded side: first coarse segment {first}, last {last}"
+    );
 }
 
 /// Eq. 11: consecutive points split ∫ dl / s into equal parts.
@@ -182,11 +258,19 @@ fn points_split_the_size_integral_equally() {
     let sizes = vec![Some(profile), None, None, None];
     let plan = plan_curves_sized(&model, 0.5, &sizes);
     // ∫ dx / (2 s(x)) with s = 0.02 + 0.08 x: ln(5) / 0.16 ≈ 10.06 → 10
-    assert!((plan.ideal(CurveId(0)) - (5.0f64).ln() / 0.16).abs() < 0.02, "ideal {}", plan.ideal(CurveId(0)));
+    assert!(
+        (plan.ideal(CurveId(0)) - (5.0f64).ln() / 0.16).abs() < 0.02,
+        "ideal {}",
+        plan.ideal(CurveId(0))
+    );
     assert_eq!(plan.counts[0], 10);
     let cm = discretize_curve(&model, &plan, CurveId(0));
     let primitive = |x: f64| (0.02 + 0.08 * x).ln() / 0.08;
-    let steps: Vec<f64> = cm.points.windows(2).map(|w| primitive(w[1][0]) - primitive(w[0][0])).collect();
+    let steps: Vec<f64> = cm
+        .points
+        .windows(2)
+        .map(|w| primitive(w[1][0]) - primitive(w[0][0]))
+        .collect();
     let mean = steps.iter().sum::<f64>() / steps.len() as f64;
     for s in &steps {
         assert!((s - mean).abs() < 0.01 * mean, "step {s} vs mean {mean}");
@@ -197,16 +281,45 @@ fn points_split_the_size_integral_equally() {
 fn bad_options_are_refused() {
     let model = primitives::square(1.0);
     let bad = [
-        SizeMapOptions { gradient: 0.0, ..Default::default() },
-        SizeMapOptions { gradient: f64::NAN, ..Default::default() },
-        SizeMapOptions { min_size: Some(-1.0), ..Default::default() },
-        SizeMapOptions { min_size: Some(2.0), max_size: Some(1.0), ..Default::default() },
-        SizeMapOptions { entity_sizes: vec![(Entity::Curve(CurveId(9)), 0.1)], ..Default::default() },
-        SizeMapOptions { entity_sizes: vec![(Entity::Face(FaceId(0)), 0.0)], ..Default::default() },
+        SizeMapOptions {
+            gradient: 0.0,
+            ..Default::default()
+        },
+        SizeMapOptions {
+            gradient: f64::NAN,
+            ..Default::default()
+        },
+        SizeMapOptions {
+            min_size: Some(-1.0),
+            ..Default::default()
+        },
+        SizeMapOptions {
+            min_size: Some(2.0),
+            max_size: Some(1.0),
+            ..Default::default()
+        },
+        SizeMapOptions {
+            entity_sizes: vec![(Entity::Curve(CurveId(9)), 0.1)],
+            ..Default::default()
+        },
+        SizeMapOptions {
+            entity_sizes: vec![(Entity::Face(FaceId(0)), 0.0)],
+            ..Default::default()
+        },
     ];
     for sizing in bad {
-        let r = model_fields(&model, &FieldOptions { size: Size::Absolute(0.5), sizing: sizing.clone(), ..Default::default() });
-        assert!(matches!(r, Err(crate::pipeline::MeshError::Sizing(_))), "{sizing:?} accepted");
+        let r = model_fields(
+            &model,
+            &FieldOptions {
+                size: Size::Absolute(0.5),
+                sizing: sizing.clone(),
+                ..Default::default()
+            },
+        );
+        assert!(
+            matches!(r, Err(crate::pipeline::MeshError::Sizing(_))),
+            "{sizing:?} accepted"
+        );
     }
 }
 
@@ -214,11 +327,32 @@ fn bad_options_are_refused() {
 #[test]
 fn bounds_and_face_sizes() {
     let model = primitives::rectangle(10.0, 0.1);
-    let f = fields(&model, 1.0, SizeMapOptions { min_size: Some(0.3), ..Default::default() });
+    let f = fields(
+        &model,
+        1.0,
+        SizeMapOptions {
+            min_size: Some(0.3),
+            ..Default::default()
+        },
+    );
     assert!(f.size_map.unwrap().size.iter().all(|&s| s >= 0.3));
     let model = primitives::square(2.0);
-    let f = fields(&model, 0.5, SizeMapOptions { entity_sizes: vec![(Entity::Face(FaceId(0)), 0.2)], max_size: Some(0.15), ..Default::default() });
+    let f = fields(
+        &model,
+        0.5,
+        SizeMapOptions {
+            entity_sizes: vec![(Entity::Face(FaceId(0)), 0.2)],
+            max_size: Some(0.15),
+            ..Default::default()
+        },
+    );
     let map = f.size_map.unwrap();
-    assert!(map.conformal.iter().all(|&s| (s - 0.2).abs() < 0.01), "the face asks for 0.2");
-    assert!(map.size.iter().all(|&s| s == 0.15), "clamped to the maximum");
+    assert!(
+        map.conformal.iter().all(|&s| (s - 0.2).abs() < 0.01),
+        "the face asks for 0.2"
+    );
+    assert!(
+        map.size.iter().all(|&s| s == 0.15),
+        "clamped to the maximum"
+    );
 }

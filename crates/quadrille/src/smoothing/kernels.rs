@@ -47,7 +47,10 @@ pub struct OptimizeOptions {
 
 impl Default for OptimizeOptions {
     fn default() -> Self {
-        OptimizeOptions { max_sweeps: 30, stop_displacement: 0.01 }
+        OptimizeOptions {
+            max_sweeps: 30,
+            stop_displacement: 0.01,
+        }
     }
 }
 
@@ -177,24 +180,38 @@ fn normal_at(face: &Face, uv: [f64; 2]) -> Option<Vec3> {
 /// Oriented unit normal from the derivatives at an ordinary point, bit for
 /// bit what [`Face::corner_normal`] gives there; `None` at a singular point.
 fn normal_from(face: &Face, d: &geometry::SurfaceDerivs) -> Option<Vec3> {
-    let ratio = vec3::norm(vec3::cross(d.du, d.dv)) / (vec3::dot(d.du, d.du) + vec3::dot(d.dv, d.dv));
+    let ratio =
+        vec3::norm(vec3::cross(d.du, d.dv)) / (vec3::dot(d.du, d.du) + vec3::dot(d.dv, d.dv));
     if ratio.is_nan() || ratio < geometry::model::SINGULAR_RATIO {
         return None;
     }
     let n = vec3::normalize(vec3::cross(d.du, d.dv))?;
-    Some(if face.reversed { vec3::scale(n, -1.0) } else { n })
+    Some(if face.reversed {
+        vec3::scale(n, -1.0)
+    } else {
+        n
+    })
 }
 
 /// The (u, v) near `uv` whose surface point is closest to `target`
 /// (Gauss–Newton on the surface's Jacobian, stopped when the step is below
 /// `tol` in 3D), with that point and the oriented normal there; `None` at a
 /// singular point or when the iteration fails.
-fn map_to_surface(face: &Face, uv: [f64; 2], target: Vec3, tol: f64) -> Option<([f64; 2], Vec3, Vec3)> {
+fn map_to_surface(
+    face: &Face,
+    uv: [f64; 2],
+    target: Vec3,
+    tol: f64,
+) -> Option<([f64; 2], Vec3, Vec3)> {
     let mut cur = uv;
     let mut d = face.surface.derivs(cur);
     for _ in 0..MAP_ITERATIONS {
         let r = vec3::sub(target, d.point);
-        let (a, b, c) = (vec3::dot(d.du, d.du), vec3::dot(d.du, d.dv), vec3::dot(d.dv, d.dv));
+        let (a, b, c) = (
+            vec3::dot(d.du, d.du),
+            vec3::dot(d.du, d.dv),
+            vec3::dot(d.dv, d.dv),
+        );
         let (ru, rv) = (vec3::dot(d.du, r), vec3::dot(d.dv, r));
         let det = a * c - b * b;
         if det.is_nan() || det <= 1e-30 * (a * c).max(1e-300) {
@@ -228,7 +245,12 @@ pub fn optimize(face: &Face, p: &mut QuadPatch, opts: &OptimizeOptions) -> Optim
 
 /// [`optimize`] restricted to the nodes of `only` (all face-interior nodes
 /// when `None`); the global check is made on the quads around them.
-pub fn optimize_nodes(face: &Face, p: &mut QuadPatch, only: Option<&[u32]>, opts: &OptimizeOptions) -> OptimizeReport {
+pub fn optimize_nodes(
+    face: &Face,
+    p: &mut QuadPatch,
+    only: Option<&[u32]>,
+    opts: &OptimizeOptions,
+) -> OptimizeReport {
     let n = p.nodes.len();
     let mut quads_of: Vec<Vec<u32>> = vec![Vec::new(); n];
     for (qi, q) in p.quads.iter().enumerate() {
@@ -258,16 +280,35 @@ pub fn optimize_nodes(face: &Face, p: &mut QuadPatch, only: Option<&[u32]>, opts
             free.push((i, ring));
         }
     }
-    let mut report = OptimizeReport { kept: true, ..Default::default() };
+    let mut report = OptimizeReport {
+        kept: true,
+        ..Default::default()
+    };
     // the quads the optimization can change
-    let mut touched: Vec<u32> = free.iter().flat_map(|(i, _)| quads_of[*i as usize].iter().copied()).collect();
+    let mut touched: Vec<u32> = free
+        .iter()
+        .flat_map(|(i, _)| quads_of[*i as usize].iter().copied())
+        .collect();
     touched.sort_unstable();
     touched.dedup();
     // cached normals of ordinary nodes (poles and singular points: computed per quad)
-    let mut nrm: Vec<Option<Vec3>> = (0..n).map(|i| if p.nodes[i].pole.is_some() { None } else { normal_at(face, p.nodes[i].uv) }).collect();
+    let mut nrm: Vec<Option<Vec3>> = (0..n)
+        .map(|i| {
+            if p.nodes[i].pole.is_some() {
+                None
+            } else {
+                normal_at(face, p.nodes[i].uv)
+            }
+        })
+        .collect();
     let qual = |p: &QuadPatch, nrm: &[Option<Vec3>], q: u32| {
         let quad = &p.quads[q as usize];
-        let known = [nrm[quad[0] as usize], nrm[quad[1] as usize], nrm[quad[2] as usize], nrm[quad[3] as usize]];
+        let known = [
+            nrm[quad[0] as usize],
+            nrm[quad[1] as usize],
+            nrm[quad[2] as usize],
+            nrm[quad[3] as usize],
+        ];
         quad_quality_with(face, &p.nodes, &p.pos, quad, &known)
     };
     let mut qv: Vec<f64> = vec![f64::NAN; p.quads.len()];
@@ -280,14 +321,24 @@ pub fn optimize_nodes(face: &Face, p: &mut QuadPatch, only: Option<&[u32]>, opts
             mn = mn.min(qv[q as usize]);
             s += qv[q as usize];
         }
-        (mn, if touched.is_empty() { 0.0 } else { s / touched.len() as f64 })
+        (
+            mn,
+            if touched.is_empty() {
+                0.0
+            } else {
+                s / touched.len() as f64
+            },
+        )
     };
     report.before = stats(&qv);
     report.after = report.before;
     if free.is_empty() || opts.max_sweeps == 0 {
         return report;
     }
-    let saved: Vec<([f64; 2], Vec3)> = free.iter().map(|(i, _)| (p.nodes[*i as usize].uv, p.pos[*i as usize])).collect();
+    let saved: Vec<([f64; 2], Vec3)> = free
+        .iter()
+        .map(|(i, _)| (p.nodes[*i as usize].uv, p.pos[*i as usize]))
+        .collect();
     let saved_nrm: Vec<Option<Vec3>> = free.iter().map(|(i, _)| nrm[*i as usize]).collect();
     let saved_qv: Vec<f64> = touched.iter().map(|&q| qv[q as usize]).collect();
     let mut ring_pos: Vec<Vec3> = Vec::with_capacity(16);
@@ -308,23 +359,51 @@ pub fn optimize_nodes(face: &Face, p: &mut QuadPatch, only: Option<&[u32]>, opts
             ring_pos.extend(ring.iter().map(|&r| p.pos[r as usize]));
             let Some(n_i) = nrm[i] else { continue };
             let target = if ring.len() == 8 {
-                let r: [Vec3; 8] = [ring_pos[0], ring_pos[1], ring_pos[2], ring_pos[3], ring_pos[4], ring_pos[5], ring_pos[6], ring_pos[7]];
+                let r: [Vec3; 8] = [
+                    ring_pos[0],
+                    ring_pos[1],
+                    ring_pos[2],
+                    ring_pos[3],
+                    ring_pos[4],
+                    ring_pos[5],
+                    ring_pos[6],
+                    ring_pos[7],
+                ];
                 winslow_point(&r)
             } else {
                 // the ring's orientation about the normal
                 let k = ring_pos.len();
                 let mut turn = 0.0;
                 for j in 0..k {
-                    turn += vec3::dot(vec3::cross(vec3::sub(ring_pos[j], x), vec3::sub(ring_pos[(j + 1) % k], x)), n_i);
+                    turn += vec3::dot(
+                        vec3::cross(
+                            vec3::sub(ring_pos[j], x),
+                            vec3::sub(ring_pos[(j + 1) % k], x),
+                        ),
+                        n_i,
+                    );
                 }
-                let n_ring = if turn >= 0.0 { n_i } else { vec3::scale(n_i, -1.0) };
+                let n_ring = if turn >= 0.0 {
+                    n_i
+                } else {
+                    vec3::scale(n_i, -1.0)
+                };
                 angle_based_point(x, n_ring, &ring_pos)
             };
-            let edge = (0..ring_pos.len()).step_by(2).map(|j| vec3::dist(ring_pos[j], x)).fold(f64::INFINITY, f64::min);
-            if edge.is_nan() || edge <= 0.0 || target.is_some_and(|t| vec3::dist(t, x) < 1e-12 * edge) {
+            let edge = (0..ring_pos.len())
+                .step_by(2)
+                .map(|j| vec3::dist(ring_pos[j], x))
+                .fold(f64::INFINITY, f64::min);
+            if edge.is_nan()
+                || edge <= 0.0
+                || target.is_some_and(|t| vec3::dist(t, x) < 1e-12 * edge)
+            {
                 continue;
             }
-            let before = quads_of[i].iter().map(|&q| qv[q as usize]).fold(f64::INFINITY, f64::min);
+            let before = quads_of[i]
+                .iter()
+                .map(|&q| qv[q as usize])
+                .fold(f64::INFINITY, f64::min);
             let (old_uv, old_x, old_n) = (p.nodes[i].uv, x, nrm[i]);
             let mut done = false;
             // the kernel's point, half way to it, then the mean of the edge
@@ -338,7 +417,10 @@ pub fn optimize_nodes(face: &Face, p: &mut QuadPatch, only: Option<&[u32]>, opts
             let half = |t: Vec3| vec3::scale(vec3::add(t, x), 0.5);
             let tries = [target, target.map(half), Some(mean), Some(half(mean))];
             for t in tries.into_iter().flatten() {
-                let Some((uv, nx, nn)) = map_to_surface(face, old_uv, t, MAP_TOLERANCE * edge) else { continue };
+                let Some((uv, nx, nn)) = map_to_surface(face, old_uv, t, MAP_TOLERANCE * edge)
+                else {
+                    continue;
+                };
                 p.nodes[i].uv = uv;
                 p.pos[i] = nx;
                 nrm[i] = Some(nn);
@@ -406,7 +488,16 @@ mod tests {
     /// Ring `x₁..x₈` of the node at grid point (0, 0) under the map `f`.
     fn grid_ring(f: impl Fn(f64, f64) -> Vec3) -> [Vec3; 8] {
         // x₁ at +ξ, then counter-clockwise: edge neighbours odd, diagonals even
-        let ij = [(1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1)];
+        let ij = [
+            (1, 0),
+            (1, 1),
+            (0, 1),
+            (-1, 1),
+            (-1, 0),
+            (-1, -1),
+            (0, -1),
+            (1, -1),
+        ];
         ij.map(|(i, j)| f(i as f64, j as f64))
     }
 
@@ -421,7 +512,13 @@ mod tests {
             // stretched 5:1
             Box::new(|i, j| [5.0 * i, j, 0.0]),
             // sheared and stretched, in a tilted plane of 3D, off the origin
-            Box::new(|i, j| [2.0 + 3.0 * i + 1.2 * j, -1.0 + 0.4 * i + 0.7 * j, 0.5 + 0.3 * i - 0.9 * j]),
+            Box::new(|i, j| {
+                [
+                    2.0 + 3.0 * i + 1.2 * j,
+                    -1.0 + 0.4 * i + 0.7 * j,
+                    0.5 + 0.3 * i - 0.9 * j,
+                ]
+            }),
             // tiny scale
             Box::new(|i, j| [1e-6 * (i + 0.5 * j), 1e-6 * j, 0.0]),
         ];
@@ -429,7 +526,10 @@ mod tests {
             let centre = f(0.0, 0.0);
             let x = winslow_point(&grid_ring(f)).expect("a regular stencil");
             let scale = vec3::dist(f(1.0, 0.0), centre);
-            assert!(close(x, centre, 1e-12 * scale.max(1.0)), "{x:?} vs {centre:?}");
+            assert!(
+                close(x, centre, 1e-12 * scale.max(1.0)),
+                "{x:?} vs {centre:?}"
+            );
         }
     }
 
@@ -459,7 +559,10 @@ mod tests {
             assert!(close(x, [0.0, 0.0, 0.0], 1e-12), "valence {k}: {x:?}");
             // a displaced centre moves back toward it
             let x = angle_based_point([0.1, -0.2, 0.0], [0.0, 0.0, 1.0], &ring).unwrap();
-            assert!(vec3::norm(x) < 0.5 * vec3::norm([0.1, -0.2, 0.0]), "valence {k}: {x:?}");
+            assert!(
+                vec3::norm(x) < 0.5 * vec3::norm([0.1, -0.2, 0.0]),
+                "valence {k}: {x:?}"
+            );
         }
         // on a uniform grid (valence 4) the bisectors point straight at the centre
         let ring = grid_ring(|i, j| [i, j, 0.0]);
@@ -469,20 +572,34 @@ mod tests {
 
     /// An n × n grid of quads on the unit square face, nodes at `at(i, j)` in (u, v).
     fn grid_patch(face: &Face, n: usize, at: impl Fn(usize, usize) -> [f64; 2]) -> QuadPatch {
-        let mut p = QuadPatch { nodes: Vec::new(), pos: Vec::new(), quads: Vec::new(), quad_tri: Vec::new() };
+        let mut p = QuadPatch {
+            nodes: Vec::new(),
+            pos: Vec::new(),
+            quads: Vec::new(),
+            quad_tri: Vec::new(),
+        };
         for j in 0..=n {
             for i in 0..=n {
                 let inner = i > 0 && j > 0 && i < n && j < n;
-                let node = if inner { NodeRef::Interior } else { NodeRef::Curve(CurveId(0), p.nodes.len() as u32 + 1) };
+                let node = if inner {
+                    NodeRef::Interior
+                } else {
+                    NodeRef::Curve(CurveId(0), p.nodes.len() as u32 + 1)
+                };
                 let uv = at(i, j);
-                p.nodes.push(LocalNode { uv, node, pole: None });
+                p.nodes.push(LocalNode {
+                    uv,
+                    node,
+                    pole: None,
+                });
                 p.pos.push(face.surface.eval(uv));
             }
         }
         let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
         for j in 0..n {
             for i in 0..n {
-                p.quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+                p.quads
+                    .push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
                 p.quad_tri.push(p.quad_tri.len() as u32);
             }
         }
@@ -496,11 +613,21 @@ mod tests {
     }
 
     fn qualities(face: &Face, p: &QuadPatch) -> Vec<f64> {
-        p.quads.iter().map(|q| quad_quality(face, &p.nodes, &p.pos, q)).collect()
+        p.quads
+            .iter()
+            .map(|q| quad_quality(face, &p.nodes, &p.pos, q))
+            .collect()
     }
 
     fn same_bits(a: &QuadPatch, b: &QuadPatch) -> bool {
-        a.nodes.iter().zip(&b.nodes).all(|(x, y)| x.uv.map(f64::to_bits) == y.uv.map(f64::to_bits)) && a.pos.iter().zip(&b.pos).all(|(x, y)| x.map(f64::to_bits) == y.map(f64::to_bits))
+        a.nodes
+            .iter()
+            .zip(&b.nodes)
+            .all(|(x, y)| x.uv.map(f64::to_bits) == y.uv.map(f64::to_bits))
+            && a.pos
+                .iter()
+                .zip(&b.pos)
+                .all(|(x, y)| x.map(f64::to_bits) == y.map(f64::to_bits))
     }
 
     #[test]
@@ -529,18 +656,36 @@ mod tests {
         let mut p = grid_patch(face, n, |i, j| {
             let inner = i > 0 && j > 0 && i < n && j < n;
             // deterministic wobble of the interior nodes
-            let d = if inner { 0.3 * h * ((3 * i + 5 * j) as f64).sin() } else { 0.0 };
+            let d = if inner {
+                0.3 * h * ((3 * i + 5 * j) as f64).sin()
+            } else {
+                0.0
+            };
             [i as f64 * h + d, j as f64 * h - 0.7 * d]
         });
         let before = qualities(face, &p);
-        let r = optimize(face, &mut p, &OptimizeOptions { max_sweeps: 200, stop_displacement: 1e-9 });
+        let r = optimize(
+            face,
+            &mut p,
+            &OptimizeOptions {
+                max_sweeps: 200,
+                stop_displacement: 1e-9,
+            },
+        );
         let after = qualities(face, &p);
-        let (mn0, mn1) = (before.iter().cloned().fold(1.0, f64::min), after.iter().cloned().fold(1.0, f64::min));
+        let (mn0, mn1) = (
+            before.iter().cloned().fold(1.0, f64::min),
+            after.iter().cloned().fold(1.0, f64::min),
+        );
         assert!(r.kept && r.moves > 0, "{r:?}");
         assert!(mn1 >= mn0 && mn1 > 0.999, "min {mn0} → {mn1}");
         for (k, nd) in p.nodes.iter().enumerate() {
             let (i, j) = (k % (n + 1), k / (n + 1));
-            assert!((nd.uv[0] - i as f64 * h).abs() < 1e-6 && (nd.uv[1] - j as f64 * h).abs() < 1e-6, "node {k}: {:?}", nd.uv);
+            assert!(
+                (nd.uv[0] - i as f64 * h).abs() < 1e-6 && (nd.uv[1] - j as f64 * h).abs() < 1e-6,
+                "node {k}: {:?}",
+                nd.uv
+            );
         }
     }
 
@@ -587,8 +732,15 @@ mod tests {
         put(&mut p, best.1);
         let w0 = worst(&p);
         assert!(w0 > 0.0);
-        let ring: Vec<Vec3> = one_ring(&p.quads, 4, &[0, 1, 2, 3]).unwrap().iter().map(|&r| p.pos[r as usize]).collect();
-        let target = winslow_point(&[ring[0], ring[1], ring[2], ring[3], ring[4], ring[5], ring[6], ring[7]]).unwrap();
+        let ring: Vec<Vec3> = one_ring(&p.quads, 4, &[0, 1, 2, 3])
+            .unwrap()
+            .iter()
+            .map(|&r| p.pos[r as usize])
+            .collect();
+        let target = winslow_point(&[
+            ring[0], ring[1], ring[2], ring[3], ring[4], ring[5], ring[6], ring[7],
+        ])
+        .unwrap();
         for frac in [1.0, 0.5] {
             let t = vec3::add(p.pos[4], vec3::scale(vec3::sub(target, p.pos[4]), frac));
             let mut q = p.clone();
@@ -609,12 +761,27 @@ mod tests {
         // moves, and the global check keeps them only because the average rose
         let m = primitives::square(1.0);
         let face = &m.faces[0];
-        let mut p = grid_patch(face, 3, |i, j| [i as f64 / 3.0 + if (i, j) == (1, 1) { 0.05 } else { 0.0 }, j as f64 / 3.0]);
+        let mut p = grid_patch(face, 3, |i, j| {
+            [
+                i as f64 / 3.0 + if (i, j) == (1, 1) { 0.05 } else { 0.0 },
+                j as f64 / 3.0,
+            ]
+        });
         let r = optimize(face, &mut p, &OptimizeOptions::default());
-        assert!(r.kept && r.after.1 > r.before.1 && r.after.0 >= r.before.0, "{r:?}");
+        assert!(
+            r.kept && r.after.1 > r.before.1 && r.after.0 >= r.before.0,
+            "{r:?}"
+        );
         // no sweeps: nothing moves and the report says so
         let orig = p.clone();
-        let r = optimize(face, &mut p, &OptimizeOptions { max_sweeps: 0, ..Default::default() });
+        let r = optimize(
+            face,
+            &mut p,
+            &OptimizeOptions {
+                max_sweeps: 0,
+                ..Default::default()
+            },
+        );
         assert_eq!(r.moves, 0);
         assert!(same_bits(&p, &orig));
     }
@@ -626,7 +793,11 @@ mod tests {
         let n = 4;
         let mut p = grid_patch(face, n, |i, j| {
             let inner = i > 0 && j > 0 && i < n && j < n;
-            let d = if inner { 0.05 * ((i + 2 * j) as f64).cos() } else { 0.0 };
+            let d = if inner {
+                0.05 * ((i + 2 * j) as f64).cos()
+            } else {
+                0.0
+            };
             [i as f64 / n as f64 + d, j as f64 / n as f64 - d]
         });
         let orig = p.clone();
@@ -643,8 +814,18 @@ mod tests {
         let m = primitives::square(1.0);
         let face = &m.faces[0];
         // the centre of a 2 × 2 grid pushed past the far corner: quads fold over
-        let mut p = grid_patch(face, 2, |i, j| if (i, j) == (1, 1) { [0.97, 0.93] } else { [i as f64 * 0.5, j as f64 * 0.5] });
-        assert!(qualities(face, &p).iter().any(|&q| q < 0.0), "{:?}", qualities(face, &p));
+        let mut p = grid_patch(face, 2, |i, j| {
+            if (i, j) == (1, 1) {
+                [0.97, 0.93]
+            } else {
+                [i as f64 * 0.5, j as f64 * 0.5]
+            }
+        });
+        assert!(
+            qualities(face, &p).iter().any(|&q| q < 0.0),
+            "{:?}",
+            qualities(face, &p)
+        );
         untangle(face, &mut p, 0.1, 8, 10);
         let q = qualities(face, &p);
         assert!(q.iter().all(|&s| s > 0.1), "{q:?}");

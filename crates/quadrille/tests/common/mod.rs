@@ -32,7 +32,11 @@ fn node_uvs(model: &Model, mesh: &QuadMesh, f: FaceId, n: usize) -> Vec<[f64; 2]
     let face = &model.faces[f.idx()];
     match mesh.node_class[n] {
         NodeClass::Face(ff, Some(uv)) if ff == f => vec![uv],
-        NodeClass::Curve(c, Some(t)) => face.curve_uses().filter(|u| u.curve == c).map(|u| u.pcurve.eval(t)).collect(),
+        NodeClass::Curve(c, Some(t)) => face
+            .curve_uses()
+            .filter(|u| u.curve == c)
+            .map(|u| u.pcurve.eval(t))
+            .collect(),
         NodeClass::Corner(c) => {
             let mut out = Vec::new();
             for u in face.curve_uses() {
@@ -58,11 +62,15 @@ fn node_normal(model: &Model, mesh: &QuadMesh, f: FaceId, n: usize) -> Option<Ve
     // a corner on a degenerate curve of the face is a singular point (pole,
     // apex): the CAD normal is undefined there, the caller uses the quad's others
     if let NodeClass::Corner(c) = mesh.node_class[n] {
-        if face.curve_uses().any(|u| model.curves[u.curve.idx()].degenerate && model.curves[u.curve.idx()].start == c) {
+        if face.curve_uses().any(|u| {
+            model.curves[u.curve.idx()].degenerate && model.curves[u.curve.idx()].start == c
+        }) {
             return None;
         }
     }
-    node_uvs(model, mesh, f, n).into_iter().find_map(|uv| face.normal(uv))
+    node_uvs(model, mesh, f, n)
+        .into_iter()
+        .find_map(|uv| face.normal(uv))
 }
 
 /// Measures `mesh` against `model`.
@@ -75,21 +83,25 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
     for (qi, q) in mesh.quads.iter().enumerate() {
         let f = mesh.quad_face[qi];
         let p = [0, 1, 2, 3].map(|k| mesh.nodes[q[k] as usize]);
-        let mut ns: [Option<Vec3>; 4] = [0, 1, 2, 3].map(|k| node_normal(model, mesh, f, q[k] as usize));
+        let mut ns: [Option<Vec3>; 4] =
+            [0, 1, 2, 3].map(|k| node_normal(model, mesh, f, q[k] as usize));
         // a singular point (pole): use the mean of the other corners' normals
         let known: Vec<Vec3> = ns.iter().flatten().copied().collect();
         if known.is_empty() {
             class_errors.push(format!("quad {qi}: no CAD normal at any corner"));
             continue;
         }
-        let mean = vec3::normalize(known.iter().fold([0.0; 3], |a, &b| vec3::add(a, b))).unwrap_or(known[0]);
+        let mean = vec3::normalize(known.iter().fold([0.0; 3], |a, &b| vec3::add(a, b)))
+            .unwrap_or(known[0]);
         for n in ns.iter_mut() {
             if n.is_none() {
                 *n = Some(mean);
             }
         }
         let n = ns.map(|n| n.unwrap_or(mean));
-        let s = corner_sicn(&p, &n).into_iter().fold(f64::INFINITY, f64::min);
+        let s = corner_sicn(&p, &n)
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
         if !(s > 0.0) {
             inverted += 1;
         }
@@ -132,13 +144,18 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
         for &n in q {
             if let NodeClass::Face(f, _) = mesh.node_class[n as usize] {
                 if f != mesh.quad_face[qi] {
-                    class_errors.push(format!("quad {qi} of face {:?} uses interior node {n} of face {f:?}", mesh.quad_face[qi]));
+                    class_errors.push(format!(
+                        "quad {qi} of face {:?} uses interior node {n} of face {f:?}",
+                        mesh.quad_face[qi]
+                    ));
                 }
             }
         }
     }
     for (i, _) in model.corners.iter().enumerate() {
-        if !mesh.corner_nodes.iter().any(|&(n, c)| c.idx() == i && matches!(mesh.node_class[n as usize], NodeClass::Corner(cc) if cc == c)) {
+        if !mesh.corner_nodes.iter().any(|&(n, c)| {
+            c.idx() == i && matches!(mesh.node_class[n as usize], NodeClass::Corner(cc) if cc == c)
+        }) {
             class_errors.push(format!("corner {i} has no corner node"));
         }
     }
@@ -148,12 +165,20 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
         if ce.degenerate {
             continue;
         }
-        let es: Vec<[u32; 2]> = mesh.curve_edges.iter().filter(|(_, c)| *c == CurveId(ci as u32)).map(|(e, _)| *e).collect();
+        let es: Vec<[u32; 2]> = mesh
+            .curve_edges
+            .iter()
+            .filter(|(_, c)| *c == CurveId(ci as u32))
+            .map(|(e, _)| *e)
+            .collect();
         if es.is_empty() {
             chain_errors.push(format!("curve {ci} has no edges"));
             continue;
         }
-        let used_by_faces = model.faces.iter().any(|f| f.curve_uses().any(|u| u.curve.idx() == ci));
+        let used_by_faces = model
+            .faces
+            .iter()
+            .any(|f| f.curve_uses().any(|u| u.curve.idx() == ci));
         let mut cur = ce.start.0;
         for (k, e) in es.iter().enumerate() {
             if e[0] != cur {
@@ -168,9 +193,16 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
         if cur != ce.end.0 {
             chain_errors.push(format!("curve {ci}: chain does not end at its end corner"));
         }
-        let on_curve = mesh.node_class.iter().filter(|c| matches!(c, NodeClass::Curve(cc, _) if cc.idx() == ci)).count();
+        let on_curve = mesh
+            .node_class
+            .iter()
+            .filter(|c| matches!(c, NodeClass::Curve(cc, _) if cc.idx() == ci))
+            .count();
         if on_curve + 1 != es.len() {
-            chain_errors.push(format!("curve {ci}: {} edges for {on_curve} curve nodes", es.len()));
+            chain_errors.push(format!(
+                "curve {ci}: {} edges for {on_curve} curve nodes",
+                es.len()
+            ));
         }
     }
     Report {
@@ -192,8 +224,15 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
 /// Edges on the boundary of the model (curves used by exactly one face), counted in mesh edges.
 pub fn boundary_mesh_edges(model: &Model, mesh: &QuadMesh) -> usize {
     let cf = model.curve_faces();
-    mesh.curve_edges.iter().filter(|(_, c)| {
-        let uses: usize = model.faces.iter().map(|f| f.curve_uses().filter(|u| u.curve == *c).count()).sum();
-        cf[c.idx()].len() == 1 && uses == 1
-    }).count()
+    mesh.curve_edges
+        .iter()
+        .filter(|(_, c)| {
+            let uses: usize = model
+                .faces
+                .iter()
+                .map(|f| f.curve_uses().filter(|u| u.curve == *c).count())
+                .sum();
+            cf[c.idx()].len() == 1 && uses == 1
+        })
+        .count()
 }

@@ -44,7 +44,11 @@ fn ringed(core: Patch, want: &[u32]) -> FaceQuads {
     let n = core.pts.len();
     assert_eq!(want.len(), n);
     let fq = core.ring(|v| want[v as usize]).build();
-    assert_eq!(vals(&fq, &(0..n as u32).collect::<Vec<_>>()), want, "the star has the requested valences");
+    assert_eq!(
+        vals(&fq, &(0..n as u32).collect::<Vec<_>>()),
+        want,
+        "the star has the requested valences"
+    );
     assert_valid(&fq);
     fq
 }
@@ -52,8 +56,15 @@ fn ringed(core: Patch, want: &[u32]) -> FaceQuads {
 /// Every quad of `fq` is geometrically valid for the base window (5°, 175°).
 fn assert_valid(fq: &FaceQuads) {
     let m = plane(8.0);
-    let bad: Vec<_> = fq.live_quads().filter(|&q| !quad_valid(fq, &m.faces[0], q, AngleWindow::BASE)).map(|q| (q, fq.quads[q as usize], quad_angles(fq, &m.faces[0], q))).collect();
-    assert!(bad.is_empty(), "invalid quads (id, vertices, angles and signs): {bad:?}");
+    let bad: Vec<_> = fq
+        .live_quads()
+        .filter(|&q| !quad_valid(fq, &m.faces[0], q, AngleWindow::BASE))
+        .map(|q| (q, fq.quads[q as usize], quad_angles(fq, &m.faces[0], q)))
+        .collect();
+    assert!(
+        bad.is_empty(),
+        "invalid quads (id, vertices, angles and signs): {bad:?}"
+    );
 }
 
 /// Runs `ops` on a copy of `start` through the driver's guarded path
@@ -64,12 +75,18 @@ fn assert_accepted(start: &FaceQuads, ops: &[Op], after: &FaceQuads) {
     let m = plane(8.0);
     let mut g = start.clone();
     let mut r = Regularizer::new(&m.faces[0], &mut g);
-    assert!(r.try_sequence(ops), "{ops:?} rejected by the geometric guard");
+    assert!(
+        r.try_sequence(ops),
+        "{ops:?} rejected by the geometric guard"
+    );
     drop(r);
     assert_valid(&g);
     assert_eq!((&g.quads, &g.quad_alive), (&after.quads, &after.quad_alive));
     for v in 0..g.verts.len() {
-        assert_eq!((g.verts[v].alive, &g.verts[v].fan), (after.verts[v].alive, &after.verts[v].fan));
+        assert_eq!(
+            (g.verts[v].alive, &g.verts[v].fan),
+            (after.verts[v].alive, &after.verts[v].fan)
+        );
     }
 }
 
@@ -83,7 +100,17 @@ fn assert_accepted(start: &FaceQuads, ops: &[Op], after: &FaceQuads) {
 ///   h2 ── h3 ── h4
 /// ```
 fn quad_pair() -> Patch {
-    Patch::new(&[[1.0, 1.0], [0.0, 1.0], [0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 1.0]], &[[0, 1, 2, 3], [3, 4, 5, 0]])
+    Patch::new(
+        &[
+            [1.0, 1.0],
+            [0.0, 1.0],
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+        ],
+        &[[0, 1, 2, 3], [3, 4, 5, 0]],
+    )
 }
 
 /// The swap of the shared edge of [`quad_pair`] to diagonal `k`.
@@ -101,7 +128,9 @@ fn star(k: u32) -> Patch {
             pts.push([r.0 * a.cos(), r.0 * a.sin()]);
         }
     }
-    let quads: Vec<[u32; 4]> = (0..k).map(|i| [0, 1 + i, 1 + k + i, 1 + (i + 1) % k]).collect();
+    let quads: Vec<[u32; 4]> = (0..k)
+        .map(|i| [0, 1 + i, 1 + k + i, 1 + (i + 1) % k])
+        .collect();
     Patch::new(&pts, &quads)
 }
 
@@ -117,10 +146,16 @@ fn swap_of_a_5_5_edge_to_a_3_3_pair_is_perfect() {
     // the other diagonal (h2,h5) follows Eq. 1 too but only moves irregularity:
     // h0, h3: 5 − 1 = 4; h2, h5: 4 + 1 = 5
     let eff2 = apply_checked(&mut fq.clone(), pair_swap(2));
-    assert_eq!(sorted(&eff2), vec![(0, 5, 4), (2, 4, 5), (3, 5, 4), (5, 4, 5)]);
+    assert_eq!(
+        sorted(&eff2),
+        vec![(0, 5, 4), (2, 4, 5), (3, 5, 4), (5, 4, 5)]
+    );
     // Eq. 1, k = 1: val(h0)' = val(h3)' = 5 − 1 = 4; val(h1)' = val(h4)' = 3 + 1 = 4
     let eff = apply_checked(&mut fq, pair_swap(1));
-    assert_eq!(sorted(&eff), vec![(0, 5, 4), (1, 3, 4), (3, 5, 4), (4, 3, 4)]);
+    assert_eq!(
+        sorted(&eff),
+        vec![(0, 5, 4), (1, 3, 4), (3, 5, 4), (4, 3, 4)]
+    );
     assert_eq!(vals(&fq, &[0, 1, 2, 3, 4, 5]), vec![4; 6]);
     assert_eq!(fq.irregular_count(), irr - 4);
     // k = 1: Q0' = (h1, h2, h3, h4), Q1' = (h4, h5, h0, h1)
@@ -138,7 +173,10 @@ fn swap_of_a_5_5_edge_to_a_3_4_pair_improves_without_being_perfect() {
     let irr = fq.irregular_count();
     // Eq. 1: h0, h3: 5 − 1 = 4; h2: 3 + 1 = 4; h5: 4 + 1 = 5
     let eff = apply_checked(&mut fq, pair_swap(2));
-    assert_eq!(sorted(&eff), vec![(0, 5, 4), (2, 3, 4), (3, 5, 4), (5, 4, 5)]);
+    assert_eq!(
+        sorted(&eff),
+        vec![(0, 5, 4), (2, 3, 4), (3, 5, 4), (5, 4, 5)]
+    );
     assert_eq!(fq.irregular_count(), irr - 2, "3 irregular → 1");
     // k = 2: Q0' = (h2, h3, h4, h5), Q1' = (h5, h0, h1, h2)
     assert_eq!((fq.quads[0], fq.quads[1]), ([2, 3, 4, 5], [5, 0, 1, 2]));
@@ -157,7 +195,10 @@ fn translation_swap_moves_a_3_5_dipole_without_changing_the_score() {
     assert_eq!(score_delta(&fq, &eff), (0, 0), "valence-neutral");
     // Eq. 1: h0: 5 − 1 = 4; h3: 4 − 1 = 3; h1: 3 + 1 = 4; h4: 4 + 1 = 5
     let eff = apply_checked(&mut fq, pair_swap(1));
-    assert_eq!(sorted(&eff), vec![(0, 5, 4), (1, 3, 4), (3, 4, 3), (4, 4, 5)]);
+    assert_eq!(
+        sorted(&eff),
+        vec![(0, 5, 4), (1, 3, 4), (3, 4, 3), (4, 4, 5)]
+    );
     assert_eq!(fq.irregular_count(), irr);
     // the (3,5) dipole moved from (h1, h0) to (h3, h4), now an edge
     assert!(fq.linked(3, 4) && !fq.is_irregular(0) && !fq.is_irregular(1));
@@ -178,7 +219,10 @@ fn swap_of_an_edge_ending_on_the_boundary_changes_only_valences_there() {
     // Eq. 1 with k = 2, new diagonal (h2, h5) = (0, 6): h0 = 5: 4 − 1 = 3;
     // h3 = 1: 3 − 1 = 2; corner 0: 2 + 1 = 3; 6: 4 + 1 = 5
     let eff = apply_checked(&mut fq, Op::Swap { q: 0, e: 1, k: 2 });
-    assert_eq!(sorted(&eff), vec![(0, 2, 3), (1, 3, 2), (5, 4, 3), (6, 4, 5)]);
+    assert_eq!(
+        sorted(&eff),
+        vec![(0, 2, 3), (1, 3, 2), (5, 4, 3), (6, 4, 5)]
+    );
     assert!(fq.linked(0, 6));
     // the boundary edge itself (0 → 1, single quad) is never swapped
     assert!(effect(&fq, Op::Swap { q: 0, e: 0, k: 1 }).is_none());
@@ -189,7 +233,10 @@ fn swap_of_an_edge_ending_on_the_boundary_changes_only_valences_there() {
 #[test]
 fn collapse_of_a_3_5_3_5_quad_is_perfect() {
     // one quad (v1, v2, v3, v4) = (0, 1, 2, 3) with valences (3, 5, 3, 5)
-    let core = Patch::new(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], &[[0, 1, 2, 3]]);
+    let core = Patch::new(
+        &[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+        &[[0, 1, 2, 3]],
+    );
     let mut fq = ringed(core, &[3, 5, 3, 5]);
     let start = fq.clone();
     let irr = fq.irregular_count();
@@ -209,7 +256,10 @@ fn collapse_of_a_3_5_3_5_quad_is_perfect() {
 #[test]
 fn collapse_of_a_3_5_3_4_quad_leaves_one_irregular_vertex() {
     // spec §5.2 [C]: (3,5,3,4) → irregular count 3 → 1
-    let core = Patch::new(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], &[[0, 1, 2, 3]]);
+    let core = Patch::new(
+        &[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+        &[[0, 1, 2, 3]],
+    );
     let mut fq = ringed(core, &[3, 5, 3, 4]);
     let start = fq.clone();
     let irr = fq.irregular_count();
@@ -258,12 +308,22 @@ fn split_of_a_valence_6_vertex_three_sectors_apart_is_perfect() {
     assert!(effect(&fq, Op::Split { c: 0, a: 2, b: 1 }).is_none());
     // Fig. 4, option 2 (d = 2): c' = 2 + 1 = 3, c = 6 − 2 + 1 = 5, n_0: 3 + 1 = 4, n_2: 4 + 1 = 5
     let e2 = apply_checked(&mut fq.clone(), Op::Split { c: 0, a: 1, b: 3 });
-    assert_eq!((sorted(&e2), e2.created), (vec![(0, 6, 5), (1, 3, 4), (3, 4, 5)], Some(3)));
+    assert_eq!(
+        (sorted(&e2), e2.created),
+        (vec![(0, 6, 5), (1, 3, 4), (3, 4, 5)], Some(3))
+    );
     // Fig. 4, option 1 (d = 3): c' = 3 + 1 = 4, c = 6 − 3 + 1 = 4, n_0, n_3: 3 + 1 = 4
     let eff = apply_checked(&mut fq, Op::Split { c: 0, a: 1, b: 4 });
-    assert_eq!((sorted(&eff), eff.created), (vec![(0, 6, 4), (1, 3, 4), (4, 3, 4)], Some(4)));
+    assert_eq!(
+        (sorted(&eff), eff.created),
+        (vec![(0, 6, 4), (1, 3, 4), (4, 3, 4)], Some(4))
+    );
     let c2 = fq.verts.len() as u32 - 1;
-    assert_eq!(fq.quads[fq.quads.len() - 1], [0, 1, c2, 4], "new quad (c, n_p, c', n_q)");
+    assert_eq!(
+        fq.quads[fq.quads.len() - 1],
+        [0, 1, c2, 4],
+        "new quad (c, n_p, c', n_q)"
+    );
     assert_eq!(fq.irregular_count(), irr - 3);
     assert_accepted(&start, &[Op::Split { c: 0, a: 1, b: 4 }], &fq);
 }
@@ -280,10 +340,16 @@ fn split_of_a_valence_5_vertex_through_two_3_links_leaves_one_3() {
     let irr = fq.irregular_count();
     // the other way round, d = 3: c' = 3 + 1 = 4, c = 5 − 3 + 1 = 3
     let back = effect(&fq, Op::Split { c: 0, a: 3, b: 1 }).unwrap();
-    assert_eq!((sorted(&back), back.created), (vec![(0, 5, 3), (1, 3, 4), (3, 3, 4)], Some(4)));
+    assert_eq!(
+        (sorted(&back), back.created),
+        (vec![(0, 5, 3), (1, 3, 4), (3, 3, 4)], Some(4))
+    );
     // d = 2: c' = 2 + 1 = 3, c = 5 − 2 + 1 = 4 (c + c' = k + 2 = 7), n_0, n_2: 3 + 1 = 4
     let eff = apply_checked(&mut fq, Op::Split { c: 0, a: 1, b: 3 });
-    assert_eq!((sorted(&eff), eff.created), (vec![(0, 5, 4), (1, 3, 4), (3, 3, 4)], Some(3)));
+    assert_eq!(
+        (sorted(&eff), eff.created),
+        (vec![(0, 5, 4), (1, 3, 4), (3, 3, 4)], Some(3))
+    );
     assert_eq!(fq.irregular_count(), irr - 2, "3 irregular → 1 (c')");
     assert_accepted(&start, &[Op::Split { c: 0, a: 1, b: 3 }], &fq);
 }
@@ -295,7 +361,10 @@ fn split_through_a_boundary_link_keeps_the_boundary() {
     assert_eq!(fq.links(5), vec![1, 4, 6, 9]);
     // k = 4, d = 2: c' = 3, c = 4 − 2 + 1 = 3; boundary link 1: 3 + 1 = 4; 9: 4 + 1 = 5
     let eff = apply_checked(&mut fq, Op::Split { c: 5, a: 1, b: 9 });
-    assert_eq!((sorted(&eff), eff.created), (vec![(1, 3, 4), (5, 4, 3), (9, 4, 5)], Some(3)));
+    assert_eq!(
+        (sorted(&eff), eff.created),
+        (vec![(1, 3, 4), (5, 4, 3), (9, 4, 5)], Some(3))
+    );
     // a boundary vertex is never split
     assert!(effect(&fq, Op::Split { c: 1, a: 0, b: 2 }).is_none());
 }
@@ -319,18 +388,50 @@ fn swap_split_fig7_leaves_a_single_3() {
     let irr = fq.irregular_count();
     // 1. swap to (h1, h4), Eq. 1: h0, h3: 4 − 1 = 3; h1: 5 + 1 = 6; h4: 3 + 1 = 4
     let e1 = apply_checked(&mut fq, pair_swap(1));
-    assert_eq!(sorted(&e1), vec![(0, 4, 3), (1, 5, 6), (3, 4, 3), (4, 3, 4)]);
-    assert_eq!(fq.irregular_count(), irr + 1, "the swap alone makes it worse");
+    assert_eq!(
+        sorted(&e1),
+        vec![(0, 4, 3), (1, 5, 6), (3, 4, 3), (4, 3, 4)]
+    );
+    assert_eq!(
+        fq.irregular_count(),
+        irr + 1,
+        "the swap alone makes it worse"
+    );
     // 2. split the 6 (h1) through the 3-link h0 and the link three sectors away, V
     let s = fq.ordered_star(h[1]).unwrap();
     let pos = |x: u32| s.iter().position(|t| t.1[1] == x).unwrap();
     assert_eq!((pos(v) + 6 - pos(h[0])) % 6, 3);
     // k = 6, d = 3: c' = 4, c = 6 − 3 + 1 = 4; h0: 3 + 1 = 4; V: 3 + 1 = 4
-    let e2 = apply_checked(&mut fq, Op::Split { c: h[1], a: h[0], b: v });
-    assert_eq!((sorted(&e2), e2.created), (vec![(0, 3, 4), (1, 6, 4), (v, 3, 4)], Some(4)));
-    assert_eq!(fq.irregular_count(), irr - 2, "3 irregular (h1, h4, V) → 1 (h3 = 3)");
+    let e2 = apply_checked(
+        &mut fq,
+        Op::Split {
+            c: h[1],
+            a: h[0],
+            b: v,
+        },
+    );
+    assert_eq!(
+        (sorted(&e2), e2.created),
+        (vec![(0, 3, 4), (1, 6, 4), (v, 3, 4)], Some(4))
+    );
+    assert_eq!(
+        fq.irregular_count(),
+        irr - 2,
+        "3 irregular (h1, h4, V) → 1 (h3 = 3)"
+    );
     assert_eq!(fq.valence(h[3]), 3);
-    assert_accepted(&start, &[pair_swap(1), Op::Split { c: h[1], a: h[0], b: v }], &fq);
+    assert_accepted(
+        &start,
+        &[
+            pair_swap(1),
+            Op::Split {
+                c: h[1],
+                a: h[0],
+                b: v,
+            },
+        ],
+        &fq,
+    );
 }
 
 #[test]
@@ -352,14 +453,21 @@ fn swap_collapse_removes_four_of_five_irregular_vertices() {
     let irr = fq.irregular_count();
     // 1. swap to (h1, h4), Eq. 1: h0, h3: 4 − 1 = 3; h1, h4: 3 + 1 = 4 (neutral)
     let e1 = apply_checked(&mut fq, pair_swap(1));
-    assert_eq!(sorted(&e1), vec![(0, 4, 3), (1, 3, 4), (3, 4, 3), (4, 3, 4)]);
+    assert_eq!(
+        sorted(&e1),
+        vec![(0, 4, 3), (1, 3, 4), (3, 4, 3), (4, 3, 4)]
+    );
     assert_eq!(fq.irregular_count(), irr);
     // 2. W is now (3, 5, 3, 5): collapse (h3, w), Eq. 2: 3 + 3 − 2 = 4; h2, x: 5 − 1 = 4
     assert_eq!(vals(&fq, &fq.quads[2]), vec![3, 5, 3, 5]);
     let e2 = apply_checked(&mut fq, Op::Collapse { q: 2, d: 0 });
     assert_eq!(sorted(&e2), vec![(2, 5, 4), (w, 3, 4), (x, 5, 4)]);
     assert_eq!(e2.removed, Some((3, 3)));
-    assert_eq!(fq.irregular_count(), irr - 4, "5 irregular (h1, h2, h4, w, x) → 1 (h0 = 3)");
+    assert_eq!(
+        fq.irregular_count(),
+        irr - 4,
+        "5 irregular (h1, h2, h4, w, x) → 1 (h0 = 3)"
+    );
     assert_accepted(&start, &[pair_swap(1), Op::Collapse { q: 2, d: 0 }], &fq);
 }
 
@@ -373,7 +481,17 @@ fn double_collapse_fig9_leaves_a_single_5() {
     //   a ── d      (d is pulled in: its single ring quad needs the room)
     //   │ L  │
     //   b ── c
-    let core = Patch::new(&[[0.0, 1.0], [0.0, 0.0], [1.0, 0.0], [0.7, 1.0], [1.0, 2.0], [0.0, 2.0]], &[[0, 1, 2, 3], [0, 3, 4, 5]]);
+    let core = Patch::new(
+        &[
+            [0.0, 1.0],
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [0.7, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ],
+        &[[0, 1, 2, 3], [0, 3, 4, 5]],
+    );
     let [a, b, c, d, y, z] = [0u32, 1, 2, 3, 4, 5];
     let mut fq = ringed(core, &[4, 4, 5, 3, 4, 5]);
     let start = fq.clone();
@@ -389,8 +507,16 @@ fn double_collapse_fig9_leaves_a_single_5() {
     let e2 = apply_checked(&mut fq, Op::Collapse { q: 1, d: 0 });
     assert_eq!(sorted(&e2), vec![(d, 5, 4), (y, 4, 5), (z, 5, 4)]);
     assert_eq!(e2.removed, Some((a, 3)));
-    assert_eq!(fq.irregular_count(), irr - 2, "3 irregular → 1 (the merged 5)");
-    assert_accepted(&start, &[Op::Collapse { q: 0, d: 1 }, Op::Collapse { q: 1, d: 0 }], &fq);
+    assert_eq!(
+        fq.irregular_count(),
+        irr - 2,
+        "3 irregular → 1 (the merged 5)"
+    );
+    assert_accepted(
+        &start,
+        &[Op::Collapse { q: 0, d: 1 }, Op::Collapse { q: 1, d: 0 }],
+        &fq,
+    );
 }
 
 #[test]
@@ -414,7 +540,11 @@ fn double_split_fig10_leaves_v_plus_one_only() {
     let v = s[(i + 3) % 6].1[1];
     assert!(v as usize >= want.len(), "V is outside the star of C");
     for v_val in [4, 3] {
-        let mut fq = once.clone().ring_regular(&[(v, v_val)]).relaxed(want.len()).build();
+        let mut fq = once
+            .clone()
+            .ring_regular(&[(v, v_val)])
+            .relaxed(want.len())
+            .build();
         let start = fq.clone();
         assert_valid(&fq);
         assert_eq!(vals(&fq, &[c, p, t, v]), vec![5, 5, 3, v_val]);
@@ -422,7 +552,10 @@ fn double_split_fig10_leaves_v_plus_one_only() {
         // 1. split C through P and T, d = 2: c' = 2 + 1 = 3, C = 5 − 2 + 1 = 4;
         //    P: 5 + 1 = 6; T: 3 + 1 = 4
         let e1 = apply_checked(&mut fq, split1);
-        assert_eq!((sorted(&e1), e1.created), (vec![(c, 5, 4), (p, 5, 6), (t, 3, 4)], Some(3)));
+        assert_eq!(
+            (sorted(&e1), e1.created),
+            (vec![(c, 5, 4), (p, 5, 6), (t, 3, 4)], Some(3))
+        );
         let c2 = fq.verts.len() as u32 - 1;
         let s = fq.ordered_star(p).unwrap();
         let pos = |x: u32| s.iter().position(|y| y.1[1] == x).unwrap();
@@ -430,7 +563,10 @@ fn double_split_fig10_leaves_v_plus_one_only() {
         // 2. split the 6 (P) through c' and V, d = 3: P' = 3 + 1 = 4, P = 6 − 3 + 1 = 4;
         //    c': 3 + 1 = 4; V: v_val + 1
         let e2 = apply_checked(&mut fq, Op::Split { c: p, a: c2, b: v });
-        assert_eq!((sorted(&e2), e2.created), (vec![(p, 6, 4), (v, v_val, v_val + 1), (c2, 3, 4)], Some(4)));
+        assert_eq!(
+            (sorted(&e2), e2.created),
+            (vec![(p, 6, 4), (v, v_val, v_val + 1), (c2, 3, 4)], Some(4))
+        );
         // 3 irregular (C, P, T) → 1 (V = 5); or 4 (with V = 3) → 0
         let expected = if v_val == 4 { irr - 2 } else { irr - 4 };
         assert_eq!(fq.irregular_count(), expected, "V = {v_val}");
@@ -446,7 +582,16 @@ fn double_swap_fig11_leaves_one_or_no_irregular_vertex() {
     //   t0 ── t1 ── t2 ── t3
     //   │  A  │  B  │  C  │
     //   b0 ── b1 ── b2 ── b3
-    let pts = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0], [0.0, 1.0], [1.0, 1.0], [2.0, 1.0], [3.0, 1.0]];
+    let pts = [
+        [0.0, 0.0],
+        [1.0, 0.0],
+        [2.0, 0.0],
+        [3.0, 0.0],
+        [0.0, 1.0],
+        [1.0, 1.0],
+        [2.0, 1.0],
+        [3.0, 1.0],
+    ];
     let core = Patch::new(&pts, &[[0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6]]);
     let [b1, b2, b3, t0, t1, t2] = [1u32, 2, 3, 4, 5, 6];
     for b3_val in [4, 3] {
@@ -458,14 +603,20 @@ fn double_swap_fig11_leaves_one_or_no_irregular_vertex() {
         let s1 = Op::Swap { q: 0, e: 1, k: 1 };
         assert_eq!(hexagon(&fq, 0, 1), Some(([t1, t0, 0, b1, b2, t2], 1)));
         let e1 = apply_checked(&mut fq, s1);
-        assert_eq!(sorted(&e1), vec![(b1, 5, 4), (b2, 4, 5), (t0, 3, 4), (t1, 4, 3)]);
+        assert_eq!(
+            sorted(&e1),
+            vec![(b1, 5, 4), (b2, 4, 5), (t0, 3, 4), (t1, 4, 3)]
+        );
         assert_eq!(fq.irregular_count(), irr);
         // 2. swap (b2, t2) to (t1, b3), Eq. 1: t2: 5 − 1 = 4; b2: 5 − 1 = 4;
         //    t1: 3 + 1 = 4; b3: b3_val + 1
         let s2 = Op::Swap { q: 1, e: 0, k: 1 };
         assert_eq!(hexagon(&fq, 1, 0), Some(([t2, t1, t0, b2, b3, 7], 2)));
         let e2 = apply_checked(&mut fq, s2);
-        assert_eq!(sorted(&e2), vec![(b2, 5, 4), (b3, b3_val, b3_val + 1), (t1, 3, 4), (t2, 5, 4)]);
+        assert_eq!(
+            sorted(&e2),
+            vec![(b2, 5, 4), (b3, b3_val, b3_val + 1), (t1, 3, 4), (t2, 5, 4)]
+        );
         // 3 irregular → 1 (b3 = 5); or 4 (with b3 = 3) → 0
         let expected = if b3_val == 4 { irr - 2 } else { irr - 4 };
         assert_eq!(fq.irregular_count(), expected, "b3 = {b3_val}");
