@@ -158,6 +158,29 @@ impl Face {
         ratio.is_nan() || ratio < SINGULAR_RATIO
     }
 
+    /// [`Face::corner_normal`] of an element corner at the ordinary point
+    /// `uv`, or `None` when `uv` is a singular point (there the corner normal
+    /// depends on the element: ask [`Face::corner_normal`]). At an ordinary
+    /// point the corner normal depends on `uv` alone, so callers that
+    /// evaluate many elements around fixed nodes may keep it per node.
+    pub fn regular_normal(&self, uv: [f64; 2]) -> Option<Vec3> {
+        self.normal_if_regular(&self.surface.derivs(uv))
+    }
+
+    /// The oriented unit normal from derivatives at an ordinary point.
+    fn normal_if_regular(&self, d: &SurfaceDerivs) -> Option<Vec3> {
+        let regular = singular_ratio(d) >= SINGULAR_RATIO; // false for NaN
+        if !regular {
+            return None;
+        }
+        let n = vec3::normalize(vec3::cross(d.du, d.dv))?;
+        Some(if self.reversed {
+            vec3::scale(n, -1.0)
+        } else {
+            n
+        })
+    }
+
     /// Oriented unit normal at an element corner: the reference normal `N_i`
     /// of the corner's SICN (Eq. 12 of the quasi-structured paper), shared by
     /// the mesher's quality checks and the mesh statistics.
@@ -179,16 +202,12 @@ impl Face {
         let mut p = at.toward(centre);
         if let CornerUv::Point(_) = at {
             let d = self.surface.derivs(p);
+            if let Some(n) = self.normal_if_regular(&d) {
+                return Some(n);
+            }
             let (uu, vv) = (vec3::dot(d.du, d.du), vec3::dot(d.dv, d.dv));
             if singular_ratio(&d) >= SINGULAR_RATIO {
-                // [`Face::normal`] there, from the derivatives already at hand
-                if let Some(n) = vec3::normalize(vec3::cross(d.du, d.dv)) {
-                    return Some(if self.reversed {
-                        vec3::scale(n, -1.0)
-                    } else {
-                        n
-                    });
-                }
+                // regular but du × dv does not normalize: the fallbacks below
             } else if uu < 1e-6 * vv {
                 p[0] = centre[0];
             } else if vv < 1e-6 * uu {

@@ -10,7 +10,7 @@ use geometry::vec3::Vec3;
 use geometry::Face;
 
 use crate::face_triangulation::NodeRef;
-use crate::split::{node_normal, quad_quality, quad_quality_with, QuadPatch};
+use crate::split::{node_normal, quad_quality, quad_quality_with, NodeNormals, QuadPatch};
 
 pub mod kernels;
 
@@ -41,9 +41,10 @@ fn adjacency(p: &QuadPatch) -> (Vec<Vec<u32>>, Vec<Vec<u32>>) {
 pub fn smooth(face: &Face, p: &mut QuadPatch, sweeps: usize) -> usize {
     let (quads_of, nbrs) = adjacency(p);
     let mut accepted = 0;
-    let worst = |p: &QuadPatch, qs: &[u32]| {
+    let mut normals = NodeNormals::new(p.nodes.len());
+    let worst = |p: &QuadPatch, normals: &mut NodeNormals, qs: &[u32]| {
         qs.iter()
-            .map(|&q| quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize]))
+            .map(|&q| normals.quality(face, &p.nodes, &p.pos, &p.quads[q as usize]))
             .fold(f64::INFINITY, f64::min)
     };
     for _ in 0..sweeps {
@@ -67,20 +68,23 @@ pub fn smooth(face: &Face, p: &mut QuadPatch, sweeps: usize) -> usize {
             {
                 continue;
             }
-            let before = worst(p, &quads_of[i]);
+            let before = worst(p, &mut normals, &quads_of[i]);
             let old_pos = p.pos[i];
             let x = face.surface.eval(new);
             if !(x[0].is_finite() && x[1].is_finite() && x[2].is_finite()) {
                 continue;
             }
+            let old_normal = normals.get(i);
             p.nodes[i].uv = new;
             p.pos[i] = x;
-            let after = worst(p, &quads_of[i]);
+            normals.forget(i);
+            let after = worst(p, &mut normals, &quads_of[i]);
             if after >= before {
                 moved += 1;
             } else {
                 p.nodes[i].uv = old;
                 p.pos[i] = old_pos;
+                normals.set(i, old_normal);
             }
         }
         accepted += moved;

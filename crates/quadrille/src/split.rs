@@ -194,12 +194,124 @@ pub fn quad_quality_with(
         .fold(f64::INFINITY, f64::min)
 }
 
+/// Corner normals of a patch's nodes kept between quality evaluations, so
+/// that smoothing, which measures the quads around one moving node again and
+/// again, evaluates the CAD once per node and move instead of at every corner
+/// of every measured quad. At an ordinary point the corner normal depends on
+/// the node's (u, v) alone ([`Face::regular_normal`]); poles and singular
+/// points are evaluated per quad, as [`node_normal`] does. Results are
+/// bit-identical to [`quad_quality`]. Whoever moves a node calls
+/// [`NodeNormals::forget`] for it.
+pub struct NodeNormals {
+    at: Vec<NodeNormal>,
+}
+
+/// What [`NodeNormals`] knows of one node.
+#[derive(Clone, Copy, Debug)]
+pub enum NodeNormal {
+    /// Not evaluated since the node last moved.
+    Unknown,
+    /// An ordinary point: its normal.
+    Regular(Vec3),
+    /// A pole or singular point: the normal depends on the quad.
+    PerQuad,
+}
+
+impl NodeNormals {
+    /// Nothing known yet for `n` nodes.
+    pub fn new(n: usize) -> Self {
+        NodeNormals {
+            at: vec![NodeNormal::Unknown; n],
+        }
+    }
+
+    /// What is known of node `i` (to restore it with [`NodeNormals::set`]
+    /// when a trial move is undone).
+    pub fn get(&self, i: usize) -> NodeNormal {
+        self.at[i]
+    }
+
+    /// Restores what was known of node `i`.
+    pub fn set(&mut self, i: usize, v: NodeNormal) {
+        self.at[i] = v;
+    }
+
+    /// Node `i` moved: its normal is evaluated again when next needed.
+    pub fn forget(&mut self, i: usize) {
+        self.at[i] = NodeNormal::Unknown;
+    }
+
+    /// [`quad_quality`] of `q`, with the corner normals taken from (and
+    /// added to) the cache.
+    pub fn quality(&mut self, face: &Face, nodes: &[LocalNode], pos: &[Vec3], q: &[u32; 4]) -> f64 {
+        let mut known = [None; 4];
+        for (k, slot) in known.iter_mut().enumerate() {
+            let j = q[k] as usize;
+            if nodes[j].pole.is_some() {
+                continue;
+            }
+            if let NodeNormal::Unknown = self.at[j] {
+                self.at[j] = match face.regular_normal(nodes[j].uv) {
+                    Some(n) => NodeNormal::Regular(n),
+                    None => NodeNormal::PerQuad,
+                };
+            }
+            if let NodeNormal::Regular(n) = self.at[j] {
+                *slot = Some(n);
+            }
+        }
+        quad_quality_with(face, nodes, pos, q, &known)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::curve_mesh::{discretize_all, plan_curves};
     use crate::face_triangulation::FaceTriangulation;
     use geometry::{primitives, FaceId};
+
+    #[test]
+    fn cached_normals_give_the_same_quality_and_follow_moves() {
+        // a cone: ordinary points and an apex (a pole, evaluated per quad)
+        let m = primitives::cone(1.0, 1.0);
+        let face = &m.faces[0];
+        let plan = plan_curves(&m, 0.2);
+        let cms = discretize_all(&m, &plan);
+        let mut ft = FaceTriangulation::new(&m, FaceId(0), &cms, 0.4).unwrap();
+        ft.refine().unwrap();
+        let mut p = split_triangles(face, &ft.nodes, &ft.pos, &ft.triangles(), &ft.boundary_mid);
+        let mut cache = NodeNormals::new(p.nodes.len());
+        let exact = |p: &QuadPatch| {
+            p.quads
+                .iter()
+                .map(|q| quad_quality(face, &p.nodes, &p.pos, q))
+                .collect::<Vec<f64>>()
+        };
+        let cached = |p: &QuadPatch, c: &mut NodeNormals| {
+            p.quads
+                .iter()
+                .map(|q| c.quality(face, &p.nodes, &p.pos, q))
+                .collect::<Vec<f64>>()
+        };
+        // bit-identical, twice (the second time from the cache)
+        assert_eq!(cached(&p, &mut cache), exact(&p));
+        assert_eq!(cached(&p, &mut cache), exact(&p));
+        // move an interior node: stale until forgotten
+        let i = (0..p.nodes.len())
+            .find(|&i| p.nodes[i].node == NodeRef::Interior && p.nodes[i].pole.is_none())
+            .unwrap();
+        let uv = [p.nodes[i].uv[0] + 0.05, p.nodes[i].uv[1]];
+        p.nodes[i].uv = uv;
+        p.pos[i] = face.surface.eval(uv);
+        assert_ne!(
+            cached(&p, &mut cache),
+            exact(&p),
+            "the old normal of the moved node is still used"
+        );
+        cache.forget(i);
+        assert_eq!(cached(&p, &mut cache), exact(&p));
+    }
 
     #[test]
     fn square_split_gives_valid_ccw_quads() {

@@ -374,9 +374,11 @@ fn read_ply(data: &[u8]) -> Result<Soup, String> {
             Some("format") => match w.get(1).copied() {
                 Some("ascii") => binary = false,
                 Some("binary_little_endian") => binary = true,
-                Some(other) => return Err(format!(
+                Some(other) => {
+                    return Err(format!(
                     "line {ln}: PLY format `{other}` not supported (ascii or binary_little_endian)"
-                )),
+                ))
+                }
                 None => return Err(format!("line {ln}: format line without a format")),
             },
             Some("element") => {
