@@ -60,7 +60,7 @@ enum Command {
     /// optional picture, singularities and the check of Eq. (2) of the paper.
     #[command(
         long_about = "Computes the boundary-aligned cross field of every face of a CAD model on the \
-background triangulation the mesher uses (4 times finer than the quad size), its singularities \
+background triangulation the mesher uses (3 times finer than the quad size), its singularities \
 and the check of relation (2) of the quasi-structured paper: the singularity indices plus the \
 corner indices (2 - ideal valence) of a face add up to 4 times its Euler characteristic.\n\n\
 The VTU file holds the background triangles, then one vertex cell per singularity, with \
