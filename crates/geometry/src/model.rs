@@ -164,11 +164,12 @@ impl Face {
     /// point the corner normal depends on `uv` alone, so callers that
     /// evaluate many elements around fixed nodes may keep it per node.
     pub fn regular_normal(&self, uv: [f64; 2]) -> Option<Vec3> {
-        self.normal_if_regular(&self.surface.derivs(uv))
+        self.regular_normal_from(&self.surface.derivs(uv))
     }
 
-    /// The oriented unit normal from derivatives at an ordinary point.
-    fn normal_if_regular(&self, d: &SurfaceDerivs) -> Option<Vec3> {
+    /// [`Face::regular_normal`] from the derivatives at the point, for
+    /// callers that have them at hand.
+    pub fn regular_normal_from(&self, d: &SurfaceDerivs) -> Option<Vec3> {
         let regular = singular_ratio(d) >= SINGULAR_RATIO; // false for NaN
         if !regular {
             return None;
@@ -202,7 +203,7 @@ impl Face {
         let mut p = at.toward(centre);
         if let CornerUv::Point(_) = at {
             let d = self.surface.derivs(p);
-            if let Some(n) = self.normal_if_regular(&d) {
+            if let Some(n) = self.regular_normal_from(&d) {
                 return Some(n);
             }
             let (uu, vv) = (vec3::dot(d.du, d.du), vec3::dot(d.dv, d.dv));

@@ -55,6 +55,8 @@ fn incidence(p: &QuadPatch) -> Vec<Vec<u32>> {
 /// module documentation). Deterministic: vertices are visited in index order.
 pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
     let mut report = DefectReport::default();
+    // vertices placed or moved by kept replacements (smoothed again at the end)
+    let mut changed: Vec<u32> = Vec::new();
     let mut at = incidence(p);
     let mut alive = vec![true; p.quads.len()];
     let candidates: Vec<u32> = (0..p.nodes.len() as u32)
@@ -220,6 +222,7 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
             .fold(f64::INFINITY, f64::min);
         if finite && new_worst > 0.0 && new_worst >= KEEP_QUALITY * old_worst.min(1.0) {
             report.replaced += 1;
+            changed.extend_from_slice(&movable);
             continue;
         }
         // undo: drop the disk, bring the star back, restore the ring
@@ -248,10 +251,8 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
     }
     // drop the replaced quads, keeping the order of the others
     drop_dead_quads(p, &alive);
-    // the new disks smoothed with the face's mesh (Winslow / angle-based, with rollback)
-    if report.replaced > 0 {
-        crate::smoothing::optimize(face, p, &crate::smoothing::OptimizeOptions::default());
-    }
+    // the new disks smoothed with the quads around them (Winslow / angle-based, with rollback)
+    crate::smoothing::optimize_around(face, p, &changed);
     report
 }
 

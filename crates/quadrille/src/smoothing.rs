@@ -36,6 +36,32 @@ fn adjacency(p: &QuadPatch) -> (Vec<Vec<u32>>, Vec<Vec<u32>>) {
     (quads_of, nbrs)
 }
 
+/// Smooths (with [`optimize_nodes`], default options) the vertices `changed`
+/// and those of the quads around them: the last step of a stage that
+/// replaced parts of a face (defects, cavities). The rest of the face was
+/// smoothed before and did not move, so it is not swept again. Does nothing
+/// when `changed` is empty.
+pub fn optimize_around(face: &Face, p: &mut QuadPatch, changed: &[u32]) {
+    if changed.is_empty() {
+        return;
+    }
+    let mut near = vec![false; p.nodes.len()];
+    for &v in changed {
+        if let Some(x) = near.get_mut(v as usize) {
+            *x = true;
+        }
+    }
+    let mut nodes: Vec<u32> = Vec::new();
+    for q in &p.quads {
+        if q.iter()
+            .any(|&v| near.get(v as usize).copied().unwrap_or(false))
+        {
+            nodes.extend_from_slice(q);
+        }
+    }
+    optimize_nodes(face, p, Some(&nodes), &OptimizeOptions::default());
+}
+
 /// Runs `sweeps` Gauss–Seidel sweeps (in node order, so deterministic) over the
 /// face-interior nodes of `p`. Returns the number of accepted moves.
 pub fn smooth(face: &Face, p: &mut QuadPatch, sweeps: usize) -> usize {

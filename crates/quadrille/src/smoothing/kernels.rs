@@ -24,7 +24,7 @@
 //! singular point of the parametrization is refused.
 
 use geometry::vec3::{self, Vec3};
-use geometry::{CornerUv, Face};
+use geometry::Face;
 
 use crate::face_triangulation::NodeRef;
 use crate::split::{quad_quality_with, QuadPatch};
@@ -168,31 +168,6 @@ pub fn one_ring(quads: &[[u32; 4]], v: u32, star: &[u32]) -> Option<Vec<u32>> {
     (seen.len() == ring.len() && !ring.contains(&v)).then_some(ring)
 }
 
-/// Oriented normal of `face` at an ordinary (non-singular) (u, v), exactly as
-/// [`crate::split::node_normal`] computes it there.
-fn normal_at(face: &Face, uv: [f64; 2]) -> Option<Vec3> {
-    if face.is_singular(uv) {
-        return None;
-    }
-    face.corner_normal(CornerUv::Point(uv), uv)
-}
-
-/// Oriented unit normal from the derivatives at an ordinary point, bit for
-/// bit what [`Face::corner_normal`] gives there; `None` at a singular point.
-fn normal_from(face: &Face, d: &geometry::SurfaceDerivs) -> Option<Vec3> {
-    let ratio =
-        vec3::norm(vec3::cross(d.du, d.dv)) / (vec3::dot(d.du, d.du) + vec3::dot(d.dv, d.dv));
-    if ratio.is_nan() || ratio < geometry::model::SINGULAR_RATIO {
-        return None;
-    }
-    let n = vec3::normalize(vec3::cross(d.du, d.dv))?;
-    Some(if face.reversed {
-        vec3::scale(n, -1.0)
-    } else {
-        n
-    })
-}
-
 /// The (u, v) near `uv` whose surface point is closest to `target`
 /// (Gauss–Newton on the surface's Jacobian, stopped when the step is below
 /// `tol` in 3D), with that point and the oriented normal there; `None` at a
@@ -231,7 +206,7 @@ fn map_to_surface(
     if !d.point.iter().all(|v| v.is_finite()) {
         return None;
     }
-    let n = normal_from(face, &d)?;
+    let n = face.regular_normal_from(&d)?;
     Some((cur, d.point, n))
 }
 
@@ -291,16 +266,21 @@ pub fn optimize_nodes(
         .collect();
     touched.sort_unstable();
     touched.dedup();
-    // cached normals of ordinary nodes (poles and singular points: computed per quad)
-    let mut nrm: Vec<Option<Vec3>> = (0..n)
-        .map(|i| {
-            if p.nodes[i].pole.is_some() {
-                None
-            } else {
-                normal_at(face, p.nodes[i].uv)
+    // cached normals of the ordinary nodes of the quads it can change (poles
+    // and singular points: computed per quad)
+    let mut nrm: Vec<Option<Vec3>> = vec![None; n];
+    let mut known = vec![false; n];
+    for &q in &touched {
+        for &v in &p.quads[q as usize] {
+            let v = v as usize;
+            if !known[v] {
+                known[v] = true;
+                if p.nodes[v].pole.is_none() {
+                    nrm[v] = face.regular_normal(p.nodes[v].uv);
+                }
             }
-        })
-        .collect();
+        }
+    }
     let qual = |p: &QuadPatch, nrm: &[Option<Vec3>], q: u32| {
         let quad = &p.quads[q as usize];
         let known = [
@@ -807,6 +787,43 @@ mod tests {
             let same = p.nodes[k].uv.map(f64::to_bits) == orig.nodes[k].uv.map(f64::to_bits);
             assert_eq!(same, k != 6 && k != 12, "node {k}");
         }
+    }
+
+    #[test]
+    fn optimize_around_moves_only_the_changed_vertices_and_their_neighbours() {
+        let m = primitives::square(1.0);
+        let face = &m.faces[0];
+        let n = 6;
+        let mut p = grid_patch(face, n, |i, j| {
+            let inner = i > 0 && j > 0 && i < n && j < n;
+            let d = if inner {
+                0.04 * ((i + 2 * j) as f64).cos()
+            } else {
+                0.0
+            };
+            [i as f64 / n as f64 + d, j as f64 / n as f64 - d]
+        });
+        let orig = p.clone();
+        crate::smoothing::optimize_around(face, &mut p, &[]);
+        assert!(same_bits(&p, &orig), "nothing changed, nothing moves");
+        // node (2, 2): the quads around it span (1..=3, 1..=3)
+        let id = |i: usize, j: usize| j * (n + 1) + i;
+        crate::smoothing::optimize_around(face, &mut p, &[id(2, 2) as u32]);
+        let mut moved = 0;
+        for j in 0..=n {
+            for i in 0..=n {
+                let k = id(i, j);
+                let same = p.nodes[k].uv.map(f64::to_bits) == orig.nodes[k].uv.map(f64::to_bits);
+                if !same {
+                    moved += 1;
+                    assert!(
+                        (1..=3).contains(&i) && (1..=3).contains(&j),
+                        "node ({i}, {j}) moved"
+                    );
+                }
+            }
+        }
+        assert!(moved > 0, "the perturbed vertices near (2, 2) are smoothed");
     }
 
     #[test]
