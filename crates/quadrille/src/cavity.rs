@@ -214,6 +214,10 @@ struct Work<'a> {
     /// Replacements undone since the last kept one (cavity quads, pattern, subdivisions):
     /// not tried again.
     undone: std::collections::HashSet<Vec<u32>>,
+    // boundary successor map of [`Work::boundary`], valid where `bmark == bclock`
+    bnext: Vec<u32>,
+    bmark: Vec<u32>,
+    bclock: u32,
 }
 
 impl<'a> Work<'a> {
@@ -275,6 +279,9 @@ impl<'a> Work<'a> {
             absorbed: false,
             disk_rule: false,
             undone: std::collections::HashSet::new(),
+            bnext: Vec::new(),
+            bmark: Vec::new(),
+            bclock: 0,
             p,
         }
     }
@@ -534,72 +541,99 @@ impl<'a> Work<'a> {
         true
     }
 
-    /// True when the cavity's boundary is one simple loop.
-    fn is_disk(&self) -> bool {
-        let mut next: HashMap<u32, u32> = HashMap::new();
-        for &q in &self.order {
+    /// The boundary edges of the cavity (`self.order`) as a successor map,
+    /// read with [`Work::boundary_next`] until the next call:
+    /// `(tail of the first boundary edge met, smallest tail, boundary edges,
+    /// inner edge sides)`; `None` when a vertex starts two boundary edges
+    /// (the cavity is not a disk). Arrays stamped per call instead of a hash
+    /// map: this runs at every check of every growing cavity.
+    fn boundary(&mut self) -> Option<(Option<u32>, u32, usize, usize)> {
+        let n = self.p.nodes.len();
+        if self.bnext.len() < n {
+            self.bnext.resize(n, 0);
+            self.bmark.resize(n, 0);
+        }
+        self.bclock = self.bclock.wrapping_add(1);
+        if self.bclock == 0 {
+            self.bmark.fill(0);
+            self.bclock = 1;
+        }
+        let c = self.bclock;
+        let (mut first, mut min, mut count, mut inner) = (None, u32::MAX, 0usize, 0usize);
+        for i in 0..self.order.len() {
+            let q = self.order[i];
             let quad = self.p.quads[q as usize];
             for k in 0..4 {
-                if !self.across(q, k).is_some_and(|r| self.in_c(r))
-                    && next.insert(quad[k], quad[(k + 1) % 4]).is_some()
-                {
-                    return false;
+                match self.across(q, k) {
+                    Some(r) if self.in_c(r) => inner += 1,
+                    _ => {
+                        let (a, b) = (quad[k], quad[(k + 1) % 4]);
+                        if self.bmark[a as usize] == c {
+                            return None;
+                        }
+                        self.bmark[a as usize] = c;
+                        self.bnext[a as usize] = b;
+                        first.get_or_insert(a);
+                        min = min.min(a);
+                        count += 1;
+                    }
                 }
             }
         }
-        let Some((&start, _)) = next.iter().min() else {
+        Some((first, min, count, inner))
+    }
+
+    /// The head of the boundary edge starting at `v` in the last
+    /// [`Work::boundary`] map.
+    fn boundary_next(&self, v: u32) -> Option<u32> {
+        (self.bmark.get(v as usize) == Some(&self.bclock)).then(|| self.bnext[v as usize])
+    }
+
+    /// True when the cavity's boundary is one simple loop.
+    fn is_disk(&mut self) -> bool {
+        let Some((_, start, count, _)) = self.boundary() else {
             return false;
         };
+        if count == 0 {
+            return false;
+        }
         let (mut v, mut len) = (start, 0);
         loop {
-            v = match next.get(&v) {
-                Some(&w) => w,
+            v = match self.boundary_next(v) {
+                Some(w) => w,
                 None => return false,
             };
             len += 1;
-            if v == start || len > next.len() {
+            if v == start || len > count {
                 break;
             }
         }
-        v == start && len == next.len()
+        v == start && len == count
     }
 
     /// The cavity's boundary loop if it is a convex disk, with the corner
     /// positions and the matched pattern if any: `(convex disk, candidate)`.
     fn check(&mut self, target: Target) -> (bool, Option<Candidate>) {
-        let mut next: HashMap<u32, u32> = HashMap::new();
-        let mut first = None;
-        let mut inner_edges = 0usize;
+        let Some((first, _, count, inner_edges)) = self.boundary() else {
+            return (false, None);
+        };
         let order = self.order.clone();
-        for &q in &order {
-            let quad = self.p.quads[q as usize];
-            for k in 0..4 {
-                match self.across(q, k) {
-                    Some(r) if self.in_c(r) => inner_edges += 1,
-                    _ => {
-                        let (a, b) = (quad[k], quad[(k + 1) % 4]);
-                        if next.insert(a, b).is_some() {
-                            return (false, None);
-                        }
-                        first.get_or_insert(a);
-                    }
-                }
-            }
-        }
         self.units += order.len() as u64;
         let Some(start) = first else {
             return (false, None);
         };
         let mut ring = vec![start];
-        let mut v = next[&start];
+        let Some(mut v) = self.boundary_next(start) else {
+            return (false, None);
+        };
         while v != start {
             ring.push(v);
-            match next.get(&v) {
-                Some(&w) if ring.len() <= next.len() => v = w,
+            match self.boundary_next(v) {
+                Some(w) if ring.len() <= count => v = w,
                 _ => return (false, None),
             }
         }
-        if ring.len() != next.len() {
+        if ring.len() != count {
             return (false, None);
         }
         // Euler: V − E + F = 1
