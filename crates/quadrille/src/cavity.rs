@@ -74,6 +74,14 @@ pub const AVG_SLACK: f64 = 0.02;
 const MINIMAL_CANDIDATES: usize = 3;
 /// Remeshable cavities tried per maximal growth (the largest ones).
 const MAXIMAL_CANDIDATES: usize = 4;
+/// [`Work::across`] not asked yet for this quad edge.
+const NBR_UNKNOWN: u32 = u32::MAX - 1;
+/// No quad across this edge (the face boundary).
+const NBR_NONE: u32 = u32::MAX;
+
+fn unknown_neighbours() -> [std::cell::Cell<u32>; 4] {
+    std::array::from_fn(|_| std::cell::Cell::new(NBR_UNKNOWN))
+}
 
 /// Options of [`remesh_cavities`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -218,6 +226,11 @@ struct Work<'a> {
     bnext: Vec<u32>,
     bmark: Vec<u32>,
     bclock: u32,
+    // vertices counted by [`Work::check`], stamped with `bclock`
+    vseen: Vec<u32>,
+    /// Per quad and edge, the quad across ([`Work::across`]): [`NBR_UNKNOWN`]
+    /// until asked, [`NBR_NONE`] on the face boundary.
+    nbr: Vec<[std::cell::Cell<u32>; 4]>,
 }
 
 impl<'a> Work<'a> {
@@ -282,6 +295,8 @@ impl<'a> Work<'a> {
             bnext: Vec::new(),
             bmark: Vec::new(),
             bclock: 0,
+            vseen: Vec::new(),
+            nbr: (0..p.quads.len()).map(|_| unknown_neighbours()).collect(),
             p,
         }
     }
@@ -402,18 +417,41 @@ impl<'a> Work<'a> {
         }
     }
 
-    /// The quad across edge `k` of quad `q`, if any.
+    /// The quad across edge `k` of live quad `q`, if any (kept in `nbr`
+    /// until a replacement touches `q`'s vertices).
     fn across(&self, q: u32, k: usize) -> Option<u32> {
+        let cached = &self.nbr[q as usize][k];
+        match cached.get() {
+            NBR_UNKNOWN => {}
+            NBR_NONE => return None,
+            r => return Some(r),
+        }
         let quad = self.p.quads[q as usize];
         let (a, b) = (quad[k], quad[(k + 1) % 4]);
-        self.at[a as usize].iter().copied().find(|&r| {
+        let r = self.at[a as usize].iter().copied().find(|&r| {
             r != q && {
                 let o = self.p.quads[r as usize];
                 (0..4).any(|i| {
                     (o[i] == b && o[(i + 1) % 4] == a) || (o[i] == a && o[(i + 1) % 4] == b)
                 })
             }
-        })
+        });
+        cached.set(r.unwrap_or(NBR_NONE));
+        r
+    }
+
+    /// Forgets the neighbours of the live quads at the vertices of `quads`
+    /// (their edges may now border other quads).
+    fn forget_neighbours(&self, quads: &[u32]) {
+        for &q in quads {
+            for &v in &self.p.quads[q as usize] {
+                for &r in &self.at[v as usize] {
+                    for c in &self.nbr[r as usize] {
+                        c.set(NBR_UNKNOWN);
+                    }
+                }
+            }
+        }
     }
 
     /// True when the cavity plus quad `q` is still a disk: `q` meets the
@@ -556,6 +594,7 @@ impl<'a> Work<'a> {
         self.bclock = self.bclock.wrapping_add(1);
         if self.bclock == 0 {
             self.bmark.fill(0);
+            self.vseen.fill(0);
             self.bclock = 1;
         }
         let c = self.bclock;
@@ -617,8 +656,7 @@ impl<'a> Work<'a> {
         let Some((first, _, count, inner_edges)) = self.boundary() else {
             return (false, None);
         };
-        let order = self.order.clone();
-        self.units += order.len() as u64;
+        self.units += self.order.len() as u64;
         let Some(start) = first else {
             return (false, None);
         };
@@ -636,15 +674,21 @@ impl<'a> Work<'a> {
         if ring.len() != count {
             return (false, None);
         }
-        // Euler: V − E + F = 1
-        let mut verts: Vec<u32> = order
-            .iter()
-            .flat_map(|&q| self.p.quads[q as usize])
-            .collect();
-        verts.sort_unstable();
-        verts.dedup();
+        // Euler: V − E + F = 1 (vertices counted with a stamp of this check)
+        if self.vseen.len() < self.bmark.len() {
+            self.vseen.resize(self.bmark.len(), 0);
+        }
+        let mut verts = 0i64;
+        for &q in &self.order {
+            for v in self.p.quads[q as usize] {
+                if self.vseen[v as usize] != self.bclock {
+                    self.vseen[v as usize] = self.bclock;
+                    verts += 1;
+                }
+            }
+        }
         let edges = inner_edges / 2 + ring.len();
-        if verts.len() as i64 - edges as i64 + order.len() as i64 != 1 {
+        if verts - edges as i64 + self.order.len() as i64 != 1 {
             return (false, None);
         }
         let mut corners = Vec::new();
@@ -667,7 +711,7 @@ impl<'a> Work<'a> {
         (
             true,
             found.map(|found| Candidate {
-                quads: order,
+                quads: self.order.clone(),
                 ring,
                 corners,
                 found,
@@ -1008,7 +1052,9 @@ impl<'a> Work<'a> {
             self.in_c.push(0);
             self.queued.push(0);
             self.barred.push(0);
+            self.nbr.push(unknown_neighbours());
         }
+        self.forget_neighbours(&cand.quads);
         // geometry: the new vertices and the boundary's face-interior ones
         let movable: Vec<u32> = (first_new..first_new + fresh)
             .chain(movable_ring.iter().copied())
@@ -1075,6 +1121,8 @@ impl<'a> Work<'a> {
                 l.sort_unstable();
             }
         }
+        self.nbr.truncate(saved_quads);
+        self.forget_neighbours(&cand.quads);
         self.p.nodes.truncate(saved_nodes);
         self.p.pos.truncate(saved_nodes);
         self.at.truncate(saved_nodes);
