@@ -766,20 +766,25 @@ mod tests {
         assert!(same_bits(&p, &orig));
     }
 
-    #[test]
-    fn optimize_nodes_moves_only_the_listed_nodes() {
-        let m = primitives::square(1.0);
-        let face = &m.faces[0];
-        let n = 4;
-        let mut p = grid_patch(face, n, |i, j| {
+    /// An n × n grid of the unit square whose interior nodes are moved by
+    /// up to `amp` in a fixed pattern.
+    fn perturbed_grid(face: &Face, n: usize, amp: f64) -> QuadPatch {
+        grid_patch(face, n, |i, j| {
             let inner = i > 0 && j > 0 && i < n && j < n;
             let d = if inner {
-                0.05 * ((i + 2 * j) as f64).cos()
+                amp * ((i + 2 * j) as f64).cos()
             } else {
                 0.0
             };
             [i as f64 / n as f64 + d, j as f64 / n as f64 - d]
-        });
+        })
+    }
+
+    #[test]
+    fn optimize_nodes_moves_only_the_listed_nodes() {
+        let m = primitives::square(1.0);
+        let face = &m.faces[0];
+        let mut p = perturbed_grid(face, 4, 0.05);
         let orig = p.clone();
         let r = optimize_nodes(face, &mut p, Some(&[6, 12]), &OptimizeOptions::default());
         assert!(r.kept && r.moves > 0, "{r:?}");
@@ -794,15 +799,7 @@ mod tests {
         let m = primitives::square(1.0);
         let face = &m.faces[0];
         let n = 6;
-        let mut p = grid_patch(face, n, |i, j| {
-            let inner = i > 0 && j > 0 && i < n && j < n;
-            let d = if inner {
-                0.04 * ((i + 2 * j) as f64).cos()
-            } else {
-                0.0
-            };
-            [i as f64 / n as f64 + d, j as f64 / n as f64 - d]
-        });
+        let mut p = perturbed_grid(face, n, 0.04);
         let orig = p.clone();
         crate::smoothing::optimize_around(face, &mut p, &[]);
         assert!(same_bits(&p, &orig), "nothing changed, nothing moves");
