@@ -465,6 +465,14 @@ fn run_unstructured(
                     &uopts,
                     ft,
                 );
+                // quads left below the quality bar: one more untangling pass
+                let t = Instant::now();
+                crate::smoothing::lift_poor_quads(
+                    &model.faces[fid.idx()],
+                    &mut p,
+                    crate::smoothing::POOR_SICN,
+                );
+                ft.smoothing += t.elapsed();
                 if debug_enabled() {
                     eprintln!(
                         "face {}: {} quads, {} singularities, defects {:?}, cavities {:?}",

@@ -121,6 +121,47 @@ pub fn smooth(face: &Face, p: &mut QuadPatch, sweeps: usize) -> usize {
     accepted
 }
 
+/// SICN below which the quads of a finished face get one more untangling
+/// pass ([`lift_poor_quads`]): the minimum-quality bar of the method.
+pub const POOR_SICN: f64 = 0.1;
+
+/// A last [`untangle`] pass on a finished face whose worst quad is below
+/// `threshold`: the nodes of those quads and their neighbours move to raise
+/// the worst SICN around them. The face keeps the result only when its worst
+/// quad rose at least half way to `threshold`; otherwise every node goes
+/// back, so a face whose worst quads cannot be lifted (slivers along a thin
+/// rounded edge) keeps the smoother's positions and average quality (moves
+/// around such slivers trade the average for a worst that barely changes).
+/// Returns whether the face changed.
+pub fn lift_poor_quads(face: &Face, p: &mut QuadPatch, threshold: f64) -> bool {
+    let worst = |p: &QuadPatch| {
+        let mut normals = NodeNormals::new(p.nodes.len());
+        p.quads
+            .iter()
+            .map(|q| normals.quality(face, &p.nodes, &p.pos, q))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let before = worst(p);
+    if before >= threshold || p.quads.is_empty() {
+        return false;
+    }
+    let saved: Vec<([f64; 2], Vec3)> = p
+        .nodes
+        .iter()
+        .zip(&p.pos)
+        .map(|(n, &x)| (n.uv, x))
+        .collect();
+    untangle(face, p, threshold, 4, 5000);
+    if worst(p) >= before + 0.5 * (threshold - before) {
+        return true;
+    }
+    for ((n, x), &(uv, y)) in p.nodes.iter_mut().zip(p.pos.iter_mut()).zip(&saved) {
+        n.uv = uv;
+        *x = y;
+    }
+    false
+}
+
 /// Moves face-interior nodes of quads whose SICN is below `threshold` (and
 /// their interior neighbours) by a compass search in (u, v) that maximizes the
 /// worst SICN of the quads around each node: it untangles inverted quads that

@@ -824,6 +824,37 @@ mod tests {
     }
 
     #[test]
+    fn poor_quads_are_lifted_or_the_face_is_left_alone() {
+        let m = primitives::square(1.0);
+        let face = &m.faces[0];
+        let worst = |p: &QuadPatch| qualities(face, p).into_iter().fold(f64::INFINITY, f64::min);
+        // the centre of a 2 × 2 grid pushed close to a corner: poor but not inverted
+        let mut p = grid_patch(face, 2, |i, j| {
+            if (i, j) == (1, 1) {
+                [0.76, 0.73]
+            } else {
+                [i as f64 * 0.5, j as f64 * 0.5]
+            }
+        });
+        assert!(worst(&p) > 0.0 && worst(&p) < 0.1, "{}", worst(&p));
+        assert!(crate::smoothing::lift_poor_quads(face, &mut p, 0.1));
+        assert!(worst(&p) >= 0.1, "{}", worst(&p));
+        // nothing to move (a single quad, all its nodes on the boundary): unchanged
+        let mut q = grid_patch(face, 1, |i, j| {
+            if (i, j) == (1, 1) {
+                [0.05, 1.0]
+            } else {
+                [i as f64, j as f64]
+            }
+        });
+        let orig = q.clone();
+        let before = worst(&q);
+        assert!(before < 0.1, "{before}");
+        assert!(!crate::smoothing::lift_poor_quads(face, &mut q, 0.1));
+        assert!(same_bits(&q, &orig));
+    }
+
+    #[test]
     fn the_untangler_repairs_a_folded_quad() {
         let m = primitives::square(1.0);
         let face = &m.faces[0];
