@@ -665,8 +665,18 @@ pub fn build(soup: Soup, opts: &Options, name: &Path) -> Result<Import, TrimeshE
                 let corner_at: Vec<usize> = (0..n)
                     .filter(|&i| corner[cp.copy_vertex[boundary[i] as usize] as usize])
                     .collect();
-                parametrize::tutte(&xyz, &cp.copy_tris, &boundary, &corner_at)
-                    .map_err(|m| invalid(format!("face {}: parametrization failed: {m}", p + 1)))?
+                let tutte = parametrize::tutte(&xyz, &cp.copy_tris, &boundary, &corner_at)
+                    .map_err(|m| invalid(format!("face {}: parametrization failed: {m}", p + 1)))?;
+                // a circle boundary squeezes curved charts: a free-boundary conformal
+                // map instead when it is one-to-one and spreads lengths less
+                let spread = |m: &parametrize::DiskMap| {
+                    parametrize::scale_spread(&xyz, &cp.copy_tris, &m.uv)
+                };
+                let free = (tutte.shape == parametrize::Shape::Circle)
+                    .then(|| parametrize::lscm(&xyz, &cp.copy_tris, &boundary))
+                    .flatten()
+                    .filter(|m| one_to_one(m, cp) && spread(m) < spread(&tutte));
+                free.unwrap_or(tutte)
             }
         };
         // curve uses along each loop

@@ -32,6 +32,8 @@ pub enum Shape {
     /// Orthogonal projection onto the plane of the mean normal (a patch whose
     /// triangles all face that normal: flat faces, faces with holes).
     Plane,
+    /// Free boundary, least-squares conformal ([`lscm`]).
+    Free,
 }
 
 /// Smallest cosine between a triangle normal and the mean normal for which
@@ -90,6 +92,151 @@ pub struct DiskMap {
     pub min_area: f64,
     /// The boundary shape.
     pub shape: Shape,
+}
+
+/// Least-squares conformal map of the disk `tris` on `xyz` (Lévy et al.
+/// 2002): the (u, v) that make every triangle's map as close to a
+/// similarity as possible, with two boundary vertices far apart pinned
+/// (`boundary`: the disk's boundary loop). The boundary is free, so a curved
+/// chart keeps its shape instead of being pressed onto a circle as by
+/// [`tutte`]. `None` when the system cannot be solved or a triangle flips
+/// (the caller also checks that the boundary stays simple).
+pub fn lscm(xyz: &[Vec3], tris: &[[u32; 3]], boundary: &[u32]) -> Option<DiskMap> {
+    let n = xyz.len();
+    if boundary.len() < 3 || tris.is_empty() {
+        return None;
+    }
+    // pins: the first boundary vertex and the boundary vertex farthest from it
+    let a = boundary[0] as usize;
+    let b = boundary
+        .iter()
+        .map(|&v| v as usize)
+        .max_by(|&x, &y| vec3::dist(xyz[a], xyz[x]).total_cmp(&vec3::dist(xyz[a], xyz[y])))?;
+    let d = vec3::dist(xyz[a], xyz[b]);
+    if !(d > 0.0) {
+        return None;
+    }
+    // unknowns: (u, v) of every vertex but the pins, at 2 i and 2 i + 1
+    let mut idx = vec![usize::MAX; n];
+    let mut m = 0;
+    for (v, slot) in idx.iter_mut().enumerate() {
+        if v != a && v != b {
+            *slot = m;
+            m += 1;
+        }
+    }
+    let pinned = |v: usize| {
+        if v == a {
+            Some([0.0, 0.0])
+        } else if v == b {
+            Some([d, 0.0])
+        } else {
+            None
+        }
+    };
+    // normal equations of the two real rows of each triangle
+    let mut normal: std::collections::BTreeMap<(usize, usize), f64> =
+        std::collections::BTreeMap::new();
+    let mut rhs = Mat::<f64>::zeros(2 * m, 1);
+    for t in tris {
+        let [p0, p1, p2] = t.map(|v| xyz[v as usize]);
+        let e = vec3::sub(p1, p0);
+        let l = vec3::norm(e);
+        let nrm = vec3::cross(e, vec3::sub(p2, p0));
+        let area2 = vec3::norm(nrm);
+        if !(l > 0.0 && area2 > 0.0) {
+            continue;
+        }
+        let e1 = vec3::scale(e, 1.0 / l);
+        let e2 = vec3::cross(vec3::scale(nrm, 1.0 / area2), e1);
+        let q = [
+            [0.0, 0.0],
+            [l, 0.0],
+            [
+                vec3::dot(vec3::sub(p2, p0), e1),
+                vec3::dot(vec3::sub(p2, p0), e2),
+            ],
+        ];
+        let s = 1.0 / area2.sqrt();
+        // W_j = x_{j+2} - x_{j+1} (as a complex number), scaled
+        let w: Vec<(usize, f64, f64)> = (0..3)
+            .map(|j| {
+                let (k, l2) = ((j + 2) % 3, (j + 1) % 3);
+                (
+                    t[j] as usize,
+                    s * (q[k][0] - q[l2][0]),
+                    s * (q[k][1] - q[l2][1]),
+                )
+            })
+            .collect();
+        // real row: Σ wr u − wi v; imaginary row: Σ wi u + wr v
+        for row in 0..2 {
+            let coef: Vec<(usize, usize, f64)> = w
+                .iter()
+                .flat_map(|&(v, wr, wi)| {
+                    if row == 0 {
+                        [(v, 0, wr), (v, 1, -wi)]
+                    } else {
+                        [(v, 0, wi), (v, 1, wr)]
+                    }
+                })
+                .collect();
+            let mut fixed = 0.0;
+            for &(v, c, x) in &coef {
+                if let Some(p) = pinned(v) {
+                    fixed += x * p[c];
+                }
+            }
+            for &(v, c, x) in &coef {
+                if idx[v] == usize::MAX {
+                    continue;
+                }
+                let i = 2 * idx[v] + c;
+                rhs[(i, 0)] -= x * fixed;
+                for &(w2, c2, y) in &coef {
+                    if idx[w2] == usize::MAX {
+                        continue;
+                    }
+                    let j = 2 * idx[w2] + c2;
+                    if j <= i {
+                        *normal.entry((i, j)).or_insert(0.0) += x * y;
+                    }
+                }
+            }
+        }
+    }
+    let trip: Vec<Triplet<usize, usize, f64>> = normal
+        .into_iter()
+        .map(|((i, j), x)| Triplet::new(i, j, x))
+        .collect();
+    let mat = SparseColMat::<usize, f64>::try_new_from_triplets(2 * m, 2 * m, &trip).ok()?;
+    let llt = mat.sp_cholesky(Side::Lower).ok()?;
+    let x = llt.solve(&rhs);
+    let mut uv: Vec<[f64; 2]> = (0..n)
+        .map(|v| pinned(v).unwrap_or_else(|| [x[(2 * idx[v], 0)], x[(2 * idx[v] + 1, 0)]]))
+        .collect();
+    if !uv.iter().all(|p| p[0].is_finite() && p[1].is_finite()) {
+        return None;
+    }
+    // a reflection is as conformal as the map: keep the one with the disk's orientation
+    let total: f64 = tris
+        .iter()
+        .map(|t| area(uv[t[0] as usize], uv[t[1] as usize], uv[t[2] as usize]))
+        .sum();
+    if total < 0.0 {
+        for p in &mut uv {
+            p[1] = -p[1];
+        }
+    }
+    let min_area = tris
+        .iter()
+        .map(|t| area(uv[t[0] as usize], uv[t[1] as usize], uv[t[2] as usize]))
+        .fold(f64::INFINITY, f64::min);
+    (min_area > 0.0).then_some(DiskMap {
+        uv,
+        min_area,
+        shape: Shape::Free,
+    })
 }
 
 /// Signed area of a (u, v) triangle.
@@ -417,6 +564,35 @@ mod tests {
             b.push(id(0, j));
         }
         (p, t, b)
+    }
+
+    #[test]
+    fn lscm_unrolls_a_developable_strip_without_distortion() {
+        // a half cylinder of radius 1 (k × k cells), rolled from a 3 × π/1 strip
+        let k = 12;
+        let (flat, t, b) = grid(k);
+        let rolled: Vec<Vec3> = flat
+            .iter()
+            .map(|p| {
+                let a = p[0] / k as f64 * std::f64::consts::PI;
+                [a.cos(), a.sin(), 3.0 * p[1] / k as f64]
+            })
+            .collect();
+        let m = lscm(&rolled, &t, &b).expect("a developable disk maps");
+        assert!(m.min_area > 0.0);
+        let spread = scale_spread(&rolled, &t, &m.uv);
+        assert!(spread < 1.02, "LSCM spread {spread}");
+        // the circle boundary of the Tutte map spreads lengths on the same strip
+        let tutte = tutte(&rolled, &t, &b, &[]).unwrap();
+        assert!(scale_spread(&rolled, &t, &tutte.uv) > 1.2);
+        // lengths are kept up to one scale: the strip's two long sides stay parallel and equal
+        let len = |uv: &[[f64; 2]], a: u32, c: u32| {
+            let (p, q) = (uv[a as usize], uv[c as usize]);
+            (p[0] - q[0]).hypot(p[1] - q[1])
+        };
+        let id = |i: usize, j: usize| (j * (k + 1) + i) as u32;
+        let r = len(&m.uv, id(0, 0), id(0, k)) / len(&m.uv, id(k, 0), id(k, k));
+        assert!((r - 1.0).abs() < 1e-3, "{r}");
     }
 
     #[test]
