@@ -138,6 +138,60 @@ fn cad_models_give_their_sharp_edged_faces() {
     eprintln!("{}", table.join("\n"));
 }
 
+#[test]
+fn s15o_cylinder_export_gives_two_discs_and_a_side_bounded_by_two_circles() {
+    let cad_model = occt::load(&cad("s15o_cylinder.stp")).unwrap();
+    let imp = trimesh::build(
+        triangles_of(&cad_model, 0.5),
+        &trimesh::Options::default(),
+        Path::new("s15o"),
+    )
+    .unwrap();
+    let m = &imp.model;
+    assert_eq!(m.faces.len(), 3, "two discs and the side");
+    // the two circles (closed feature curves) and the side's seam
+    let circles: Vec<usize> = (0..m.curves.len())
+        .filter(|&c| m.curves[c].start == m.curves[c].end)
+        .collect();
+    assert_eq!(circles.len(), 2);
+    assert_eq!(m.curves.len(), 3);
+    // each circle as long as a circle of the CAD (its tessellation: within 1 %)
+    let cad_circles: Vec<f64> = cad_model
+        .curves
+        .iter()
+        .filter(|c| c.start == c.end && !c.degenerate)
+        .map(|c| {
+            let n = 720;
+            (0..n)
+                .map(|i| {
+                    let t = |k: usize| c.range.0 + (c.range.1 - c.range.0) * k as f64 / n as f64;
+                    vec3::dist(c.eval(&cad_model, t(i)), c.eval(&cad_model, t(i + 1)))
+                })
+                .sum::<f64>()
+        })
+        .collect();
+    for &c in &circles {
+        let len = m.curves[c].range.1;
+        assert!(
+            cad_circles.iter().any(|&l| (len - l).abs() < 0.01 * l),
+            "circle of length {len}, CAD circles {cad_circles:?}"
+        );
+    }
+    // the side: bounded by both circles, cut open by the seam (used twice)
+    let side = m
+        .faces
+        .iter()
+        .find(|f| f.curve_uses().any(|u| u.seam))
+        .expect("a side face with a seam");
+    for &c in &circles {
+        assert!(
+            side.curve_uses().any(|u| u.curve.idx() == c),
+            "the side is bounded by circle {c}"
+        );
+    }
+    assert_eq!(side.curve_uses().filter(|u| u.seam).count(), 2);
+}
+
 /// Meshes an imported model and checks the mesh: all quads, none inverted,
 /// watertight, each curve a chain of mesh edges, nodes on the input.
 fn mesh_and_check(imp: &trimesh::Import, method: MeshMethod, what: &str) -> MeshStats {
