@@ -1,9 +1,10 @@
-//! Developer aid: meshes a model with the unstructured method and prints its
-//! inverted quads (face, SICN, node classes). Usage: unstructured_debug MODEL
+//! Developer aid: meshes a model with the quasi-structured method (all stages)
+//! and prints its poor quads (face, SICN, corner SICNs, node classes).
+//! Usage: unstructured_debug MODEL [THRESHOLD] (default 0: the inverted ones).
 fn main() {
-    let path = std::env::args()
-        .nth(1)
-        .expect("usage: unstructured_debug MODEL");
+    let mut args = std::env::args().skip(1);
+    let path = args.next().expect("usage: unstructured_debug MODEL [THRESHOLD]");
+    let threshold: f64 = args.next().map_or(0.0, |t| t.parse().expect("a number"));
     let model = occt::load(std::path::Path::new(&path)).expect("loads");
     let opts = quadrille::MeshOptions {
         threads: Some(1),
@@ -15,13 +16,18 @@ fn main() {
         "fallback {:?}",
         rep.fallback.iter().map(|f| f.0 .0 + 1).collect::<Vec<_>>()
     );
-    let s = mesh::stats::quad_sicn_values(&m, Some(&model));
-    for (q, v) in s.iter().enumerate() {
-        if *v < 0.0 {
+    let normals = mesh::stats::quad_corner_normals(&m, Some(&model));
+    for (q, quad) in m.quads.iter().enumerate() {
+        let p = quad.map(|i| m.nodes[i as usize]);
+        let corners = mesh::quality::corner_sicn(&p, &normals[q]);
+        let v = corners.iter().copied().fold(f64::INFINITY, f64::min);
+        if v < threshold {
             println!(
-                "quad {q} face {} sicn {v:.3} {:?}",
+                "quad {q} face {} sicn {v:.3} corners {:.3?} at {:.3?} {:?}",
                 m.quad_face[q].0 + 1,
-                m.quads[q].map(|i| m.node_class[i as usize])
+                corners,
+                p[0],
+                quad.map(|i| m.node_class[i as usize])
             );
         }
     }

@@ -182,6 +182,25 @@ impl<'a> Background<'a> {
         })
     }
 
+    /// A lower bound on the distance from `p` (in cell `c`) to any triangle
+    /// registered only in cells outside the box of Chebyshev radius `r`
+    /// around `c`: the distance to the nearest side of the box that has
+    /// cells beyond it (sides at the grid's ends have none: infinity).
+    fn unseen_distance(&self, p: Vec3, c: [usize; 3], r: usize) -> f64 {
+        let mut bound = f64::INFINITY;
+        for k in 0..3 {
+            if c[k] > r {
+                let side = self.lo[k] + (c[k] - r) as f64 * self.cell;
+                bound = bound.min(p[k] - side);
+            }
+            if c[k] + r + 1 < self.dims[k] {
+                let side = self.lo[k] + (c[k] + r + 1) as f64 * self.cell;
+                bound = bound.min(side - p[k]);
+            }
+        }
+        bound
+    }
+
     fn index(&self, c: [usize; 3]) -> usize {
         (c[0] * self.dims[1] + c[1]) * self.dims[2] + c[2]
     }
@@ -226,10 +245,11 @@ impl<'a> Background<'a> {
                     }
                 }
             }
-            // every triangle closer than (r − 1) cells (per axis, after
-            // clamping the point into the grid) has been seen
+            // a triangle not seen yet lies beyond the searched box on some
+            // axis, so at least `unseen` away: once the best is closer, it is
+            // the closest (ties included, as they are all seen)
             if let Some(b) = best {
-                if b.2 <= (r as f64 - 1.0) * self.cell || r >= max_r {
+                if b.2 < self.unseen_distance(p, c, r) || r >= max_r {
                     return best;
                 }
             } else if r >= max_r {
