@@ -461,9 +461,19 @@ fn uv_dist2(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)
 }
 
+/// Tangent directions closer than this (radians) to each other are tangent
+/// curves for [`sharp_corners`], which then measures the angle on chords.
+const TANGENT_ANGLE: f64 = 0.01;
+
+/// Parameter step (share of a curve's range) of the chords [`sharp_corners`]
+/// measures at tangent curves.
+const CHORD_STEP: f64 = 1e-3;
+
 /// Interior angles (degrees) of the CAD corners in each face where two
 /// consecutive loop curves meet, measured in the face's tangent plane; only
-/// the angles below `below_deg` are returned.
+/// the angles below `below_deg` are returned. Where the two curves are
+/// tangent the angle is measured on short chords instead, so a cusp reads
+/// as about 0°, not 360°.
 pub fn sharp_corners(model: &Model, below_deg: f64) -> Vec<SharpCorner> {
     let mut out: Vec<SharpCorner> = Vec::new();
     for (fi, face) in model.faces.iter().enumerate() {
@@ -508,9 +518,27 @@ pub fn sharp_corners(model: &Model, below_deg: f64) -> Vec<SharpCorner> {
                 // Counter-clockwise angle (about the uv-consistent normal) from
                 // the outgoing tangent to the incoming curve's backward tangent:
                 // the material lies in between.
-                let mut ang = dot(cross(t_out, w), n0).atan2(dot(t_out, w));
-                if ang < 0.0 {
-                    ang += std::f64::consts::TAU;
+                let ccw = |from: Vec3, to: Vec3| {
+                    let a = dot(cross(from, to), n0).atan2(dot(from, to));
+                    if a < 0.0 {
+                        a + std::f64::consts::TAU
+                    } else {
+                        a
+                    }
+                };
+                let mut ang = ccw(t_out, w);
+                if ang < TANGENT_ANGLE || ang > std::f64::consts::TAU - TANGENT_ANGLE {
+                    // tangent curves: 0° (a cusp the material fills) and 360°
+                    // (a slit) differ by a rounding error of the tangents; the
+                    // chords to points a little along each curve tell them apart
+                    let step = |r: (f64, f64)| CHORD_STEP * (r.1 - r.0);
+                    let back = a.pcurve.eval(t_end - sa * step(ca.range));
+                    let ahead = b.pcurve.eval(t_start + sb * step(cb.range));
+                    let chord = |x: [f64; 2]| to3d([x[0] - uv[0], x[1] - uv[1]]);
+                    let (w2, t2) = (chord(back), chord(ahead));
+                    if vec3::norm(w2) > 0.0 && vec3::norm(t2) > 0.0 {
+                        ang = ccw(t2, w2);
+                    }
                 }
                 let deg = ang.to_degrees();
                 if deg < below_deg {
@@ -1144,6 +1172,108 @@ mod tests {
         assert!(s.to_string().contains("min SICN excluding them"));
         // the other two corners are at about 87.5°: not sharp
         assert!(sharp_corners(&model, 90.0).len() == 3);
+    }
+
+    /// A planar face with cusps at the origin and at (1, 1): the x axis
+    /// (tilted by `tilt`, as rounding in a CAD file may leave it), the line
+    /// x = 1, and the circle of radius 1 about (0, 1), tangent to both.
+    fn cusp(tilt: f64) -> Model {
+        use geometry::primitives::{Circle, Circle2d, Line, Line2d, Plane};
+        use geometry::{Bounds2, Corner, CurveEntity, CurveUse, Face, Loop};
+        use std::sync::Arc;
+        let p = [[0.0, 0.0, 0.0], [1.0, tilt, 0.0], [1.0, 1.0, 0.0]];
+        let line = |i: usize, j: usize| {
+            let dir = sub(p[j], p[i]);
+            (
+                CurveEntity {
+                    geom: Some(Arc::new(Line {
+                        origin: p[i],
+                        dir,
+                        range: (0.0, 1.0),
+                    })),
+                    range: (0.0, 1.0),
+                    start: CornerId(i as u32),
+                    end: CornerId(j as u32),
+                    degenerate: false,
+                },
+                Arc::new(Line2d {
+                    origin: [p[i][0], p[i][1]],
+                    dir: [dir[0], dir[1]],
+                }),
+            )
+        };
+        let (c0, pc0) = line(0, 1);
+        let (c1, pc1) = line(1, 2);
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        // the arc from (0, 0) at t = −π/2 to (1, 1) at t = 0, used backwards
+        let c2 = CurveEntity {
+            geom: Some(Arc::new(Circle {
+                center: [0.0, 1.0, 0.0],
+                xdir: [1.0, 0.0, 0.0],
+                ydir: [0.0, 1.0, 0.0],
+                radius: 1.0,
+                range: (-half_pi, 0.0),
+            })),
+            range: (-half_pi, 0.0),
+            start: CornerId(0),
+            end: CornerId(2),
+            degenerate: false,
+        };
+        let use_of = |c: u32, forward: bool, pcurve: Arc<dyn geometry::Curve2d>| CurveUse {
+            curve: CurveId(c),
+            forward,
+            pcurve,
+            seam: false,
+        };
+        let uses = vec![
+            use_of(0, true, pc0),
+            use_of(1, true, pc1),
+            use_of(
+                2,
+                false,
+                Arc::new(Circle2d {
+                    center: [0.0, 1.0],
+                    radius: 1.0,
+                }),
+            ),
+        ];
+        let bounds = Bounds2 {
+            umin: 0.0,
+            umax: 1.0,
+            vmin: 0.0,
+            vmax: 1.0,
+        };
+        Model {
+            corners: p.iter().map(|&point| Corner { point }).collect(),
+            curves: vec![c0, c1, c2],
+            faces: vec![Face {
+                surface: Arc::new(Plane {
+                    origin: [0.0; 3],
+                    xdir: [1.0, 0.0, 0.0],
+                    ydir: [0.0, 1.0, 0.0],
+                    bounds,
+                }),
+                reversed: false,
+                loops: vec![Loop { uses, outer: true }],
+                uv_bounds: bounds,
+            }],
+        }
+    }
+
+    #[test]
+    fn a_cusp_reads_as_0_degrees_whichever_way_rounding_tips_its_tangents() {
+        for tilt in [0.0, 1e-9, -1e-9] {
+            let sharp = sharp_corners(&cusp(tilt), SHARP_CORNER_DEG);
+            // the two cusps, at the origin and at (1, 1) where the arc is
+            // tangent to the line x = 1; not the 90° corner at (1, 0)
+            let mut corners: Vec<u32> = sharp.iter().map(|s| s.corner).collect();
+            corners.sort_unstable();
+            assert_eq!(corners, [0, 2], "tilt {tilt}: {sharp:?}");
+            assert!(
+                sharp.iter().all(|s| s.angle_deg < 0.1),
+                "tilt {tilt}: {sharp:?}"
+            );
+        }
     }
 
     #[test]

@@ -3,7 +3,9 @@
 //! Usage: unstructured_debug MODEL [THRESHOLD] (default 0: the inverted ones).
 fn main() {
     let mut args = std::env::args().skip(1);
-    let path = args.next().expect("usage: unstructured_debug MODEL [THRESHOLD]");
+    let path = args
+        .next()
+        .expect("usage: unstructured_debug MODEL [THRESHOLD]");
     let threshold: f64 = args.next().map_or(0.0, |t| t.parse().expect("a number"));
     let model = occt::load(std::path::Path::new(&path)).expect("loads");
     let opts = quadrille::MeshOptions {
