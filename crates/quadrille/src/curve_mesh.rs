@@ -492,6 +492,22 @@ pub fn discretize_all(model: &Model, plan: &CurvePlan) -> Vec<CurveMesh> {
         .map(|i| discretize_curve(model, plan, CurveId(i as u32)))
         .collect()
 }
+
+/// The faces `faces` ordered for parallel meshing: largest estimated work
+/// first (the square of the number of boundary mesh edges, about the number
+/// of elements of a compact face), ties by face number. Handing the big faces
+/// out first keeps a thread from being left with one large face at the end
+/// while the others idle (longest-processing-time-first scheduling).
+pub fn largest_faces_first(model: &Model, cms: &[CurveMesh], faces: &mut [usize]) {
+    let work = |f: usize| -> usize {
+        let edges: usize = model.faces[f]
+            .curve_uses()
+            .map(|u| cms.get(u.curve.idx()).map_or(0, |c| c.params.len() - 1))
+            .sum();
+        edges * edges
+    };
+    faces.sort_by_key(|&f| (std::cmp::Reverse(work(f)), f));
+}
 #[cfg(test)]
 mod tests {
     use super::*;

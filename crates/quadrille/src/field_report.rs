@@ -336,8 +336,11 @@ pub fn model_fields(model: &Model, opts: &FieldOptions) -> Result<ModelFields, M
     let cms = discretize_all(model, &plan_curves(model, h_bg));
     let nf = model.faces.len();
     let done = AtomicUsize::new(0);
-    let faces: Vec<FaceFieldReport> = (0..nf)
+    let mut order: Vec<usize> = (0..nf).collect();
+    crate::curve_mesh::largest_faces_first(model, &cms, &mut order);
+    let mut faces: Vec<FaceFieldReport> = order
         .into_par_iter()
+        .with_max_len(1)
         .map(|f| {
             let face = FaceId(f as u32);
             let outcome = face_field(model, face, &cms, h_bg, h, opts);
@@ -348,6 +351,7 @@ pub fn model_fields(model: &Model, opts: &FieldOptions) -> Result<ModelFields, M
             FaceFieldReport { face, outcome }
         })
         .collect();
+    faces.sort_by_key(|r| r.face.0);
     let mut fields = ModelFields {
         size: h,
         background_size: h_bg,

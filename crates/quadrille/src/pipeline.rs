@@ -600,10 +600,16 @@ fn run(
         cms = discretize_all(model, &plan);
         times.curves += t.elapsed();
         let t = Instant::now();
-        let out: Vec<(usize, Result<QuadPatch, FaceFailure>)> = pending
+        crate::curve_mesh::largest_faces_first(model, &cms, &mut pending);
+        let mut out: Vec<(usize, Result<QuadPatch, FaceFailure>)> = pending
             .par_iter()
+            .with_max_len(1)
             .map(|&f| {
+                let started = Instant::now();
                 let r = mesher(FaceId(f as u32), &cms);
+                if debug_enabled() {
+                    eprintln!("face {} meshed in {:.4} s", f + 1, started.elapsed().as_secs_f64());
+                }
                 if r.is_ok() {
                     let d = done.fetch_add(1, Ordering::Relaxed) + 1;
                     if let Some(p) = progress {
@@ -613,6 +619,7 @@ fn run(
                 (f, r)
             })
             .collect();
+        out.sort_by_key(|(f, _)| *f);
         times.faces += t.elapsed();
         let mut refine: BTreeSet<CurveId> = BTreeSet::new();
         let mut failed: BTreeMap<usize, String> = BTreeMap::new();
