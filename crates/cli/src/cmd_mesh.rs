@@ -69,6 +69,19 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
     bar.finish();
     if !args.quiet {
+        if !report.slivers.is_empty() {
+            let list: Vec<String> = report
+                .slivers
+                .iter()
+                .map(|(c, len)| format!("{} ({len:.1e})", c.0 + 1))
+                .collect();
+            eprintln!(
+                "{} curves shorter than {:.0e} of the model's diagonal meshed as points (their end corners share one node): {}",
+                list.len(),
+                quadrille::pipeline::SLIVER_LENGTH,
+                list.join(", ")
+            );
+        }
         for (f, reason) in &report.fallback {
             eprintln!(
                 "face {}: {} meshing failed ({reason}); meshed with the baseline",

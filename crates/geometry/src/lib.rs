@@ -7,6 +7,7 @@
 
 pub mod model;
 pub mod primitives;
+pub mod slivers;
 pub mod traits;
 pub mod vec3;
 

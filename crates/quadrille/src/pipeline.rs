@@ -125,6 +125,11 @@ pub fn debug_enabled() -> bool {
     *ON.get_or_init(|| std::env::var_os("QUADRILLE_DEBUG").is_some())
 }
 
+/// Curves shorter than this share of the model's diagonal are slivers, meshed
+/// as a point ([`geometry::slivers`]): far below any mesh size (the default
+/// is 1/18 of the diagonal), and a quad edge that short is a degenerate quad.
+pub const SLIVER_LENGTH: f64 = 1e-5;
+
 /// The default final quad edge length: the model's bounding-box diagonal / [`DEFAULT_DIVISIONS`].
 pub fn default_size(model: &Model) -> f64 {
     model.diagonal() / DEFAULT_DIVISIONS
@@ -287,6 +292,9 @@ pub struct MeshReport {
     pub cavities: crate::cavity::CavityReport,
     /// Time of each stage (not part of equality; see [`StageTimes`]).
     pub times: StageTimes,
+    /// Sliver curves meshed as points (shorter than [`SLIVER_LENGTH`] of the
+    /// diagonal: [`geometry::slivers`]), with their lengths, in curve order.
+    pub slivers: Vec<(CurveId, f64)>,
 }
 
 /// [`mesh_model`] with a choice of method; also reports the faces that fell
@@ -324,6 +332,19 @@ pub fn mesh_model_stages(
         return Err(MeshError::NoFaces);
     }
     let h = resolve_size(model, opts.size)?;
+    // sliver curves become points (their corners one node); ids are kept
+    let collapsed =
+        geometry::slivers::collapse_short_curves(model, SLIVER_LENGTH * model.diagonal());
+    let (model, slivers) = match &collapsed {
+        Some((copy, list)) => (copy, list.as_slice()),
+        None => (model, &[][..]),
+    };
+    let merged: Vec<CornerId> = slivers
+        .iter()
+        .filter(|c| c.removed != c.kept)
+        .map(|c| c.removed)
+        .collect();
+    let merged = merged.as_slice();
     let go = || match method {
         MeshMethod::Baseline => {
             let mut times = StageTimes::default();
@@ -340,7 +361,7 @@ pub fn mesh_model_stages(
             let (cms, results) = run(model, plan, opts.progress.as_ref(), &timed_face, &mut times)?;
             times.fallback = fallback.into_inner().unwrap_or_else(|e| e.into_inner());
             let t = Instant::now();
-            let m = assemble(model, &cms, &results)?;
+            let m = assemble(model, &cms, &results, merged)?;
             times.assembly = t.elapsed();
             Ok((
                 m,
@@ -350,7 +371,9 @@ pub fn mesh_model_stages(
                 },
             ))
         }
-        MeshMethod::Unstructured => run_unstructured(model, h, opts.progress.as_ref(), stages),
+        MeshMethod::Unstructured => {
+            run_unstructured(model, h, opts.progress.as_ref(), stages, merged)
+        }
     };
     let mut out = match opts.threads {
         Some(n) => {
@@ -366,6 +389,7 @@ pub fn mesh_model_stages(
         None => go(),
     }?;
     out.1.times.total = started.elapsed();
+    out.1.slivers = slivers.iter().map(|c| (c.curve, c.length)).collect();
     Ok(out)
 }
 
@@ -377,6 +401,7 @@ fn run_unstructured(
     h: f64,
     progress: Option<&ProgressFn>,
     stages: Stages,
+    merged: &[CornerId],
 ) -> Result<(QuadMesh, MeshReport), MeshError> {
     use crate::cavity::CavityReport;
     use crate::defects::DefectReport;
@@ -522,7 +547,7 @@ fn run_unstructured(
     times.add_face(&face_times.into_inner().unwrap_or_else(|e| e.into_inner()));
     let mut fb = fallback.into_inner().unwrap_or_else(|e| e.into_inner());
     let t = Instant::now();
-    let mut mesh = assemble(model, &cms, &results)?;
+    let mut mesh = assemble(model, &cms, &results, merged)?;
     // the final judge is the mesh statistics' SICN on the assembled mesh:
     // a face with a quad it finds inverted is meshed again with the baseline
     let sicn = mesh::stats::quad_sicn_values(&mesh, Some(model));
@@ -551,7 +576,7 @@ fn run_unstructured(
                 fb.insert(f as u32, "inverted quads in the assembled mesh".into());
             }
         }
-        mesh = assemble(model, &cms, &results)?;
+        mesh = assemble(model, &cms, &results, merged)?;
         times.assembly += t.elapsed();
     }
     let pt = patterns.into_inner().unwrap_or_else(|e| e.into_inner());
@@ -571,6 +596,7 @@ fn run_unstructured(
             defects: total,
             cavities,
             times,
+            slivers: Vec::new(),
         },
     ))
 }
@@ -608,7 +634,11 @@ fn run(
                 let started = Instant::now();
                 let r = mesher(FaceId(f as u32), &cms);
                 if debug_enabled() {
-                    eprintln!("face {} meshed in {:.4} s", f + 1, started.elapsed().as_secs_f64());
+                    eprintln!(
+                        "face {} meshed in {:.4} s",
+                        f + 1,
+                        started.elapsed().as_secs_f64()
+                    );
                 }
                 if r.is_ok() {
                     let d = done.fetch_add(1, Ordering::Relaxed) + 1;
@@ -820,18 +850,26 @@ fn bad_triangles(face: &geometry::Face, p: &QuadPatch) -> Vec<u32> {
     bad.into_iter().collect()
 }
 
-/// Builds the global mesh: corners, then curve nodes by curve, then each
-/// face's interior nodes in face order; quads in face order.
+/// Builds the global mesh: corners (but the ones in `merged`, which no curve
+/// uses any more), then curve nodes by curve, then each face's interior
+/// nodes in face order; quads in face order.
 fn assemble(
     model: &Model,
     cms: &[CurveMesh],
     results: &[Option<QuadPatch>],
+    merged: &[CornerId],
 ) -> Result<QuadMesh, MeshError> {
     let mut m = QuadMesh::default();
+    let mut corner_node = vec![u32::MAX; model.corners.len()];
     for (i, c) in model.corners.iter().enumerate() {
+        if merged.contains(&CornerId(i as u32)) {
+            continue;
+        }
+        corner_node[i] = m.nodes.len() as u32;
+        m.corner_nodes
+            .push((m.nodes.len() as u32, CornerId(i as u32)));
         m.nodes.push(c.point);
         m.node_class.push(NodeClass::Corner(CornerId(i as u32)));
-        m.corner_nodes.push((i as u32, CornerId(i as u32)));
     }
     let mut offset = vec![0u32; model.curves.len()];
     for (ci, ce) in model.curves.iter().enumerate() {
@@ -848,9 +886,9 @@ fn assemble(
         }
         let id = |i: usize| {
             if i == 0 {
-                ce.start.0
+                corner_node[ce.start.idx()]
             } else if i == n - 1 {
-                ce.end.0
+                corner_node[ce.end.idx()]
             } else {
                 offset[ci] + i as u32 - 1
             }
@@ -872,7 +910,7 @@ fn assemble(
                 let l = q[k] as usize;
                 if map[l] == u32::MAX {
                     map[l] = match p.nodes[l].node {
-                        NodeRef::Corner(c) => c.0,
+                        NodeRef::Corner(c) => corner_node[c.idx()],
                         NodeRef::Curve(c, i) => offset[c.idx()] + i - 1,
                         NodeRef::Interior => {
                             m.nodes.push(p.pos[l]);

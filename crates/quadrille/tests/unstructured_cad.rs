@@ -219,3 +219,23 @@ fn unstructured_meshes_a_plain_box_face_as_a_grid() {
     let r = common::check(&model, &mesh);
     assert!(r.avg_sicn > 0.9, "avg SICN {}", r.avg_sicn);
 }
+
+#[test]
+fn sliver_curves_of_i16o_are_meshed_as_points() {
+    // i16o_s9 has four curves 4e-7 and 5.7e-4 long (1e-9 and 1e-6 of its
+    // diagonal): meshed as curves, each gave the quads beside it a corner
+    // SICN of 0; as points, their end corners share one node
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/i16o_s9.step");
+    let model = occt::load(&path).expect("i16o_s9 loads");
+    let (mesh, report) =
+        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::Unstructured).expect("meshes");
+    let curves: Vec<u32> = report.slivers.iter().map(|(c, _)| c.0 + 1).collect();
+    assert_eq!(curves, [54, 56, 64, 66]);
+    let r = common::check(&model, &mesh);
+    assert!(r.chain_errors.is_empty(), "{:?}", r.chain_errors);
+    assert!(r.class_errors.is_empty(), "{:?}", r.class_errors);
+    assert_eq!((r.open_edges, r.inverted), (0, 0));
+    assert!(r.min_sicn > 0.1, "min SICN {}", r.min_sicn);
+    // 4 corners merged away: one node fewer each than the model has corners
+    assert_eq!(mesh.corner_nodes.len(), model.corners.len() - 4);
+}

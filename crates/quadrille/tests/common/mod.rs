@@ -152,25 +152,58 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
             }
         }
     }
-    for (i, _) in model.corners.iter().enumerate() {
-        if !mesh.corner_nodes.iter().any(|&(n, c)| {
-            c.idx() == i && matches!(mesh.node_class[n as usize], NodeClass::Corner(cc) if cc == c)
-        }) {
-            class_errors.push(format!("corner {i} has no corner node"));
+    // sliver curves are meshed as points: no edges, and their end corners
+    // share the node of the first one (`quadrille::pipeline::SLIVER_LENGTH`)
+    let slivers = geometry::slivers::collapse_short_curves(
+        model,
+        quadrille::pipeline::SLIVER_LENGTH * diagonal,
+    )
+    .map(|(_, list)| list)
+    .unwrap_or_default();
+    let mut rep: Vec<usize> = (0..model.corners.len()).collect();
+    for c in &slivers {
+        rep[c.removed.idx()] = c.kept.idx();
+    }
+    for i in 0..rep.len() {
+        while rep[rep[i]] != rep[i] {
+            rep[i] = rep[rep[i]];
         }
     }
+    let mut corner_node = vec![u32::MAX; model.corners.len()];
+    for (i, _) in model.corners.iter().enumerate() {
+        if rep[i] != i {
+            if mesh.corner_nodes.iter().any(|&(_, c)| c.idx() == i) {
+                class_errors.push(format!("corner {i} of a sliver curve has its own node"));
+            }
+            continue;
+        }
+        match mesh.corner_nodes.iter().find(|&&(n, c)| {
+            c.idx() == i && matches!(mesh.node_class[n as usize], NodeClass::Corner(cc) if cc == c)
+        }) {
+            Some(&(n, _)) => corner_node[i] = n,
+            None => class_errors.push(format!("corner {i} has no corner node")),
+        }
+    }
+    let node_of_corner = |c: geometry::CornerId| corner_node[rep[c.idx()]];
     // curve chains
     let mut chain_errors = Vec::new();
     for (ci, ce) in model.curves.iter().enumerate() {
         if ce.degenerate {
             continue;
         }
+        let sliver = slivers.iter().any(|c| c.curve.idx() == ci);
         let es: Vec<[u32; 2]> = mesh
             .curve_edges
             .iter()
             .filter(|(_, c)| *c == CurveId(ci as u32))
             .map(|(e, _)| *e)
             .collect();
+        if sliver {
+            if !es.is_empty() {
+                chain_errors.push(format!("sliver curve {ci} has {} edges", es.len()));
+            }
+            continue;
+        }
         if es.is_empty() {
             chain_errors.push(format!("curve {ci} has no edges"));
             continue;
@@ -179,7 +212,7 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
             .faces
             .iter()
             .any(|f| f.curve_uses().any(|u| u.curve.idx() == ci));
-        let mut cur = ce.start.0;
+        let mut cur = node_of_corner(ce.start);
         for (k, e) in es.iter().enumerate() {
             if e[0] != cur {
                 chain_errors.push(format!("curve {ci}: edge {k} does not continue the chain"));
@@ -190,7 +223,7 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
             }
             cur = e[1];
         }
-        if cur != ce.end.0 {
+        if cur != node_of_corner(ce.end) {
             chain_errors.push(format!("curve {ci}: chain does not end at its end corner"));
         }
         let on_curve = mesh
