@@ -130,6 +130,15 @@ pub fn debug_enabled() -> bool {
 /// is 1/18 of the diagonal), and a quad edge that short is a degenerate quad.
 pub const SLIVER_LENGTH: f64 = 1e-5;
 
+/// The model [`MeshMethod::Unstructured`] works on: `model` with its sliver
+/// curves (shorter than [`SLIVER_LENGTH`] of the diagonal) collapsed to
+/// points, same ids ([`geometry::slivers::collapse_short_curves`]); `None`
+/// when it has none. The baseline keeps them: its triangle split gives a
+/// sliver two short quad edges, which the regular method then works around.
+pub fn collapse_slivers(model: &Model) -> Option<(Model, Vec<geometry::slivers::Collapsed>)> {
+    geometry::slivers::collapse_short_curves(model, SLIVER_LENGTH * model.diagonal())
+}
+
 /// The default final quad edge length: the model's bounding-box diagonal / [`DEFAULT_DIVISIONS`].
 pub fn default_size(model: &Model) -> f64 {
     model.diagonal() / DEFAULT_DIVISIONS
@@ -332,9 +341,13 @@ pub fn mesh_model_stages(
         return Err(MeshError::NoFaces);
     }
     let h = resolve_size(model, opts.size)?;
-    // sliver curves become points (their corners one node); ids are kept
-    let collapsed =
-        geometry::slivers::collapse_short_curves(model, SLIVER_LENGTH * model.diagonal());
+    // the quasi-structured and unstructured methods mesh sliver curves as
+    // points (their corners one node; ids kept); the baseline, the regular
+    // method's input, meshes the model as it is
+    let collapsed = match method {
+        MeshMethod::Unstructured => collapse_slivers(model),
+        MeshMethod::Baseline => None,
+    };
     let (model, slivers) = match &collapsed {
         Some((copy, list)) => (copy, list.as_slice()),
         None => (model, &[][..]),

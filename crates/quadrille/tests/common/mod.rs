@@ -152,14 +152,19 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
             }
         }
     }
-    // sliver curves are meshed as points: no edges, and their end corners
-    // share the node of the first one (`quadrille::pipeline::SLIVER_LENGTH`)
-    let slivers = geometry::slivers::collapse_short_curves(
+    // sliver curves may be meshed as points (the default method does,
+    // `quadrille::pipeline::SLIVER_LENGTH`): no edges, and their end corners
+    // share one node; a sliver whose merged-away corner has a node of its own
+    // was meshed as a curve and is checked like any other
+    let slivers: Vec<geometry::slivers::Collapsed> = geometry::slivers::collapse_short_curves(
         model,
         quadrille::pipeline::SLIVER_LENGTH * diagonal,
     )
     .map(|(_, list)| list)
-    .unwrap_or_default();
+    .unwrap_or_default()
+    .into_iter()
+    .filter(|c| !mesh.corner_nodes.iter().any(|&(_, k)| k == c.removed))
+    .collect();
     let mut rep: Vec<usize> = (0..model.corners.len()).collect();
     for c in &slivers {
         rep[c.removed.idx()] = c.kept.idx();
@@ -172,9 +177,6 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
     let mut corner_node = vec![u32::MAX; model.corners.len()];
     for (i, _) in model.corners.iter().enumerate() {
         if rep[i] != i {
-            if mesh.corner_nodes.iter().any(|&(_, c)| c.idx() == i) {
-                class_errors.push(format!("corner {i} of a sliver curve has its own node"));
-            }
             continue;
         }
         match mesh.corner_nodes.iter().find(|&&(n, c)| {
