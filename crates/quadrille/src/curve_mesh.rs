@@ -242,7 +242,13 @@ fn size_at(profile: &[[f64; 2]], t: f64) -> f64 {
 /// (not below `MIN_SPACING_FRACTION × 2h`), graded at rate [`GRADING`]
 /// (around the closure point too for a closed curve). `s` is the size map
 /// along the curve (`(parameter, size)` pairs) when given, else `h`.
-fn profile(model: &Model, c: CurveId, h: f64, sizes: Option<&[[f64; 2]]>) -> Profile {
+fn profile(
+    model: &Model,
+    c: CurveId,
+    h: f64,
+    sizes: Option<&[[f64; 2]]>,
+    reach: [f64; 2],
+) -> Profile {
     let ce = &model.curves[c.idx()];
     let (mut ts, mut pts) = sample(model, c);
     if let Some(p) = sizes.filter(|p| !p.is_empty()) {
@@ -323,9 +329,22 @@ fn profile(model: &Model, c: CurveId, h: f64, sizes: Option<&[[f64; 2]]>) -> Pro
         }
     }
     let mut cum = vec![0.0; ns + 1];
-    let mut budget = vec![0.0; ns + 1];
     for j in 0..ns {
         cum[j + 1] = cum[j] + len[j];
+    }
+    // at a cusp end the first coarse segment spans at least twice the reach,
+    // so that the first node (its midpoint) keeps that distance (crate::cusps)
+    for j in 0..ns {
+        let mid = 0.5 * (cum[j] + cum[j + 1]);
+        if mid < reach[0] {
+            sp[j] = sp[j].max(2.0 * reach[0]);
+        }
+        if cum[ns] - mid < reach[1] {
+            sp[j] = sp[j].max(2.0 * reach[1]);
+        }
+    }
+    let mut budget = vec![0.0; ns + 1];
+    for j in 0..ns {
         budget[j + 1] = budget[j] + len[j] / sp[j];
     }
     Profile { ts, cum, budget }
@@ -364,15 +383,40 @@ pub fn plan_curves(model: &Model, h: f64) -> CurvePlan {
 /// profile (or beyond `sizes`) uses the uniform size `h`. Rounding, chords
 /// and the minimum counts are as in [`plan_curves`].
 pub fn plan_curves_sized(model: &Model, h: f64, sizes: &[Option<Vec<[f64; 2]>>]) -> CurvePlan {
+    plan_curves_with(model, h, sizes, &[])
+}
+
+/// [`plan_curves_sized`] for the final mesh of the quasi-structured method:
+/// also keeps the first node of a curve at a cusp corner far enough from it
+/// that the quads beyond the corner quad are not slivers
+/// ([`crate::cusps::cusp_reaches`]), but no further than `h`: the curve is
+/// shared with another face, where a longer first edge would do harm.
+pub fn plan_final_curves(model: &Model, h: f64, sizes: &[Option<Vec<[f64; 2]>>]) -> CurvePlan {
+    let reaches: Vec<[f64; 2]> = crate::cusps::cusp_reaches(model)
+        .into_iter()
+        .map(|r| r.map(|x| x.min(h)))
+        .collect();
+    plan_curves_with(model, h, sizes, &reaches)
+}
+
+/// [`plan_curves_sized`] with `reaches[c]`: the distances from curve `c`'s
+/// start and end its first nodes keep (none where `reaches` is short).
+fn plan_curves_with(
+    model: &Model,
+    h: f64,
+    sizes: &[Option<Vec<[f64; 2]>>],
+    reaches: &[[f64; 2]],
+) -> CurvePlan {
     use rayon::prelude::*;
     let profiles: Vec<Option<Profile>> = (0..model.curves.len())
         .into_par_iter()
         .map(|i| {
             let own = sizes.get(i).and_then(|s| s.as_deref());
+            let reach = reaches.get(i).copied().unwrap_or([0.0; 2]);
             if model.curves[i].degenerate {
                 None
             } else {
-                Some(profile(model, CurveId(i as u32), h, own))
+                Some(profile(model, CurveId(i as u32), h, own, reach))
             }
         })
         .collect();

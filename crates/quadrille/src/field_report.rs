@@ -27,8 +27,8 @@ use rayon::prelude::*;
 use crate::crossfield::{
     compute_cross_field, CrossField, CrossFieldError, CrossFieldOptions, FaceMesh,
 };
+use crate::curve_mesh::CurvePlan;
 use crate::curve_mesh::{discretize_all, plan_curves, CurveMesh};
-use crate::curve_mesh::{plan_curves_sized, CurvePlan};
 use crate::face_triangulation::{FaceTriangulation, NodeRef};
 use crate::pipeline::{resolve_size, MeshError, ProgressFn, Size};
 use crate::scaling::{conformal_scaling, scaling_constant};
@@ -218,7 +218,7 @@ impl ModelFields {
             .as_ref()
             .map(|m| m.curve_sizes(model, &self.curves))
             .unwrap_or_default();
-        plan_curves_sized(model, self.size, &sizes)
+        crate::curve_mesh::plan_final_curves(model, self.size, &sizes)
     }
 
     /// The fields of all faces that have one as a single [`CrossFieldMesh`]
