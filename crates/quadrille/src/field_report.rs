@@ -360,7 +360,11 @@ pub fn model_fields(model: &Model, opts: &FieldOptions) -> Result<ModelFields, M
         size_map: None,
     };
     if opts.size_map {
+        let started = std::time::Instant::now();
         fields.apply_size_map(model, &opts.sizing)?;
+        if crate::pipeline::debug_enabled() {
+            eprintln!("size map in {:.4} s", started.elapsed().as_secs_f64());
+        }
     }
     Ok(fields)
 }
