@@ -239,3 +239,26 @@ fn sliver_curves_of_i16o_are_meshed_as_points() {
     // 4 corners merged away: one node fewer each than the model has corners
     assert_eq!(mesh.corner_nodes.len(), model.corners.len() - 4);
 }
+
+#[test]
+fn a_full_torus_is_one_grid_of_about_square_cells() {
+    // s16o_torus: R = 20, r = 5, one face bounded by its two seams; the
+    // grid's counts follow the mean widths 2πR and 2πr, so about 4 : 1
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/s16o_torus.stp");
+    let model = occt::load(&path).expect("s16o_torus loads");
+    let (mesh, report) =
+        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::Unstructured).expect("meshes");
+    assert_eq!(report.patterns.len(), 1, "{:?}", report.patterns);
+    let edges = |c: u32| {
+        mesh.curve_edges
+            .iter()
+            .filter(|(_, k)| k.0 == c)
+            .count() as f64
+    };
+    let (e0, e1) = (edges(0), edges(1));
+    let ratio = e0.max(e1) / e0.min(e1);
+    assert!(ratio > 3.5 && ratio < 4.5, "{e0} and {e1} edges");
+    assert_eq!(irregular_share(&mesh), 0.0);
+    let r = common::check(&model, &mesh);
+    assert!(r.avg_sicn > 0.93, "avg SICN {}", r.avg_sicn);
+}
