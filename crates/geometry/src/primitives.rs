@@ -386,18 +386,21 @@ pub fn square(side: f64) -> Model {
 /// A planar rectangle `[0, width] × [0, height]` in the z = 0 plane: 1 face,
 /// 4 line curves (bottom, right, top, left), 4 corners.
 pub fn rectangle(width: f64, height: f64) -> Model {
-    let p = [
-        [0.0, 0.0, 0.0],
-        [width, 0.0, 0.0],
-        [width, height, 0.0],
-        [0.0, height, 0.0],
-    ];
+    polygon(&[[0.0, 0.0], [width, 0.0], [width, height], [0.0, height]])
+}
+
+/// A planar polygon through `points` (counter-clockwise, in the z = 0
+/// plane): 1 face, one line curve from each point to the next, one corner
+/// per point; (u, v) = (x, y) over the points' bounding box.
+pub fn polygon(points: &[[f64; 2]]) -> Model {
+    let n = points.len();
+    let p: Vec<Vec3> = points.iter().map(|q| [q[0], q[1], 0.0]).collect();
     let corners = p.iter().map(|&point| Corner { point }).collect();
     let mut curves = Vec::new();
     let mut uses = Vec::new();
-    for i in 0..4 {
+    for i in 0..n {
         let a = p[i];
-        let b = p[(i + 1) % 4];
+        let b = p[(i + 1) % n];
         curves.push(CurveEntity {
             geom: Some(Arc::new(Line {
                 origin: a,
@@ -406,7 +409,7 @@ pub fn rectangle(width: f64, height: f64) -> Model {
             })),
             range: (0.0, 1.0),
             start: CornerId(i as u32),
-            end: CornerId(((i + 1) % 4) as u32),
+            end: CornerId(((i + 1) % n) as u32),
             degenerate: false,
         });
         uses.push(line_use(
@@ -418,11 +421,67 @@ pub fn rectangle(width: f64, height: f64) -> Model {
         ));
     }
     let bounds = Bounds2 {
-        umin: 0.0,
-        umax: width,
-        vmin: 0.0,
-        vmax: height,
+        umin: points.iter().map(|q| q[0]).fold(f64::INFINITY, f64::min),
+        umax: points
+            .iter()
+            .map(|q| q[0])
+            .fold(f64::NEG_INFINITY, f64::max),
+        vmin: points.iter().map(|q| q[1]).fold(f64::INFINITY, f64::min),
+        vmax: points
+            .iter()
+            .map(|q| q[1])
+            .fold(f64::NEG_INFINITY, f64::max),
     };
+    planar_model(corners, curves, uses, bounds)
+}
+
+/// A planar face with two cusps (0° corners): the x axis from (0, 0) to
+/// (r, `tilt`), the line x = r up to (r, r), and the quarter circle of radius
+/// r about (0, r) back to the origin, tangent to the axis at the origin and
+/// to x = r at (r, r). `tilt` lifts the axis' far end (0 for the exact
+/// shape), as rounding in a CAD file may leave the tangents of a cusp.
+pub fn cusp(r: f64, tilt: f64) -> Model {
+    let mut m = polygon(&[[0.0, 0.0], [r, tilt], [r, r]]);
+    // the third side becomes the arc from the origin (t = −π/2) to (r, r)
+    // (t = 0), used backwards
+    m.curves[2] = CurveEntity {
+        geom: Some(Arc::new(Circle {
+            center: [0.0, r, 0.0],
+            xdir: [1.0, 0.0, 0.0],
+            ydir: [0.0, 1.0, 0.0],
+            radius: r,
+            range: (-FRAC_PI_2, 0.0),
+        })),
+        range: (-FRAC_PI_2, 0.0),
+        start: CornerId(0),
+        end: CornerId(2),
+        degenerate: false,
+    };
+    m.faces[0].loops[0].uses[2] = CurveUse {
+        curve: CurveId(2),
+        forward: false,
+        pcurve: Arc::new(Circle2d {
+            center: [0.0, r],
+            radius: r,
+        }),
+        seam: false,
+    };
+    m.faces[0].uv_bounds = Bounds2 {
+        umin: 0.0,
+        umax: r,
+        vmin: tilt.min(0.0),
+        vmax: r,
+    };
+    m
+}
+
+/// One planar face in the z = 0 plane ((u, v) = (x, y)) with one loop.
+fn planar_model(
+    corners: Vec<Corner>,
+    curves: Vec<CurveEntity>,
+    uses: Vec<CurveUse>,
+    bounds: Bounds2,
+) -> Model {
     let plane = Plane {
         origin: [0.0; 3],
         xdir: [1.0, 0.0, 0.0],

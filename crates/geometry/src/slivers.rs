@@ -141,62 +141,11 @@ pub fn collapse_short_curves(model: &Model, max_length: f64) -> Option<(Model, V
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{Corner, CurveEntity, CurveUse, Face, Loop};
-    use crate::primitives::{Line, Line2d, Plane};
-    use crate::Bounds2;
-    use std::sync::Arc;
 
-    /// A planar polygon face through `p` (counter-clockwise), one straight
-    /// curve per side.
+    /// A planar polygon through the (x, y) of `p`.
     fn polygon(p: &[[f64; 3]]) -> Model {
-        let n = p.len();
-        let mut curves = Vec::new();
-        let mut uses = Vec::new();
-        for i in 0..n {
-            let (s, e) = (p[i], p[(i + 1) % n]);
-            let dir = vec3::sub(e, s);
-            curves.push(CurveEntity {
-                geom: Some(Arc::new(Line {
-                    origin: s,
-                    dir,
-                    range: (0.0, 1.0),
-                })),
-                range: (0.0, 1.0),
-                start: CornerId(i as u32),
-                end: CornerId(((i + 1) % n) as u32),
-                degenerate: false,
-            });
-            uses.push(CurveUse {
-                curve: CurveId(i as u32),
-                forward: true,
-                pcurve: Arc::new(Line2d {
-                    origin: [s[0], s[1]],
-                    dir: [dir[0], dir[1]],
-                }),
-                seam: false,
-            });
-        }
-        let bounds = Bounds2 {
-            umin: -1.0,
-            umax: 2.0,
-            vmin: -1.0,
-            vmax: 2.0,
-        };
-        Model {
-            corners: p.iter().map(|&point| Corner { point }).collect(),
-            curves,
-            faces: vec![Face {
-                surface: Arc::new(Plane {
-                    origin: [0.0; 3],
-                    xdir: [1.0, 0.0, 0.0],
-                    ydir: [0.0, 1.0, 0.0],
-                    bounds,
-                }),
-                reversed: false,
-                loops: vec![Loop { uses, outer: true }],
-                uv_bounds: bounds,
-            }],
-        }
+        let xy: Vec<[f64; 2]> = p.iter().map(|q| [q[0], q[1]]).collect();
+        crate::primitives::polygon(&xy)
     }
 
     #[test]

@@ -1079,58 +1079,9 @@ mod tests {
 
     /// A planar triangle face with a 5° angle at corner 0, split into 3 quads.
     fn wedge() -> (Model, QuadMesh) {
-        use geometry::primitives::{Line, Line2d, Plane};
-        use geometry::{Bounds2, Corner, CurveEntity, CurveUse, Face, Loop};
-        use std::sync::Arc;
         let a = 5f64.to_radians();
         let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [a.cos(), a.sin(), 0.0]];
-        let mut curves = Vec::new();
-        let mut uses = Vec::new();
-        for i in 0..3 {
-            let (s, e) = (p[i], p[(i + 1) % 3]);
-            curves.push(CurveEntity {
-                geom: Some(Arc::new(Line {
-                    origin: s,
-                    dir: sub(e, s),
-                    range: (0.0, 1.0),
-                })),
-                range: (0.0, 1.0),
-                start: CornerId(i as u32),
-                end: CornerId(((i + 1) % 3) as u32),
-                degenerate: false,
-            });
-            uses.push(CurveUse {
-                curve: CurveId(i as u32),
-                forward: true,
-                pcurve: Arc::new(Line2d {
-                    origin: [s[0], s[1]],
-                    dir: [e[0] - s[0], e[1] - s[1]],
-                }),
-                seam: false,
-            });
-        }
-        let bounds = Bounds2 {
-            umin: 0.0,
-            umax: 1.0,
-            vmin: 0.0,
-            vmax: 1.0,
-        };
-        let plane = Plane {
-            origin: [0.0; 3],
-            xdir: [1.0, 0.0, 0.0],
-            ydir: [0.0, 1.0, 0.0],
-            bounds,
-        };
-        let model = Model {
-            corners: p.iter().map(|&point| Corner { point }).collect(),
-            curves,
-            faces: vec![Face {
-                surface: Arc::new(plane),
-                reversed: false,
-                loops: vec![Loop { uses, outer: true }],
-                uv_bounds: bounds,
-            }],
-        };
+        let model = geometry::primitives::polygon(&[[0.0, 0.0], [1.0, 0.0], [a.cos(), a.sin()]]);
         let mid = |i: usize, j: usize| scale(add(p[i], p[j]), 0.5);
         let g = scale(add(add(p[0], p[1]), p[2]), 1.0 / 3.0);
         let mut mesh = QuadMesh::default();
@@ -1174,96 +1125,10 @@ mod tests {
         assert!(sharp_corners(&model, 90.0).len() == 3);
     }
 
-    /// A planar face with cusps at the origin and at (1, 1): the x axis
-    /// (tilted by `tilt`, as rounding in a CAD file may leave it), the line
-    /// x = 1, and the circle of radius 1 about (0, 1), tangent to both.
-    fn cusp(tilt: f64) -> Model {
-        use geometry::primitives::{Circle, Circle2d, Line, Line2d, Plane};
-        use geometry::{Bounds2, Corner, CurveEntity, CurveUse, Face, Loop};
-        use std::sync::Arc;
-        let p = [[0.0, 0.0, 0.0], [1.0, tilt, 0.0], [1.0, 1.0, 0.0]];
-        let line = |i: usize, j: usize| {
-            let dir = sub(p[j], p[i]);
-            (
-                CurveEntity {
-                    geom: Some(Arc::new(Line {
-                        origin: p[i],
-                        dir,
-                        range: (0.0, 1.0),
-                    })),
-                    range: (0.0, 1.0),
-                    start: CornerId(i as u32),
-                    end: CornerId(j as u32),
-                    degenerate: false,
-                },
-                Arc::new(Line2d {
-                    origin: [p[i][0], p[i][1]],
-                    dir: [dir[0], dir[1]],
-                }),
-            )
-        };
-        let (c0, pc0) = line(0, 1);
-        let (c1, pc1) = line(1, 2);
-        let half_pi = std::f64::consts::FRAC_PI_2;
-        // the arc from (0, 0) at t = −π/2 to (1, 1) at t = 0, used backwards
-        let c2 = CurveEntity {
-            geom: Some(Arc::new(Circle {
-                center: [0.0, 1.0, 0.0],
-                xdir: [1.0, 0.0, 0.0],
-                ydir: [0.0, 1.0, 0.0],
-                radius: 1.0,
-                range: (-half_pi, 0.0),
-            })),
-            range: (-half_pi, 0.0),
-            start: CornerId(0),
-            end: CornerId(2),
-            degenerate: false,
-        };
-        let use_of = |c: u32, forward: bool, pcurve: Arc<dyn geometry::Curve2d>| CurveUse {
-            curve: CurveId(c),
-            forward,
-            pcurve,
-            seam: false,
-        };
-        let uses = vec![
-            use_of(0, true, pc0),
-            use_of(1, true, pc1),
-            use_of(
-                2,
-                false,
-                Arc::new(Circle2d {
-                    center: [0.0, 1.0],
-                    radius: 1.0,
-                }),
-            ),
-        ];
-        let bounds = Bounds2 {
-            umin: 0.0,
-            umax: 1.0,
-            vmin: 0.0,
-            vmax: 1.0,
-        };
-        Model {
-            corners: p.iter().map(|&point| Corner { point }).collect(),
-            curves: vec![c0, c1, c2],
-            faces: vec![Face {
-                surface: Arc::new(Plane {
-                    origin: [0.0; 3],
-                    xdir: [1.0, 0.0, 0.0],
-                    ydir: [0.0, 1.0, 0.0],
-                    bounds,
-                }),
-                reversed: false,
-                loops: vec![Loop { uses, outer: true }],
-                uv_bounds: bounds,
-            }],
-        }
-    }
-
     #[test]
     fn a_cusp_reads_as_0_degrees_whichever_way_rounding_tips_its_tangents() {
         for tilt in [0.0, 1e-9, -1e-9] {
-            let sharp = sharp_corners(&cusp(tilt), SHARP_CORNER_DEG);
+            let sharp = sharp_corners(&geometry::primitives::cusp(1.0, tilt), SHARP_CORNER_DEG);
             // the two cusps, at the origin and at (1, 1) where the arc is
             // tangent to the line x = 1; not the 90° corner at (1, 0)
             let mut corners: Vec<u32> = sharp.iter().map(|s| s.corner).collect();

@@ -113,7 +113,7 @@ mod tests {
     fn a_circle_tangent_to_a_line_asks_for_a_fifth_of_its_radius() {
         // the wedge between y = 0 and the circle of radius R about (0, R):
         // width s² / 2R at distance s, a tenth of s at s = R / 5
-        let model = crate::cusps::tests_support::cusp_model(7.0);
+        let model = geometry::primitives::cusp(7.0, 0.0);
         let r = cusp_reaches(&model);
         let at_origin = [r[0][0], r[2][0]];
         for reach in at_origin {
@@ -127,7 +127,7 @@ mod tests {
     #[test]
     fn the_final_curve_plan_keeps_the_first_nodes_away_from_a_cusp() {
         use crate::curve_mesh::{discretize_all, plan_curves_sized, plan_final_curves};
-        let model = crate::cusps::tests_support::cusp_model(7.0);
+        let model = geometry::primitives::cusp(7.0, 0.0);
         // a size map of 0.5 along the line and the arc, 3 elsewhere
         let half_pi = std::f64::consts::FRAC_PI_2;
         let sizes = vec![
@@ -143,96 +143,6 @@ mod tests {
             assert!(first(&plain, c) < 0.6, "{}", first(&plain, c));
             // a fifth of the radius: where the wedge is a tenth as wide as long
             assert!(first(&kept, c) > 0.18 * 7.0, "{}", first(&kept, c));
-        }
-    }
-}
-
-#[cfg(test)]
-pub(crate) mod tests_support {
-    use geometry::primitives::{Circle, Circle2d, Line, Line2d, Plane};
-    use geometry::{Bounds2, Corner, CornerId, CurveEntity, CurveId, CurveUse, Face, Loop, Model};
-    use std::sync::Arc;
-
-    /// A planar face with a cusp at the origin: the x axis from (0, 0) to
-    /// (R, 0), the line x = R up to (R, R), and the quarter circle of radius
-    /// R about (0, R) back to the origin, tangent to the axis there (a second
-    /// cusp at (R, R), where the circle is tangent to x = R).
-    pub fn cusp_model(r: f64) -> Model {
-        let p = [[0.0, 0.0, 0.0], [r, 0.0, 0.0], [r, r, 0.0]];
-        let line = |i: usize, j: usize| {
-            let dir = geometry::vec3::sub(p[j], p[i]);
-            (
-                CurveEntity {
-                    geom: Some(Arc::new(Line {
-                        origin: p[i],
-                        dir,
-                        range: (0.0, 1.0),
-                    })),
-                    range: (0.0, 1.0),
-                    start: CornerId(i as u32),
-                    end: CornerId(j as u32),
-                    degenerate: false,
-                },
-                Arc::new(Line2d {
-                    origin: [p[i][0], p[i][1]],
-                    dir: [dir[0], dir[1]],
-                }),
-            )
-        };
-        let (c0, pc0) = line(0, 1);
-        let (c1, pc1) = line(1, 2);
-        let half_pi = std::f64::consts::FRAC_PI_2;
-        let c2 = CurveEntity {
-            geom: Some(Arc::new(Circle {
-                center: [0.0, r, 0.0],
-                xdir: [1.0, 0.0, 0.0],
-                ydir: [0.0, 1.0, 0.0],
-                radius: r,
-                range: (-half_pi, 0.0),
-            })),
-            range: (-half_pi, 0.0),
-            start: CornerId(0),
-            end: CornerId(2),
-            degenerate: false,
-        };
-        let use_of = |c: u32, forward: bool, pcurve: Arc<dyn geometry::Curve2d>| CurveUse {
-            curve: CurveId(c),
-            forward,
-            pcurve,
-            seam: false,
-        };
-        let uses = vec![
-            use_of(0, true, pc0),
-            use_of(1, true, pc1),
-            use_of(
-                2,
-                false,
-                Arc::new(Circle2d {
-                    center: [0.0, r],
-                    radius: r,
-                }),
-            ),
-        ];
-        let bounds = Bounds2 {
-            umin: 0.0,
-            umax: r,
-            vmin: 0.0,
-            vmax: r,
-        };
-        Model {
-            corners: p.iter().map(|&point| Corner { point }).collect(),
-            curves: vec![c0, c1, c2],
-            faces: vec![Face {
-                surface: Arc::new(Plane {
-                    origin: [0.0; 3],
-                    xdir: [1.0, 0.0, 0.0],
-                    ydir: [0.0, 1.0, 0.0],
-                    bounds,
-                }),
-                reversed: false,
-                loops: vec![Loop { uses, outer: true }],
-                uv_bounds: bounds,
-            }],
         }
     }
 }

@@ -249,12 +249,7 @@ fn a_full_torus_is_one_grid_of_about_square_cells() {
     let (mesh, report) =
         mesh_model_with(&model, &MeshOptions::default(), MeshMethod::Unstructured).expect("meshes");
     assert_eq!(report.patterns.len(), 1, "{:?}", report.patterns);
-    let edges = |c: u32| {
-        mesh.curve_edges
-            .iter()
-            .filter(|(_, k)| k.0 == c)
-            .count() as f64
-    };
+    let edges = |c: u32| mesh.curve_edges.iter().filter(|(_, k)| k.0 == c).count() as f64;
     let (e0, e1) = (edges(0), edges(1));
     let ratio = e0.max(e1) / e0.min(e1);
     assert!(ratio > 3.5 && ratio < 4.5, "{e0} and {e1} edges");
