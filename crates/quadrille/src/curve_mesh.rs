@@ -509,6 +509,20 @@ fn plan_curves_with(
             }
         }
     }
+    // a full sphere is meshed as a cube whose seam count must be even
+    // (crate::sphere_face); its seam bounds no other face
+    let curve_faces = model.curve_faces();
+    for f in 0..model.faces.len() {
+        let fid = geometry::FaceId(f as u32);
+        if let Some((s0, _)) = crate::sphere_face::full_sphere_seam(model, fid) {
+            let seam = model.faces[f].loops[0].uses[s0].curve.idx();
+            if counts[seam] % 2 == 1 && curve_faces[seam].as_slice() == [fid] {
+                for j in members(seam) {
+                    counts[j] += 1;
+                }
+            }
+        }
+    }
     let lengths: Vec<f64> = profiles
         .iter()
         .map(|p| p.as_ref().map_or(0.0, |p| *p.cum.last().unwrap_or(&0.0)))

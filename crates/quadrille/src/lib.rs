@@ -45,6 +45,7 @@ pub mod scaling;
 pub mod singularities;
 pub mod size_map;
 pub mod smoothing;
+pub mod sphere_face;
 pub mod split;
 pub mod subdivide;
 pub mod unstructured;

@@ -231,6 +231,9 @@ pub fn mesh_face_pattern(
     fid: FaceId,
     cms: &[CurveMesh],
 ) -> Result<(QuadPatch, String), String> {
+    if let Some(Ok(patch)) = crate::sphere_face::mesh_full_sphere(model, fid, cms) {
+        return Ok((patch, "cube".into()));
+    }
     let face = &model.faces[fid.idx()];
     let ring = boundary_ring(model, fid, cms)?;
     let nb = ring.nodes.len();

@@ -993,9 +993,14 @@ mod tests {
             threads: Some(1),
             progress: None,
         };
+        // the sphere without patterns (with them it is one cube, crate::sphere_face)
         let sphere = primitives::sphere(1.0);
+        let unpatterned = Stages {
+            patterns: false,
+            ..Stages::ALL
+        };
         let (with, all) =
-            mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages::ALL).unwrap();
+            mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, unpatterned).unwrap();
         assert!(
             all.cavities.replaced.iter().sum::<usize>() > 0,
             "{:?}",
@@ -1019,7 +1024,7 @@ mod tests {
             MeshMethod::Unstructured,
             Stages {
                 cavities: false,
-                ..Stages::ALL
+                ..unpatterned
             },
         )
         .unwrap();
@@ -1030,6 +1035,10 @@ mod tests {
         let (_, none) =
             mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages::NONE).unwrap();
         assert_eq!(none.defects, crate::defects::DefectReport::default());
+        // with patterns, the sphere is a cube: one pattern, no cavity
+        let (_, cube) =
+            mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages::ALL).unwrap();
+        assert_eq!(cube.patterns.len(), 1, "{:?}", cube.patterns);
         // a square is meshed by a pattern unless patterns are off
         let square = primitives::square(1.0);
         let (_, p) =

@@ -447,7 +447,7 @@ mod tests {
     #[test]
     fn cavity_remeshing_keeps_faces_valid_and_never_adds_irregular_vertices() {
         let m = primitives::sphere(1.0);
-        let h = 0.12;
+        let h = 0.125;
         let fields = model_fields(
             &m,
             &FieldOptions {
