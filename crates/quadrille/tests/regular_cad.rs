@@ -69,3 +69,15 @@ fn twisted_body_ends_at_most_5_percent_irregular() {
 fn s15o_cylinder_ends_at_most_5_percent_irregular() {
     check("s15o_cylinder.stp", 5.0);
 }
+
+#[test]
+fn s11o_cube_cyl_ends_at_most_5_percent_irregular() {
+    // its cube sides are four-sided with matching sides: structured grids
+    check("s11o_cube_cyl.stp", 5.0);
+}
+
+#[test]
+fn s16o_torus_ends_fully_regular() {
+    // one four-sided face (two seams) whose opposite sides match: its grid
+    check("s16o_torus.stp", 0.0);
+}

@@ -32,6 +32,7 @@
 //!   run one order with a short repair loop (their slow case).
 
 pub mod driver;
+pub mod grid;
 pub mod ops;
 pub mod redistribute;
 pub mod reposition;
@@ -111,6 +112,12 @@ pub struct RegularizeOptions {
     /// [`driver::Regularizer::target_quads`]. Odd visiting orders run
     /// without it, so a face keeps the better of both behaviours.
     pub quad_target: QuadTarget,
+    /// On a four-sided face whose opposite sides have equal edge counts, try
+    /// the structured `n1 × n2` grid ([`grid::structured_grid`], fully
+    /// regular) first, and keep it when all its quads are valid and no more
+    /// are inverted against the CAD normals than in the input; the
+    /// topological phase then does not run on that face.
+    pub structured_grids: bool,
     /// Run Algorithm 2 after the topological phase.
     pub redistribute: bool,
     /// Worker threads (`None`: rayon's global pool). The output does not depend on it.
@@ -140,6 +147,7 @@ impl Default for RegularizeOptions {
             order_budget: 7_000,
             order_patience: 0,
             quad_target: QuadTarget::BoundarySpacing,
+            structured_grids: true,
             redistribute: true,
             threads: None,
         }
@@ -360,6 +368,31 @@ pub fn regularize_face(
     opts: &RegularizeOptions,
 ) -> FaceReport {
     let before = (fq.num_quads(), fq.num_verts(), fq.irregular_count());
+    if opts.structured_grids {
+        if let Some((g, invalid_before)) = grid_candidate(face, fid, fq) {
+            *fq = g;
+            let window = if opts.redistribute {
+                redistribute::redistribute(fq, face, opts.window, opts.target, opts.angle_step)
+            } else {
+                opts.window
+            };
+            let invalid_after = fq
+                .live_quads()
+                .filter(|&q| !validity::quad_valid(fq, face, q, opts.window))
+                .count();
+            return FaceReport {
+                face: fid,
+                quads: (before.0, fq.num_quads()),
+                verts: (before.1, fq.num_verts()),
+                irregular: (before.2, fq.irregular_count()),
+                invalid: (invalid_before, invalid_after),
+                ops: OpCounts::default(),
+                window,
+                reverted: false,
+                strict: opts.strict_validity,
+            };
+        }
+    }
     // the topological phase once per sweep order; the result with the fewest
     // invalid quads, then irregular vertices, is kept (ties: the first)
     let orders = opts
@@ -442,6 +475,33 @@ pub fn regularize_face(
         reverted: false,
         strict: opts.strict_validity,
     }
+}
+
+/// The structured grid of a four-sided face ([`grid::structured_grid`]) with
+/// the input's invalid quad count, when it is worth keeping: fewer irregular
+/// vertices than the input, every quad valid for the base window (after the
+/// initial repair by repositioning), and no more quads inverted against the
+/// CAD normals than the input.
+fn grid_candidate(face: &Face, fid: FaceId, fq: &FaceQuads) -> Option<(FaceQuads, usize)> {
+    let mut g = grid::structured_grid(fq, face, fid)?;
+    if g.irregular_count() >= fq.irregular_count() {
+        return None;
+    }
+    let mut r = driver::Regularizer::new(face, &mut g);
+    if r.invalid_count() > 0 {
+        r.initial_repair();
+        if r.invalid_count() > 0 {
+            return None;
+        }
+    }
+    if validity::inverted_count(&g, face) > validity::inverted_count(fq, face) {
+        return None;
+    }
+    let invalid_before = fq
+        .live_quads()
+        .filter(|&q| !validity::quad_valid(fq, face, q, AngleWindow::BASE))
+        .count();
+    Some((g, invalid_before))
 }
 
 /// Σ (ideal − valence) over the live vertices: no operation changes it, so

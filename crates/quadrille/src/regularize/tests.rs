@@ -396,7 +396,15 @@ fn regularizing_a_triangle_split_patch_removes_most_irregular_vertices() {
         "the split leaves many irregular vertices: {frac0}"
     );
     let vq = fq.num_verts() as i64 - fq.num_quads() as i64;
-    let rep = regularize_face(face, FaceId(0), &mut fq, &RegularizeOptions::default());
+    let rep = regularize_face(
+        face,
+        FaceId(0),
+        &mut fq,
+        &RegularizeOptions {
+            structured_grids: false,
+            ..Default::default()
+        },
+    );
     fq.check().unwrap();
     let frac1 = fq.irregular_count() as f64 / fq.num_verts() as f64;
     assert_eq!(rep.irregular, (irr0, fq.irregular_count()));
@@ -497,6 +505,7 @@ fn compositions_and_translations_remove_what_single_operations_cannot() {
     let face = &m.faces[0];
     let opts = RegularizeOptions {
         redistribute: false,
+        structured_grids: false,
         ..Default::default()
     };
     let mut single = split_patch(6);
@@ -626,6 +635,7 @@ fn pair_search_lowers_the_score_where_the_star_search_has_stopped() {
     // the star-local method alone (no pair search), to convergence
     let base = RegularizeOptions {
         redistribute: false,
+        structured_grids: false,
         pair_radius: 0,
         sweep_orders: 1,
         quad_target: QuadTarget::Off,
@@ -704,6 +714,7 @@ fn more_visiting_orders_never_leave_more_irregular_vertices() {
     for orders in [1, 2, 8] {
         let opts = RegularizeOptions {
             redistribute: false,
+            structured_grids: false,
             sweep_orders: orders,
             ..Default::default()
         };
@@ -781,6 +792,7 @@ fn steering_the_quad_count_to_the_boundary_density_leaves_fewer_irregular_vertic
             let orig = fq.clone();
             let opts = RegularizeOptions {
                 redistribute: false,
+                structured_grids: false,
                 sweep_orders: 1,
                 quad_target: t,
                 ..Default::default()
@@ -835,4 +847,132 @@ fn a_face_whose_input_stays_invalid_gets_fewer_repair_rounds() {
     let before = dart.verts.clone();
     assert!(!repair_rounds(&mut dart, face, &[2], AngleWindow::BASE, 0));
     assert_eq!(dart.verts, before);
+}
+
+#[test]
+fn a_four_sided_face_with_matching_sides_gets_its_structured_grid() {
+    use super::grid::{four_sided_sides, structured_grid};
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    // the 6 × 6 triangle split: 4 sides of 12 edges, about half its vertices irregular
+    let fq = split_patch(6);
+    let (lp, n1, n2) = four_sided_sides(&fq).expect("four-sided");
+    assert_eq!((n1, n2), (12, 12));
+    assert_eq!(lp.len(), 48);
+    assert_eq!(fq.verts[lp[0] as usize].ideal, 2);
+    let g = structured_grid(&fq, face, FaceId(0)).expect("a grid");
+    assert_eq!(g.num_quads(), 144);
+    assert_eq!(g.num_verts(), 13 * 13);
+    assert_eq!(g.irregular_count(), 0);
+    assert_eq!(boundary_edges(&g), boundary_edges(&fq));
+    assert_sound(&fq, &g, face);
+    // on the unit square the interpolated nodes are the integer half-steps
+    for v in 0..g.verts.len() {
+        let x = &g.verts[v];
+        if x.alive && !x.fixed {
+            for c in x.uv {
+                assert!((2.0 * c - (2.0 * c).round()).abs() < 1e-12, "{:?}", x.uv);
+            }
+            assert_eq!(x.xyz, [x.uv[0], x.uv[1], 0.0]);
+        }
+    }
+    // the whole method takes it (no operation runs) and keeps it valid
+    let mut done = fq.clone();
+    let rep = regularize_face(face, FaceId(0), &mut done, &RegularizeOptions::default());
+    assert_eq!(rep.quads, (216, 144));
+    assert_eq!(rep.irregular.1, 0);
+    assert_eq!(rep.invalid, (0, 0));
+    assert_eq!(rep.ops, OpCounts::default());
+    assert_sound(&fq, &done, face);
+    // without the option the local operations run as before
+    let mut local = fq.clone();
+    let rep = regularize_face(
+        face,
+        FaceId(0),
+        &mut local,
+        &RegularizeOptions {
+            structured_grids: false,
+            sweep_orders: 1,
+            ..Default::default()
+        },
+    );
+    assert!(rep.ops.sweeps > 0 && rep.irregular.1 > 0, "{rep:?}");
+}
+
+#[test]
+fn faces_that_are_not_four_sided_with_matching_sides_get_no_grid() {
+    use super::grid::{four_sided_sides, structured_grid};
+    let m = plane(16.0);
+    let face = &m.faces[0];
+    // a 8 × 3 grid of 2 × 1 rectangles: four-sided, sides 8 and 3
+    let pts: Vec<[f64; 2]> = (0..4)
+        .flat_map(|j| (0..9).map(move |i| [2.0 * i as f64, j as f64]))
+        .collect();
+    let quads: Vec<[u32; 4]> = (0..3u32)
+        .flat_map(|j| {
+            (0..8u32).map(move |i| {
+                [
+                    j * 9 + i,
+                    j * 9 + i + 1,
+                    (j + 1) * 9 + i + 1,
+                    (j + 1) * 9 + i,
+                ]
+            })
+        })
+        .collect();
+    let r = planar(&pts, quads.clone());
+    let (_, n1, n2) = four_sided_sides(&r).expect("four-sided");
+    assert_eq!((n1.min(n2), n1.max(n2)), (3, 8));
+    // moving a corner along its side: sides 7, 4, 8, 3 do not match
+    let mut shifted = r.clone();
+    shifted.verts[8].ideal = 3; // (16, 0)
+    shifted.verts[7].ideal = 2; // (14, 0)
+    assert!(four_sided_sides(&shifted).is_none());
+    assert!(structured_grid(&shifted, face, FaceId(0)).is_none());
+    // five corners
+    let mut five = r.clone();
+    five.verts[4].ideal = 2;
+    assert!(four_sided_sides(&five).is_none());
+    // a boundary vertex that wants 4 edges (a reflex corner)
+    let mut reflex = r.clone();
+    reflex.verts[4].ideal = 4;
+    assert!(four_sided_sides(&reflex).is_none());
+    // two boundary loops: the 8 × 3 grid without its middle quads
+    let holed: Vec<[u32; 4]> = quads
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != 11 && k != 12)
+        .map(|(_, q)| *q)
+        .collect();
+    let h = planar(&pts, holed);
+    assert!(super::grid::single_boundary_loop(&h).is_none());
+    assert!(four_sided_sides(&h).is_none());
+    // a face that is already a regular grid gets no candidate (nothing to gain)
+    assert!(super::grid_candidate(face, FaceId(0), &r).is_none());
+}
+
+#[test]
+fn a_grid_that_cannot_be_made_valid_is_not_kept() {
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    // the 2 × 2 triangle split on [0, 2]², its corner (2, 2) pulled in to
+    // (0.8, 0.8) and still counted a corner: the boundary turns by more than
+    // 180° there, so the grid's corner quad folds at a fixed vertex
+    let mut fq = split_patch(2);
+    let c = (0..fq.verts.len())
+        .find(|&v| fq.verts[v].uv == [2.0, 2.0])
+        .unwrap();
+    fq.verts[c].uv = [0.8, 0.8];
+    fq.verts[c].xyz = [0.8, 0.8, 0.0];
+    assert!(super::grid::four_sided_sides(&fq).is_some());
+    let g = super::grid::structured_grid(&fq, face, FaceId(0)).expect("a grid");
+    assert!(g
+        .live_quads()
+        .any(|q| !quad_valid(&g, face, q, AngleWindow::BASE)));
+    assert!(super::grid_candidate(face, FaceId(0), &fq).is_none());
+    // regularize_face falls back to the local operations
+    let mut done = fq.clone();
+    let rep = regularize_face(face, FaceId(0), &mut done, &RegularizeOptions::default());
+    assert!(rep.ops.sweeps > 0, "{rep:?}");
+    done.check().unwrap();
 }
