@@ -236,6 +236,19 @@ fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
             );
             if let Some(sides) = four_sides(&fq) {
                 eprintln!("     sides {sides:?}");
+            } else if let Some(lp) = quadrille::regularize::grid::single_boundary_loop(&fq) {
+                let ideals: String = lp
+                    .iter()
+                    .map(|&v| {
+                        let x = &fq.verts[v as usize];
+                        if x.pole.is_some() {
+                            'P'
+                        } else {
+                            char::from_digit(x.ideal.min(9), 10).unwrap_or('?')
+                        }
+                    })
+                    .collect();
+                eprintln!("     loop ideals {ideals}");
             }
             // mean 3D edge length on the boundary and inside
             let (mut bl, mut bn, mut il, mut inn) = (0.0, 0usize, 0.0, 0usize);

@@ -118,6 +118,11 @@ pub struct RegularizeOptions {
     /// are inverted against the CAD normals than in the input; the
     /// topological phase then does not run on that face.
     pub structured_grids: bool,
+    /// Give a pole on the face boundary (a degenerate edge seen as one
+    /// corner of the face, with an open fan) the ideal valence of its
+    /// interior angle, as any other corner ([`classify_pole_corners`]),
+    /// instead of its input valence.
+    pub pole_corners: bool,
     /// Run Algorithm 2 after the topological phase.
     pub redistribute: bool,
     /// Worker threads (`None`: rayon's global pool). The output does not depend on it.
@@ -148,6 +153,7 @@ impl Default for RegularizeOptions {
             order_patience: 0,
             quad_target: QuadTarget::BoundarySpacing,
             structured_grids: true,
+            pole_corners: true,
             redistribute: true,
             threads: None,
         }
@@ -367,6 +373,9 @@ pub fn regularize_face(
     fq: &mut FaceQuads,
     opts: &RegularizeOptions,
 ) -> FaceReport {
+    if opts.pole_corners {
+        classify_pole_corners(fq);
+    }
     let before = (fq.num_quads(), fq.num_verts(), fq.irregular_count());
     if opts.structured_grids {
         if let Some((g, invalid_before)) = grid_candidate(face, fid, fq) {
@@ -502,6 +511,32 @@ fn grid_candidate(face: &Face, fid: FaceId, fq: &FaceQuads) -> Option<(FaceQuads
         .filter(|&q| !validity::quad_valid(fq, face, q, AngleWindow::BASE))
         .count();
     Some((g, invalid_before))
+}
+
+/// Sets the ideal valence of every pole on the face boundary (fixed, with a
+/// pole segment and an open fan: one edge more than quads) from the face's
+/// interior angle there ([`crate::face_quads::ideal_boundary_valence`]), as
+/// for any corner. [`FaceQuads::classify_fixed`] gives such a vertex its input
+/// valence (never irregular), which makes the triangle split's fan at the
+/// pole (often 5 or more edges at a 90° corner) a constraint: on a
+/// three-sided face with a pole corner it forces 3 more irregular vertices.
+pub fn classify_pole_corners(fq: &mut FaceQuads) {
+    for v in 0..fq.verts.len() as u32 {
+        let x = &fq.verts[v as usize];
+        if !(x.alive && x.fixed && x.pole.is_some() && x.edge_offset == 1) {
+            continue;
+        }
+        if !matches!(
+            x.class,
+            mesh::NodeClass::Corner(_) | mesh::NodeClass::Curve(..)
+        ) {
+            continue;
+        }
+        let angle = fq.angle_sum(v);
+        if angle.is_finite() && angle > 0.0 {
+            fq.verts[v as usize].ideal = crate::face_quads::ideal_boundary_valence(angle);
+        }
+    }
 }
 
 /// Σ (ideal − valence) over the live vertices: no operation changes it, so

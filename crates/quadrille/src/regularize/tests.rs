@@ -976,3 +976,29 @@ fn a_grid_that_cannot_be_made_valid_is_not_kept() {
     assert!(rep.ops.sweeps > 0, "{rep:?}");
     done.check().unwrap();
 }
+
+#[test]
+fn a_pole_on_the_face_boundary_wants_the_valence_of_its_angle() {
+    // a 4 × 4 grid whose corner (0, 0) stands for a pole (a degenerate
+    // segment in (u, v)) that classify_fixed left with a stale ideal valence
+    let mut fq = grid(4);
+    let pole = Some([[0.0, 0.0], [0.0, 0.0]]);
+    fq.verts[0].pole = pole;
+    fq.verts[0].class = mesh::NodeClass::Corner(geometry::CornerId(0));
+    fq.verts[0].ideal = 4;
+    assert!(fq.is_irregular(0));
+    // a pole with a closed fan (edge offset 0, a sphere pole) and a non-pole
+    // boundary vertex, both with stale ideals: left alone
+    fq.verts[2].pole = pole;
+    fq.verts[2].edge_offset = 0;
+    fq.verts[2].ideal = 7;
+    fq.verts[4].ideal = 5;
+    let before: Vec<u32> = fq.verts.iter().map(|x| x.ideal).collect();
+    classify_pole_corners(&mut fq);
+    // the corner angle is 90°: 2 edges, as any other corner
+    assert_eq!(fq.verts[0].ideal, 2);
+    assert!(!fq.is_irregular(0));
+    for (v, x) in fq.verts.iter().enumerate().skip(1) {
+        assert_eq!(x.ideal, before[v], "vertex {v}");
+    }
+}
