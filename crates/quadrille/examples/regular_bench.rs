@@ -241,11 +241,7 @@ fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
                     .iter()
                     .map(|&v| {
                         let x = &fq.verts[v as usize];
-                        if x.pole.is_some() {
-                            'P'
-                        } else {
-                            char::from_digit(x.ideal.min(9), 10).unwrap_or('?')
-                        }
+                        char::from_digit(x.ideal.min(9), 10).unwrap_or('?')
                     })
                     .collect();
                 eprintln!("     loop ideals {ideals}");
