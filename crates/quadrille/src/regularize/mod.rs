@@ -377,7 +377,9 @@ pub fn regularize_face(
         classify_pole_corners(fq);
     }
     let before = (fq.num_quads(), fq.num_verts(), fq.irregular_count());
-    if opts.structured_grids {
+    // (not in strict mode: the rerun of a face whose result had more inverted
+    // quads than its input, by the global check, uses the operations alone)
+    if opts.structured_grids && !opts.strict_validity {
         if let Some((g, invalid_before)) = grid_candidate(face, fid, fq) {
             *fq = g;
             let window = if opts.redistribute {
