@@ -5,7 +5,7 @@
 //!
 //! Environment: `QR_ORDERS`, `QR_ORDER_BUDGET`, `QR_ORDER_PATIENCE`, `QR_QUAD_RATIO` (0: no quad
 //! target, r > 0: r × input), `QR_DEPTH`, `QR_BUDGET`, `QR_TRANSLATION`,
-//! `QR_PAIR_*` override the options; `QR_VERBOSE` prints per-face reports,
+//! `QR_PAIR_*` override the options, `QR_PREFER_INTERIOR` sets `prefer_interior`; `QR_VERBOSE` prints per-face reports,
 //! `QR_DIAG` / `QR_DIAG_BEFORE` where the irregular vertices sit after / before,
 //! `QR_FACES=DIR` one flat (u, v) picture per face.
 
@@ -94,6 +94,7 @@ fn main() {
                 Some(_) => quadrille::regularize::QuadTarget::Off,
                 None => d.quad_target,
             },
+            prefer_interior: std::env::var("QR_PREFER_INTERIOR").is_ok() || d.prefer_interior,
             ..d
         };
         let rep = match regularize_mesh(&model, &mut mesh, &ropts) {

@@ -1002,3 +1002,29 @@ fn a_pole_on_the_face_boundary_wants_the_valence_of_its_angle() {
         assert_eq!(x.ideal, before[v], "vertex {v}");
     }
 }
+
+#[test]
+fn preferring_interior_regularity_picks_the_order_with_fewest_interior_irregular_vertices() {
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    let run = |prefer_interior: bool| {
+        let mut fq = split_patch(8);
+        let orig = fq.clone();
+        let opts = RegularizeOptions {
+            redistribute: false,
+            structured_grids: false,
+            sweep_orders: 8,
+            prefer_interior,
+            ..Default::default()
+        };
+        let rep = regularize_face(face, FaceId(0), &mut fq, &opts);
+        assert_eq!(rep.invalid.1, 0);
+        assert_sound(&orig, &fq, face);
+        (fq.irregular_count(), interior_irregular(&fq))
+    };
+    // both choose among the same 8 results: each is best by its own measure
+    let (all_a, inside_a) = run(false);
+    let (all_b, inside_b) = run(true);
+    assert!(all_a <= all_b, "all irregular: {all_a} vs {all_b}");
+    assert!(inside_b <= inside_a, "interior: {inside_a} vs {inside_b}");
+}
