@@ -88,3 +88,10 @@ fn i02o_m2_ends_at_most_5_percent_irregular() {
     // best of 40 visiting orders
     check("i02o_m2.step", 5.0);
 }
+
+#[test]
+fn s12o_cube_rounded_1_ends_at_most_5_percent_irregular() {
+    // cube sides and fillets get grids, the corner patches (three-sided, a
+    // pole at one corner) three grids around a valence-3 centre
+    check("s12o_cube_rounded_1.stp", 5.0);
+}

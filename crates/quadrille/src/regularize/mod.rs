@@ -121,9 +121,11 @@ pub struct RegularizeOptions {
     pub quad_target: QuadTarget,
     /// On a four-sided face whose opposite sides have equal edge counts, try
     /// the structured `n1 × n2` grid ([`grid::structured_grid`], fully
-    /// regular) first, and keep it when all its quads are valid and no more
-    /// are inverted against the CAD normals than in the input; the
-    /// topological phase then does not run on that face.
+    /// regular) first, on a three-sided face the three grids around a
+    /// valence-3 centre ([`grid::three_sided_patch`]), and keep it when all
+    /// its quads are valid and no more are inverted against the CAD normals
+    /// than in the input; the topological phase then does not run on that
+    /// face.
     pub structured_grids: bool,
     /// Among the results of the visiting orders, prefer the one with the
     /// fewest face-interior irregular vertices (then all irregular vertices)
@@ -514,14 +516,20 @@ pub fn regularize_face(
     }
 }
 
-/// The structured grid of a four-sided face ([`grid::structured_grid`]) with
-/// the input's invalid quad count, when it is worth keeping: fewer irregular
-/// vertices than the input, every quad valid for the base window (after the
-/// initial repair by repositioning), and no more quads inverted against the
-/// CAD normals than the input.
+/// The structured grid of a four-sided face ([`grid::structured_grid`]), or
+/// else the three-grid patch of a three-sided face
+/// ([`grid::three_sided_patch`]), with the input's invalid quad count, when
+/// it is worth keeping: fewer irregular vertices than the input and no more
+/// than the magnitude of the face's index sum (as regular as the boundary
+/// allows), every quad valid for the base window (after the initial repair by
+/// repositioning), and no more quads inverted against the CAD normals than
+/// the input.
 fn grid_candidate(face: &Face, fid: FaceId, fq: &FaceQuads) -> Option<(FaceQuads, usize)> {
-    let mut g = grid::structured_grid(fq, face, fid)?;
-    if g.irregular_count() >= fq.irregular_count() {
+    let mut g =
+        grid::structured_grid(fq, face, fid).or_else(|| grid::three_sided_patch(fq, face, fid))?;
+    if g.irregular_count() >= fq.irregular_count()
+        || g.irregular_count() as i64 > index_sum(fq).abs()
+    {
         return None;
     }
     let mut r = driver::Regularizer::new(face, &mut g);

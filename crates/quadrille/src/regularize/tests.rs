@@ -1028,3 +1028,80 @@ fn preferring_interior_regularity_picks_the_order_with_fewest_interior_irregular
     assert!(all_a <= all_b, "all irregular: {all_a} vs {all_b}");
     assert!(inside_b <= inside_a, "interior: {inside_a} vs {inside_b}");
 }
+
+/// The right triangle (0, 0), (4, 0), (0, 4) cut into 4 triangles at its edge
+/// midpoints, each split into 3 quads: 12 quads, 4 edges per side.
+fn split_triangle() -> FaceQuads {
+    let mut pts: Vec<[f64; 2]> = vec![
+        [0.0, 0.0],
+        [4.0, 0.0],
+        [0.0, 4.0],
+        [2.0, 0.0],
+        [2.0, 2.0],
+        [0.0, 2.0],
+    ];
+    let tris = [[0u32, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
+    let mut mids = std::collections::BTreeMap::new();
+    let mut quads = Vec::new();
+    for t in &tris {
+        let mut m = [0u32; 3];
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            m[k] = *mids.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let (p, q) = (pts[a as usize], pts[b as usize]);
+                pts.push([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])]);
+                pts.len() as u32 - 1
+            });
+        }
+        let (a, b, c) = (pts[t[0] as usize], pts[t[1] as usize], pts[t[2] as usize]);
+        pts.push([(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0]);
+        let g = pts.len() as u32 - 1;
+        quads.push([t[0], m[0], g, m[2]]);
+        quads.push([t[1], m[1], g, m[0]]);
+        quads.push([t[2], m[2], g, m[1]]);
+    }
+    planar(&pts, quads)
+}
+
+#[test]
+fn a_three_sided_face_gets_three_grids_around_a_valence_3_centre() {
+    use super::grid::{three_sided_patch, three_sided_sides};
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    let fq = split_triangle();
+    assert_eq!(fq.num_quads(), 12);
+    let (lp, sides) = three_sided_sides(&fq).expect("three-sided");
+    assert_eq!(sides, [4, 4, 4]);
+    assert_eq!(fq.verts[lp[0] as usize].ideal, 2);
+    assert!(super::grid::four_sided_sides(&fq).is_none());
+    let g = three_sided_patch(&fq, face, FaceId(0)).expect("a patch");
+    // 3 grids of 2 × 2: 12 quads, 7 interior vertices, only the centre irregular
+    assert_eq!(g.num_quads(), 12);
+    assert_eq!(g.num_verts(), 12 + 7);
+    assert_eq!(g.irregular_count(), 1);
+    let centre = (0..g.verts.len() as u32)
+        .find(|&v| g.verts[v as usize].alive && g.is_irregular(v))
+        .unwrap();
+    assert!(!g.verts[centre as usize].fixed);
+    assert_eq!(g.valence(centre), 3);
+    assert_eq!(boundary_edges(&g), boundary_edges(&fq));
+    assert_sound(&fq, &g, face);
+    // the index sum 4 − 3 corners = 1 allows no better: the method takes it
+    assert_eq!(index_sum(&fq), 1);
+    let mut done = fq.clone();
+    let rep = regularize_face(face, FaceId(0), &mut done, &RegularizeOptions::default());
+    assert_eq!((rep.quads.1, rep.irregular.1, rep.invalid.1), (12, 1, 0));
+    assert_eq!(rep.ops, OpCounts::default());
+    assert_sound(&fq, &done, face);
+    // a side as long as the two others together: no such patch
+    let mut flat = fq.clone();
+    let c = lp[4] as usize; // the corner at the end of side 0
+    flat.verts[c].ideal = 3;
+    flat.verts[lp[1] as usize].ideal = 2; // sides 1, 7, 4
+    assert!(three_sided_sides(&flat).is_none());
+    // four corners: not three-sided
+    let mut four = fq.clone();
+    four.verts[lp[2] as usize].ideal = 2;
+    assert!(three_sided_sides(&four).is_none());
+    assert!(three_sided_patch(&four, face, FaceId(0)).is_none());
+}
