@@ -1,4 +1,4 @@
-//! A structured-grid candidate for four-sided faces (beyond the paper).
+//! Structured patches of four- and three-sided faces (beyond the paper).
 //!
 //! A face whose single boundary loop has exactly 4 corners (ideal valence 2),
 //! every other boundary vertex straight (ideal 3), and opposite sides with the
@@ -12,6 +12,11 @@
 //! only when every quad passes the base validity check and no more quads are
 //! inverted against the CAD normals than in the input; Algorithm 2 then
 //! redistributes it like any other result.
+//!
+//! A three-sided face (3 corners, the rest straight, an even boundary, each
+//! side shorter than the two others together) has a mesh with a single
+//! irregular vertex, as few as its boundary allows: three grids, one per
+//! corner, around a centre of valence 3 ([`three_sided_patch`]).
 //!
 //! The boundary vertices are the input's own (same local ids, untouched), so
 //! the face stays watertight with its neighbours.

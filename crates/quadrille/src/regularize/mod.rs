@@ -12,13 +12,19 @@
 //! - [`driver`]: the sweep over quads, compositions and translations, the
 //!   pair search (deeper sequences between a vertex and its nearest partner of
 //!   opposite index), rollback;
-//! - [`redistribute`]: Algorithm 2 (tightening angle window).
+//! - [`redistribute`]: Algorithm 2 (tightening angle window);
+//! - [`grid`]: structured patches of four- and three-sided faces.
 //!
 //! Faces are regularized independently (their boundary nodes never move, so
 //! the mesh stays watertight), in parallel, with an output that does not depend
 //! on the thread count.
 //!
-//! Beyond the paper, two things decide most of what is left:
+//! Beyond the paper, three things decide most of what is left:
+//! - **structured patches** ([`grid`]): a four-sided face whose opposite
+//!   sides have equal edge counts gets its `n1 × n2` grid, a three-sided face
+//!   three grids around a valence-3 centre, when every quad is valid (the
+//!   operations do not reach them from the split, whose interior is often
+//!   2–3 times denser than its boundary);
 //! - the **quad count** ([`QuadTarget`]): the split's quads are about 1.5 times
 //!   denser than squares of the boundary's edge length; a greedy search that
 //!   keeps that density must end rows inside the face, each ending at an
@@ -95,7 +101,7 @@ pub struct RegularizeOptions {
     /// CAD models at ≤ 5 % interior irregular vertices, 40 leave 19
     /// (i01o_m1 5.9 → 4.9 %, i02o_m2 5.3 → 4.3 %, i11o_s1 5.5 → 4.4 %), at
     /// 2.3 times the CPU; the gains come from late orders (a patience of 12
-    /// orders past the 16th keeps none of them).
+    /// orders past the 16th keeps little of them).
     pub sweep_orders: usize,
     /// Stop trying visiting orders on a face once this many in a row (after
     /// the best so far) brought no better result (0: no such stop, the
@@ -130,10 +136,10 @@ pub struct RegularizeOptions {
     /// Among the results of the visiting orders, prefer the one with the
     /// fewest face-interior irregular vertices (then all irregular vertices)
     /// instead of the fewest irregular vertices (then interior ones). Off by
-    /// default: on the 25 CAD models it lowers the interior share (i02o_m2
-    /// 5.3 → 4.7 %, i13o_s6 6.9 → 6.0 %) but raises the share including the
-    /// boundary (i13o_s6 5.2 → 5.8 %) and lowers the worst SICN (i01o_m1
-    /// 0.052 → 0.005).
+    /// default: on the 25 CAD models it lowers the interior share (i16o_s9
+    /// 5.2 → 4.9 %, i13o_s6 5.8 → 5.3 %) but raises the share including the
+    /// boundary (i13o_s6 4.7 → 5.3 %), and with 16 orders it lowered the
+    /// worst SICN of i01o_m1 from 0.052 to 0.005.
     pub prefer_interior: bool,
     /// Give a pole on the face boundary (a degenerate edge seen as one
     /// corner of the face, with an open fan) the ideal valence of its
