@@ -95,3 +95,10 @@ fn s12o_cube_rounded_1_ends_at_most_5_percent_irregular() {
     // pole at one corner) three grids around a valence-3 centre
     check("s12o_cube_rounded_1.stp", 5.0);
 }
+
+#[test]
+fn i16o_s9_ends_at_most_5_percent_irregular() {
+    // faces around holes cut into 8 segments (225° at the hole's vertices,
+    // counted straight)
+    check("i16o_s9.step", 5.0);
+}

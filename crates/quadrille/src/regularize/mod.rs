@@ -97,11 +97,13 @@ pub struct RegularizeOptions {
     /// sum Σ (ideal − valence) (which no operation changes), nor when the
     /// input kept invalid quads after the initial repair and the first result
     /// still has some. See also [`RegularizeOptions::order_patience`].
-    /// 40 by default: with the structured grids, 16 orders left 16 of the 25
-    /// CAD models at ≤ 5 % interior irregular vertices, 40 leave 19
+    /// 32 by default. With the structured grids, 16 orders left 16 of the 25
+    /// CAD models at ≤ 5 % interior irregular vertices, 40 left 19
     /// (i01o_m1 5.9 → 4.9 %, i02o_m2 5.3 → 4.3 %, i11o_s1 5.5 → 4.4 %), at
     /// 2.3 times the CPU; the gains come from late orders (a patience of 12
-    /// orders past the 16th keeps little of them).
+    /// orders past the 16th keeps little of them). With
+    /// [`RegularizeOptions::straight_ties`], 32 orders (budget 10 000) keep
+    /// the same 22 models at ≤ 5 % as 40 (12 000) at 27 % less CPU.
     pub sweep_orders: usize,
     /// Stop trying visiting orders on a face once this many in a row (after
     /// the best so far) brought no better result (0: no such stop, the
@@ -109,8 +111,8 @@ pub struct RegularizeOptions {
     /// best order is often a late one).
     pub order_patience: usize,
     /// Bound on (visiting orders × input quads) per face: large faces get
-    /// fewer orders (never fewer than 2). 12 000 (40 orders up to 300 quads,
-    /// 16 at 717). With 16 orders and 7 000, on the 25 CAD models no model's
+    /// fewer orders (never fewer than 2). 10 000 (32 orders up to 312 quads,
+    /// 13 at 717). With 16 orders and 7 000, on the 25 CAD models no model's
     /// interior share changed from 12 000 to 7 000; with 40 orders, 12 000
     /// gives the same shares as 20 000 (i01o_m1 4.9 %, i02o_m2 4.3 %,
     /// i11o_s1 4.4 %) at 10 % less CPU.
@@ -146,6 +148,13 @@ pub struct RegularizeOptions {
     /// interior angle, as any other corner ([`classify_pole_corners`]),
     /// instead of its input valence.
     pub pole_corners: bool,
+    /// A boundary vertex whose interior angle lies within [`TIE_DEG`] of
+    /// 225° (where the ideal boundary valence switches from 3 to 4) wants 3
+    /// edges, as a straight boundary ([`straighten_ambiguous_ideals`]): on the
+    /// 25 CAD models i13o_s6 5.8 → 4.2 %, i16o_s9 5.2 → 4.1 %, i02o_m2 4.3 →
+    /// 1.5 % (the same band around 135° as well cost i10o_simp and i12o_s5
+    /// some of their gain).
+    pub straight_ties: bool,
     /// Run Algorithm 2 after the topological phase.
     pub redistribute: bool,
     /// Worker threads (`None`: rayon's global pool). The output does not depend on it.
@@ -171,13 +180,14 @@ impl Default for RegularizeOptions {
             pair_beam: 5,
             pair_budget: 600,
             strict_validity: false,
-            sweep_orders: 40,
-            order_budget: 12_000,
+            sweep_orders: 32,
+            order_budget: 10_000,
             order_patience: 0,
             quad_target: QuadTarget::BoundarySpacing,
             structured_grids: true,
             prefer_interior: false,
             pole_corners: true,
+            straight_ties: true,
             redistribute: true,
             threads: None,
         }
@@ -400,6 +410,9 @@ pub fn regularize_face(
     if opts.pole_corners {
         classify_pole_corners(fq);
     }
+    if opts.straight_ties {
+        straighten_ambiguous_ideals(fq);
+    }
     let before = (fq.num_quads(), fq.num_verts(), fq.irregular_count());
     // (not in strict mode: the rerun of a face whose result had more inverted
     // quads than its input, by the global check, uses the operations alone)
@@ -577,6 +590,37 @@ pub fn classify_pole_corners(fq: &mut FaceQuads) {
         let angle = fq.angle_sum(v);
         if angle.is_finite() && angle > 0.0 {
             fq.verts[v as usize].ideal = crate::face_quads::ideal_boundary_valence(angle);
+        }
+    }
+}
+
+/// Half-width (degrees) of the band around 225° (a threshold of
+/// [`crate::face_quads::ideal_boundary_valence`]) within which
+/// [`straighten_ambiguous_ideals`] rounds toward a straight boundary.
+pub const TIE_DEG: f64 = 3.0;
+
+/// Gives ideal valence 3 (a straight boundary) to every boundary vertex
+/// (fixed, open fan, a curve or corner node, not a pole) whose interior angle
+/// is within [`TIE_DEG`] of 225°, where
+/// [`crate::face_quads::ideal_boundary_valence`] switches from 3 to 4. A circle cut into 8 segments (a common hole) has chordal
+/// angles of exactly 225° on the face around it, so rounding noise gave some
+/// of its vertices 4 and others 3: every face around such a hole had
+/// irregular vertices forced by its classification (i16o_s9: index sums 4–6
+/// on faces with one hole).
+pub fn straighten_ambiguous_ideals(fq: &mut FaceQuads) {
+    for v in 0..fq.verts.len() as u32 {
+        let x = &fq.verts[v as usize];
+        if !(x.alive && x.fixed && x.pole.is_none() && x.edge_offset == 1)
+            || !matches!(
+                x.class,
+                mesh::NodeClass::Corner(_) | mesh::NodeClass::Curve(..)
+            )
+        {
+            continue;
+        }
+        let a = fq.angle_sum(v);
+        if (a - 225.0).abs() < TIE_DEG {
+            fq.verts[v as usize].ideal = 3;
         }
     }
 }

@@ -1105,3 +1105,30 @@ fn a_three_sided_face_gets_three_grids_around_a_valence_3_centre() {
     assert!(three_sided_sides(&four).is_none());
     assert!(three_sided_patch(&four, face, FaceId(0)).is_none());
 }
+
+#[test]
+fn boundary_angles_at_the_225_degree_threshold_count_as_straight() {
+    // a 4 × 4 grid whose boundary vertices get hand-set angles through their
+    // ideal: rebuild the ideal from the angle, as classify_fixed, then round
+    let mut fq = grid(4);
+    // the face around a hole cut into 8 segments sees 225° at each vertex:
+    // the boundary vertex (2, 0) pushed in to (2, tan(θ/2 − 90°)) has angle θ
+    let v = 2usize;
+    let y = |deg: f64| (deg / 2.0 - 90.0).to_radians().tan();
+    for (deg, want) in [(225.0, 3), (224.0, 3), (227.0, 3), (240.0, 4), (180.0, 3)] {
+        let y = y(deg);
+        fq.verts[v].uv = [2.0, y];
+        fq.verts[v].xyz = [2.0, y, 0.0];
+        let a = fq.angle_sum(v as u32);
+        assert!((a - deg).abs() < 1e-6, "{a} vs {deg}");
+        fq.verts[v].ideal = crate::face_quads::ideal_boundary_valence(a);
+        let others: Vec<u32> = fq.verts.iter().map(|x| x.ideal).collect();
+        straighten_ambiguous_ideals(&mut fq);
+        assert_eq!(fq.verts[v].ideal, want, "angle {a:.2}°");
+        for (w, x) in fq.verts.iter().enumerate() {
+            if w != v {
+                assert_eq!(x.ideal, others[w]);
+            }
+        }
+    }
+}
