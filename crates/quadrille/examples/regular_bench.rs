@@ -5,7 +5,7 @@
 //!
 //! Environment: `QR_ORDERS`, `QR_ORDER_BUDGET`, `QR_ORDER_PATIENCE`, `QR_QUAD_RATIO` (0: no quad
 //! target, r > 0: r × input), `QR_DEPTH`, `QR_BUDGET`, `QR_TRANSLATION`,
-//! `QR_PAIR_*` override the options; `QR_VERBOSE` prints per-face reports,
+//! `QR_PAIR_*` override the options, `QR_PREFER_INTERIOR` sets `prefer_interior`; `QR_VERBOSE` prints per-face reports,
 //! `QR_DIAG` / `QR_DIAG_BEFORE` where the irregular vertices sit after / before,
 //! `QR_FACES=DIR` one flat (u, v) picture per face.
 
@@ -94,6 +94,7 @@ fn main() {
                 Some(_) => quadrille::regularize::QuadTarget::Off,
                 None => d.quad_target,
             },
+            prefer_interior: std::env::var("QR_PREFER_INTERIOR").is_ok() || d.prefer_interior,
             ..d
         };
         let rep = match regularize_mesh(&model, &mut mesh, &ropts) {
@@ -216,12 +217,59 @@ fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
         irr += face_irr;
         nv += fq.num_verts();
         if std::env::var("QR_DIAG").as_deref() == Ok("2") {
+            let interior = (0..n)
+                .filter(|&v| !fq.verts[v as usize].fixed && fq.is_irregular(v))
+                .count();
+            let movable = (0..n)
+                .filter(|&v| fq.verts[v as usize].alive && !fq.verts[v as usize].fixed)
+                .count();
             eprintln!(
-                "  face {}: verts {} irregular {} index sum {}",
+                "  face {}: quads {} verts {} interior {} irregular {} interior irregular {} index sum {} loops {} target {}",
                 fid.0 + 1,
+                fq.num_quads(),
                 fq.num_verts(),
+                movable,
                 face_irr,
-                index
+                interior,
+                index,
+                boundary_loops(&fq),
+                quadrille::regularize::QuadTarget::BoundarySpacing.quads_for(&fq)
+            );
+            if let Some(sides) = four_sides(&fq) {
+                eprintln!("     sides {sides:?}");
+            } else if let Some(lp) = quadrille::regularize::grid::single_boundary_loop(&fq) {
+                let ideals: String = lp
+                    .iter()
+                    .map(|&v| {
+                        let x = &fq.verts[v as usize];
+                        char::from_digit(x.ideal.min(9), 10).unwrap_or('?')
+                    })
+                    .collect();
+                eprintln!("     loop ideals {ideals}");
+            }
+            // mean 3D edge length on the boundary and inside
+            let (mut bl, mut bn, mut il, mut inn) = (0.0, 0usize, 0.0, 0usize);
+            for q in fq.live_quads() {
+                let r = fq.quads[q as usize];
+                for i in 0..4 {
+                    let (a, b) = (r[i], r[(i + 1) % 4]);
+                    let d =
+                        geometry::vec3::dist(fq.verts[a as usize].xyz, fq.verts[b as usize].xyz);
+                    if fq.edge_quads(a, b).len() == 1 {
+                        bl += d;
+                        bn += 1;
+                    } else {
+                        il += d / 2.0;
+                        inn += 1;
+                    }
+                }
+            }
+            eprintln!(
+                "     boundary edges {} mean {:.4}; interior edges {} mean {:.4}",
+                bn,
+                bl / bn.max(1) as f64,
+                inn / 2,
+                2.0 * il / inn.max(1) as f64
             );
             for v in 0..n {
                 let x = &fq.verts[v as usize];
@@ -379,4 +427,78 @@ fn face_pictures(model: &geometry::Model, mesh: &mesh::QuadMesh, dir: &Path, nam
         };
         let _ = mesh::render::render_png(&m, &o, &dir.join(format!("{name}_f{}.png", fid.0 + 1)));
     }
+}
+
+/// Number of boundary loops of a face's quads (edges of a single live quad).
+fn boundary_loops(fq: &quadrille::face_quads::FaceQuads) -> usize {
+    use std::collections::{BTreeMap, BTreeSet};
+    let mut directed = BTreeSet::new();
+    for q in fq.live_quads() {
+        let r = fq.quads[q as usize];
+        for i in 0..4 {
+            directed.insert((r[i], r[(i + 1) % 4]));
+        }
+    }
+    let mut next: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    for &(a, b) in &directed {
+        if !directed.contains(&(b, a)) {
+            next.entry(a).or_default().push(b);
+        }
+    }
+    let mut seen = BTreeSet::new();
+    let mut loops = 0;
+    let keys: Vec<u32> = next.keys().copied().collect();
+    for s in keys {
+        if seen.contains(&s) {
+            continue;
+        }
+        loops += 1;
+        let mut v = s;
+        while seen.insert(v) {
+            v = match next.get(&v).and_then(|n| n.first()) {
+                Some(&w) => w,
+                None => break,
+            };
+        }
+    }
+    loops
+}
+
+/// Edge counts of the 4 sides of a single-loop face with 4 corners (ideal 2).
+fn four_sides(fq: &quadrille::face_quads::FaceQuads) -> Option<[usize; 4]> {
+    use std::collections::{BTreeMap, BTreeSet};
+    let mut directed = BTreeSet::new();
+    for q in fq.live_quads() {
+        let r = fq.quads[q as usize];
+        for i in 0..4 {
+            directed.insert((r[i], r[(i + 1) % 4]));
+        }
+    }
+    let mut next = BTreeMap::new();
+    for &(a, b) in &directed {
+        if !directed.contains(&(b, a)) && next.insert(a, b).is_some() {
+            return None;
+        }
+    }
+    let start = *next.keys().next()?;
+    let mut lp = vec![start];
+    let mut v = next[&start];
+    while v != start {
+        if lp.len() > next.len() {
+            return None;
+        }
+        lp.push(v);
+        v = *next.get(&v)?;
+    }
+    if lp.len() != next.len() {
+        return None;
+    }
+    let corners: Vec<usize> = (0..lp.len())
+        .filter(|&i| fq.verts[lp[i] as usize].ideal == 2)
+        .collect();
+    if corners.len() != 4 {
+        return None;
+    }
+    let side = |k: usize| (corners[(k + 1) % 4] + lp.len() - corners[k]) % lp.len();
+    Some([side(0), side(1), side(2), side(3)])
 }

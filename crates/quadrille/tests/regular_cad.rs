@@ -69,3 +69,36 @@ fn twisted_body_ends_at_most_5_percent_irregular() {
 fn s15o_cylinder_ends_at_most_5_percent_irregular() {
     check("s15o_cylinder.stp", 5.0);
 }
+
+#[test]
+fn s11o_cube_cyl_ends_at_most_5_percent_irregular() {
+    // its cube sides are four-sided with matching sides: structured grids
+    check("s11o_cube_cyl.stp", 5.0);
+}
+
+#[test]
+fn s16o_torus_ends_fully_regular() {
+    // one four-sided face (two seams) whose opposite sides match: its grid
+    check("s16o_torus.stp", 0.0);
+}
+
+#[test]
+fn i02o_m2_ends_at_most_5_percent_irregular() {
+    // a MAMBO model with holes: four-sided faces get grids, the others the
+    // best of 40 visiting orders
+    check("i02o_m2.step", 5.0);
+}
+
+#[test]
+fn s12o_cube_rounded_1_ends_at_most_5_percent_irregular() {
+    // cube sides and fillets get grids, the corner patches (three-sided, a
+    // pole at one corner) three grids around a valence-3 centre
+    check("s12o_cube_rounded_1.stp", 5.0);
+}
+
+#[test]
+fn i16o_s9_ends_at_most_5_percent_irregular() {
+    // faces around holes cut into 8 segments (225° at the hole's vertices,
+    // counted straight)
+    check("i16o_s9.step", 5.0);
+}

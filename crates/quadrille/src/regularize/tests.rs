@@ -396,7 +396,15 @@ fn regularizing_a_triangle_split_patch_removes_most_irregular_vertices() {
         "the split leaves many irregular vertices: {frac0}"
     );
     let vq = fq.num_verts() as i64 - fq.num_quads() as i64;
-    let rep = regularize_face(face, FaceId(0), &mut fq, &RegularizeOptions::default());
+    let rep = regularize_face(
+        face,
+        FaceId(0),
+        &mut fq,
+        &RegularizeOptions {
+            structured_grids: false,
+            ..Default::default()
+        },
+    );
     fq.check().unwrap();
     let frac1 = fq.irregular_count() as f64 / fq.num_verts() as f64;
     assert_eq!(rep.irregular, (irr0, fq.irregular_count()));
@@ -497,6 +505,7 @@ fn compositions_and_translations_remove_what_single_operations_cannot() {
     let face = &m.faces[0];
     let opts = RegularizeOptions {
         redistribute: false,
+        structured_grids: false,
         ..Default::default()
     };
     let mut single = split_patch(6);
@@ -626,6 +635,7 @@ fn pair_search_lowers_the_score_where_the_star_search_has_stopped() {
     // the star-local method alone (no pair search), to convergence
     let base = RegularizeOptions {
         redistribute: false,
+        structured_grids: false,
         pair_radius: 0,
         sweep_orders: 1,
         quad_target: QuadTarget::Off,
@@ -704,6 +714,7 @@ fn more_visiting_orders_never_leave_more_irregular_vertices() {
     for orders in [1, 2, 8] {
         let opts = RegularizeOptions {
             redistribute: false,
+            structured_grids: false,
             sweep_orders: orders,
             ..Default::default()
         };
@@ -781,6 +792,7 @@ fn steering_the_quad_count_to_the_boundary_density_leaves_fewer_irregular_vertic
             let orig = fq.clone();
             let opts = RegularizeOptions {
                 redistribute: false,
+                structured_grids: false,
                 sweep_orders: 1,
                 quad_target: t,
                 ..Default::default()
@@ -835,4 +847,288 @@ fn a_face_whose_input_stays_invalid_gets_fewer_repair_rounds() {
     let before = dart.verts.clone();
     assert!(!repair_rounds(&mut dart, face, &[2], AngleWindow::BASE, 0));
     assert_eq!(dart.verts, before);
+}
+
+#[test]
+fn a_four_sided_face_with_matching_sides_gets_its_structured_grid() {
+    use super::grid::{four_sided_sides, structured_grid};
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    // the 6 × 6 triangle split: 4 sides of 12 edges, about half its vertices irregular
+    let fq = split_patch(6);
+    let (lp, n1, n2) = four_sided_sides(&fq).expect("four-sided");
+    assert_eq!((n1, n2), (12, 12));
+    assert_eq!(lp.len(), 48);
+    assert_eq!(fq.verts[lp[0] as usize].ideal, 2);
+    let g = structured_grid(&fq, face, FaceId(0)).expect("a grid");
+    assert_eq!(g.num_quads(), 144);
+    assert_eq!(g.num_verts(), 13 * 13);
+    assert_eq!(g.irregular_count(), 0);
+    assert_eq!(boundary_edges(&g), boundary_edges(&fq));
+    assert_sound(&fq, &g, face);
+    // on the unit square the interpolated nodes are the integer half-steps
+    for v in 0..g.verts.len() {
+        let x = &g.verts[v];
+        if x.alive && !x.fixed {
+            for c in x.uv {
+                assert!((2.0 * c - (2.0 * c).round()).abs() < 1e-12, "{:?}", x.uv);
+            }
+            assert_eq!(x.xyz, [x.uv[0], x.uv[1], 0.0]);
+        }
+    }
+    // the whole method takes it (no operation runs) and keeps it valid
+    let mut done = fq.clone();
+    let rep = regularize_face(face, FaceId(0), &mut done, &RegularizeOptions::default());
+    assert_eq!(rep.quads, (216, 144));
+    assert_eq!(rep.irregular.1, 0);
+    assert_eq!(rep.invalid, (0, 0));
+    assert_eq!(rep.ops, OpCounts::default());
+    assert_sound(&fq, &done, face);
+    // without the option the local operations run as before
+    let mut local = fq.clone();
+    let rep = regularize_face(
+        face,
+        FaceId(0),
+        &mut local,
+        &RegularizeOptions {
+            structured_grids: false,
+            sweep_orders: 1,
+            ..Default::default()
+        },
+    );
+    assert!(rep.ops.sweeps > 0 && rep.irregular.1 > 0, "{rep:?}");
+}
+
+#[test]
+fn faces_that_are_not_four_sided_with_matching_sides_get_no_grid() {
+    use super::grid::{four_sided_sides, structured_grid};
+    let m = plane(16.0);
+    let face = &m.faces[0];
+    // a 8 × 3 grid of 2 × 1 rectangles: four-sided, sides 8 and 3
+    let pts: Vec<[f64; 2]> = (0..4)
+        .flat_map(|j| (0..9).map(move |i| [2.0 * i as f64, j as f64]))
+        .collect();
+    let quads: Vec<[u32; 4]> = (0..3u32)
+        .flat_map(|j| {
+            (0..8u32).map(move |i| {
+                [
+                    j * 9 + i,
+                    j * 9 + i + 1,
+                    (j + 1) * 9 + i + 1,
+                    (j + 1) * 9 + i,
+                ]
+            })
+        })
+        .collect();
+    let r = planar(&pts, quads.clone());
+    let (_, n1, n2) = four_sided_sides(&r).expect("four-sided");
+    assert_eq!((n1.min(n2), n1.max(n2)), (3, 8));
+    // moving a corner along its side: sides 7, 4, 8, 3 do not match
+    let mut shifted = r.clone();
+    shifted.verts[8].ideal = 3; // (16, 0)
+    shifted.verts[7].ideal = 2; // (14, 0)
+    assert!(four_sided_sides(&shifted).is_none());
+    assert!(structured_grid(&shifted, face, FaceId(0)).is_none());
+    // five corners
+    let mut five = r.clone();
+    five.verts[4].ideal = 2;
+    assert!(four_sided_sides(&five).is_none());
+    // a boundary vertex that wants 4 edges (a reflex corner)
+    let mut reflex = r.clone();
+    reflex.verts[4].ideal = 4;
+    assert!(four_sided_sides(&reflex).is_none());
+    // two boundary loops: the 8 × 3 grid without its middle quads
+    let holed: Vec<[u32; 4]> = quads
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != 11 && k != 12)
+        .map(|(_, q)| *q)
+        .collect();
+    let h = planar(&pts, holed);
+    assert!(super::grid::single_boundary_loop(&h).is_none());
+    assert!(four_sided_sides(&h).is_none());
+    // a face that is already a regular grid gets no candidate (nothing to gain)
+    assert!(super::grid_candidate(face, FaceId(0), &r).is_none());
+}
+
+#[test]
+fn a_grid_that_cannot_be_made_valid_is_not_kept() {
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    // the 2 × 2 triangle split on [0, 2]², its corner (2, 2) pulled in to
+    // (0.8, 0.8) and still counted a corner: the boundary turns by more than
+    // 180° there, so the grid's corner quad folds at a fixed vertex
+    let mut fq = split_patch(2);
+    let c = (0..fq.verts.len())
+        .find(|&v| fq.verts[v].uv == [2.0, 2.0])
+        .unwrap();
+    fq.verts[c].uv = [0.8, 0.8];
+    fq.verts[c].xyz = [0.8, 0.8, 0.0];
+    assert!(super::grid::four_sided_sides(&fq).is_some());
+    let g = super::grid::structured_grid(&fq, face, FaceId(0)).expect("a grid");
+    assert!(g
+        .live_quads()
+        .any(|q| !quad_valid(&g, face, q, AngleWindow::BASE)));
+    assert!(super::grid_candidate(face, FaceId(0), &fq).is_none());
+    // regularize_face falls back to the local operations
+    let mut done = fq.clone();
+    let rep = regularize_face(face, FaceId(0), &mut done, &RegularizeOptions::default());
+    assert!(rep.ops.sweeps > 0, "{rep:?}");
+    done.check().unwrap();
+}
+
+#[test]
+fn a_pole_on_the_face_boundary_wants_the_valence_of_its_angle() {
+    // a 4 × 4 grid whose corner (0, 0) stands for a pole (a degenerate
+    // segment in (u, v)) that classify_fixed left with a stale ideal valence
+    let mut fq = grid(4);
+    let pole = Some([[0.0, 0.0], [0.0, 0.0]]);
+    fq.verts[0].pole = pole;
+    fq.verts[0].class = mesh::NodeClass::Corner(geometry::CornerId(0));
+    fq.verts[0].ideal = 4;
+    assert!(fq.is_irregular(0));
+    // a pole with a closed fan (edge offset 0, a sphere pole) and a non-pole
+    // boundary vertex, both with stale ideals: left alone
+    fq.verts[2].pole = pole;
+    fq.verts[2].edge_offset = 0;
+    fq.verts[2].ideal = 7;
+    fq.verts[4].ideal = 5;
+    let before: Vec<u32> = fq.verts.iter().map(|x| x.ideal).collect();
+    classify_pole_corners(&mut fq);
+    // the corner angle is 90°: 2 edges, as any other corner
+    assert_eq!(fq.verts[0].ideal, 2);
+    assert!(!fq.is_irregular(0));
+    for (v, x) in fq.verts.iter().enumerate().skip(1) {
+        assert_eq!(x.ideal, before[v], "vertex {v}");
+    }
+}
+
+#[test]
+fn preferring_interior_regularity_picks_the_order_with_fewest_interior_irregular_vertices() {
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    let run = |prefer_interior: bool| {
+        let mut fq = split_patch(8);
+        let orig = fq.clone();
+        let opts = RegularizeOptions {
+            redistribute: false,
+            structured_grids: false,
+            sweep_orders: 8,
+            prefer_interior,
+            ..Default::default()
+        };
+        let rep = regularize_face(face, FaceId(0), &mut fq, &opts);
+        assert_eq!(rep.invalid.1, 0);
+        assert_sound(&orig, &fq, face);
+        (fq.irregular_count(), interior_irregular(&fq))
+    };
+    // both choose among the same 8 results: each is best by its own measure
+    let (all_a, inside_a) = run(false);
+    let (all_b, inside_b) = run(true);
+    assert!(all_a <= all_b, "all irregular: {all_a} vs {all_b}");
+    assert!(inside_b <= inside_a, "interior: {inside_a} vs {inside_b}");
+}
+
+/// The right triangle (0, 0), (4, 0), (0, 4) cut into 4 triangles at its edge
+/// midpoints, each split into 3 quads: 12 quads, 4 edges per side.
+fn split_triangle() -> FaceQuads {
+    let mut pts: Vec<[f64; 2]> = vec![
+        [0.0, 0.0],
+        [4.0, 0.0],
+        [0.0, 4.0],
+        [2.0, 0.0],
+        [2.0, 2.0],
+        [0.0, 2.0],
+    ];
+    let tris = [[0u32, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
+    let mut mids = std::collections::BTreeMap::new();
+    let mut quads = Vec::new();
+    for t in &tris {
+        let mut m = [0u32; 3];
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            m[k] = *mids.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let (p, q) = (pts[a as usize], pts[b as usize]);
+                pts.push([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])]);
+                pts.len() as u32 - 1
+            });
+        }
+        let (a, b, c) = (pts[t[0] as usize], pts[t[1] as usize], pts[t[2] as usize]);
+        pts.push([(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0]);
+        let g = pts.len() as u32 - 1;
+        quads.push([t[0], m[0], g, m[2]]);
+        quads.push([t[1], m[1], g, m[0]]);
+        quads.push([t[2], m[2], g, m[1]]);
+    }
+    planar(&pts, quads)
+}
+
+#[test]
+fn a_three_sided_face_gets_three_grids_around_a_valence_3_centre() {
+    use super::grid::{three_sided_patch, three_sided_sides};
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    let fq = split_triangle();
+    assert_eq!(fq.num_quads(), 12);
+    let (lp, sides) = three_sided_sides(&fq).expect("three-sided");
+    assert_eq!(sides, [4, 4, 4]);
+    assert_eq!(fq.verts[lp[0] as usize].ideal, 2);
+    assert!(super::grid::four_sided_sides(&fq).is_none());
+    let g = three_sided_patch(&fq, face, FaceId(0)).expect("a patch");
+    // 3 grids of 2 × 2: 12 quads, 7 interior vertices, only the centre irregular
+    assert_eq!(g.num_quads(), 12);
+    assert_eq!(g.num_verts(), 12 + 7);
+    assert_eq!(g.irregular_count(), 1);
+    let centre = (0..g.verts.len() as u32)
+        .find(|&v| g.verts[v as usize].alive && g.is_irregular(v))
+        .unwrap();
+    assert!(!g.verts[centre as usize].fixed);
+    assert_eq!(g.valence(centre), 3);
+    assert_eq!(boundary_edges(&g), boundary_edges(&fq));
+    assert_sound(&fq, &g, face);
+    // the index sum 4 − 3 corners = 1 allows no better: the method takes it
+    assert_eq!(index_sum(&fq), 1);
+    let mut done = fq.clone();
+    let rep = regularize_face(face, FaceId(0), &mut done, &RegularizeOptions::default());
+    assert_eq!((rep.quads.1, rep.irregular.1, rep.invalid.1), (12, 1, 0));
+    assert_eq!(rep.ops, OpCounts::default());
+    assert_sound(&fq, &done, face);
+    // a side as long as the two others together: no such patch
+    let mut flat = fq.clone();
+    let c = lp[4] as usize; // the corner at the end of side 0
+    flat.verts[c].ideal = 3;
+    flat.verts[lp[1] as usize].ideal = 2; // sides 1, 7, 4
+    assert!(three_sided_sides(&flat).is_none());
+    // four corners: not three-sided
+    let mut four = fq.clone();
+    four.verts[lp[2] as usize].ideal = 2;
+    assert!(three_sided_sides(&four).is_none());
+    assert!(three_sided_patch(&four, face, FaceId(0)).is_none());
+}
+
+#[test]
+fn boundary_angles_at_the_225_degree_threshold_count_as_straight() {
+    // a 4 × 4 grid whose boundary vertices get hand-set angles through their
+    // ideal: rebuild the ideal from the angle, as classify_fixed, then round
+    let mut fq = grid(4);
+    // the face around a hole cut into 8 segments sees 225° at each vertex:
+    // the boundary vertex (2, 0) pushed in to (2, tan(θ/2 − 90°)) has angle θ
+    let v = 2usize;
+    let y = |deg: f64| (deg / 2.0 - 90.0).to_radians().tan();
+    for (deg, want) in [(225.0, 3), (224.0, 3), (227.0, 3), (240.0, 4), (180.0, 3)] {
+        let y = y(deg);
+        fq.verts[v].uv = [2.0, y];
+        fq.verts[v].xyz = [2.0, y, 0.0];
+        let a = fq.angle_sum(v as u32);
+        assert!((a - deg).abs() < 1e-6, "{a} vs {deg}");
+        fq.verts[v].ideal = crate::face_quads::ideal_boundary_valence(a);
+        let others: Vec<u32> = fq.verts.iter().map(|x| x.ideal).collect();
+        straighten_ambiguous_ideals(&mut fq);
+        assert_eq!(fq.verts[v].ideal, want, "angle {a:.2}°");
+        for (w, x) in fq.verts.iter().enumerate() {
+            if w != v {
+                assert_eq!(x.ideal, others[w]);
+            }
+        }
+    }
 }
