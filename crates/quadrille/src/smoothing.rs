@@ -6,7 +6,7 @@
 //! [`kernels`] holds the paper's 3D kernels (Winslow on regular nodes,
 //! angle-based on irregular ones) and their smoothing loop, [`optimize`].
 
-use geometry::vec3::Vec3;
+use geometry::vec3::{self, Vec3};
 use geometry::Face;
 
 use crate::face_triangulation::NodeRef;
@@ -73,10 +73,17 @@ pub fn smooth(face: &Face, p: &mut QuadPatch, sweeps: usize) -> usize {
             .map(|&q| normals.quality(face, &p.nodes, &p.pos, &p.quads[q as usize]))
             .fold(f64::INFINITY, f64::min)
     };
+    // a node is smoothed again only while it or a neighbour moved by more
+    // than WAKE_SHARE of its mean edge in the previous sweep
+    let mut active = vec![true; p.nodes.len()];
+    let mut woke = vec![false; p.nodes.len()];
     for _ in 0..sweeps {
         let mut moved = 0;
         for i in 0..p.nodes.len() {
-            if p.nodes[i].node != NodeRef::Interior || quads_of[i].is_empty() || nbrs[i].is_empty()
+            if !active[i]
+                || p.nodes[i].node != NodeRef::Interior
+                || quads_of[i].is_empty()
+                || nbrs[i].is_empty()
             {
                 continue;
             }
@@ -107,6 +114,14 @@ pub fn smooth(face: &Face, p: &mut QuadPatch, sweeps: usize) -> usize {
             let after = worst(p, &mut normals, &quads_of[i]);
             if after >= before {
                 moved += 1;
+                let edge = nbrs[i]
+                    .iter()
+                    .map(|&j| vec3::dist(p.pos[j as usize], old_pos))
+                    .sum::<f64>()
+                    / nbrs[i].len() as f64;
+                if vec3::dist(x, old_pos) > WAKE_SHARE * edge {
+                    woke[i] = true;
+                }
             } else {
                 p.nodes[i].uv = old;
                 p.pos[i] = old_pos;
@@ -117,9 +132,17 @@ pub fn smooth(face: &Face, p: &mut QuadPatch, sweeps: usize) -> usize {
         if moved == 0 {
             break;
         }
+        for i in 0..p.nodes.len() {
+            active[i] = woke[i] || nbrs[i].iter().any(|&j| woke[j as usize]);
+        }
+        woke.iter_mut().for_each(|w| *w = false);
     }
     accepted
 }
+
+/// Share of a node's mean edge length above which its move in [`smooth`]
+/// keeps it and its neighbours in the next sweep.
+const WAKE_SHARE: f64 = 0.01;
 
 /// SICN below which the quads of a finished face get one more untangling
 /// pass ([`lift_poor_quads`]): the minimum-quality bar of the method.
