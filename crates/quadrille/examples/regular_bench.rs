@@ -466,33 +466,7 @@ fn boundary_loops(fq: &quadrille::face_quads::FaceQuads) -> usize {
 
 /// Edge counts of the 4 sides of a single-loop face with 4 corners (ideal 2).
 fn four_sides(fq: &quadrille::face_quads::FaceQuads) -> Option<[usize; 4]> {
-    use std::collections::{BTreeMap, BTreeSet};
-    let mut directed = BTreeSet::new();
-    for q in fq.live_quads() {
-        let r = fq.quads[q as usize];
-        for i in 0..4 {
-            directed.insert((r[i], r[(i + 1) % 4]));
-        }
-    }
-    let mut next = BTreeMap::new();
-    for &(a, b) in &directed {
-        if !directed.contains(&(b, a)) && next.insert(a, b).is_some() {
-            return None;
-        }
-    }
-    let start = *next.keys().next()?;
-    let mut lp = vec![start];
-    let mut v = next[&start];
-    while v != start {
-        if lp.len() > next.len() {
-            return None;
-        }
-        lp.push(v);
-        v = *next.get(&v)?;
-    }
-    if lp.len() != next.len() {
-        return None;
-    }
+    let lp = quadrille::regularize::grid::boundary_loop(fq)?;
     let corners: Vec<usize> = (0..lp.len())
         .filter(|&i| fq.verts[lp[i] as usize].ideal == 2)
         .collect();

@@ -320,6 +320,21 @@ pub fn mesh_face_pattern(
             }
         })
         .collect();
+    let patch = smooth_and_check(face, nodes, pos, quads, &pattern.name)?;
+    Ok((patch, pattern.name.clone()))
+}
+
+/// A patch from a pattern's quads (counter-clockwise about the face normal)
+/// on `nodes` at `pos`, smoothed; refused when a quad stays below
+/// [`MIN_PATTERN_SICN`] (the error names `pattern`). Shared by the library
+/// patterns and [`crate::sphere_face`].
+pub fn smooth_and_check(
+    face: &geometry::Face,
+    nodes: Vec<LocalNode>,
+    pos: Vec<Vec3>,
+    quads: Vec<[u32; 4]>,
+    pattern: &str,
+) -> Result<QuadPatch, String> {
     let mut patch = QuadPatch {
         quad_tri: (0..quads.len() as u32).collect(),
         nodes,
@@ -337,12 +352,9 @@ pub fn mesh_face_pattern(
         .map(|q| quad_quality(face, &patch.nodes, &patch.pos, q))
         .fold(f64::INFINITY, f64::min);
     if !(worst >= MIN_PATTERN_SICN) {
-        return Err(format!(
-            "pattern {} gives a quad of SICN {worst:.3}",
-            pattern.name
-        ));
+        return Err(format!("pattern {pattern} gives a quad of SICN {worst:.3}"));
     }
-    Ok((patch, pattern.name.clone()))
+    Ok(patch)
 }
 
 #[cfg(test)]

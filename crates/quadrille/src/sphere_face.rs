@@ -17,7 +17,7 @@ use geometry::{FaceId, Model};
 
 use crate::curve_mesh::CurveMesh;
 use crate::face_triangulation::{LocalNode, NodeRef};
-use crate::split::{quad_quality, QuadPatch};
+use crate::split::QuadPatch;
 
 /// A projected point farther than this share of the radius from the
 /// surface means the face is not a sphere.
@@ -289,32 +289,14 @@ fn lay_cube(
             q.swap(1, 3);
         }
     }
-    let mut patch = QuadPatch {
-        quad_tri: (0..quads.len() as u32).collect(),
-        nodes,
-        pos,
-        quads,
-    };
-    crate::smoothing::optimize(
-        face,
-        &mut patch,
-        &crate::smoothing::OptimizeOptions::default(),
-    );
-    let worst = patch
-        .quads
-        .iter()
-        .map(|q| quad_quality(face, &patch.nodes, &patch.pos, q))
-        .fold(f64::INFINITY, f64::min);
-    if !(worst >= crate::pattern_face::MIN_PATTERN_SICN) {
-        return Err(format!("the cube gives a quad of SICN {worst:.3}"));
-    }
-    Ok(patch)
+    crate::pattern_face::smooth_and_check(face, nodes, pos, quads, "cube")
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::curve_mesh::{discretize_all, plan_curves};
+    use crate::split::quad_quality;
 
     #[test]
     fn a_full_sphere_is_a_cube_with_eight_valence_3_vertices() {

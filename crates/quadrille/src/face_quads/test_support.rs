@@ -81,9 +81,16 @@ pub(crate) fn split_patch(n: u32) -> FaceQuads {
             }
         }
     }
+    let quads = split_in_quads(&mut pts, &tris);
+    planar(&pts, quads)
+}
+
+/// Splits the triangles `tris` on `pts` into three quads each (edge
+/// midpoints and centroid, appended to `pts`), as the baseline mesher does.
+pub(crate) fn split_in_quads(pts: &mut Vec<[f64; 2]>, tris: &[[u32; 3]]) -> Vec<[u32; 4]> {
     let mut mids = std::collections::BTreeMap::new();
     let mut quads = Vec::new();
-    for t in &tris {
+    for t in tris {
         let mut m = [0u32; 3];
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
@@ -100,7 +107,7 @@ pub(crate) fn split_patch(n: u32) -> FaceQuads {
         quads.push([t[1], m[1], g, m[0]]);
         quads.push([t[2], m[2], g, m[1]]);
     }
-    planar(&pts, quads)
+    quads
 }
 
 /// A planar quad patch under construction (a topological disk): points in

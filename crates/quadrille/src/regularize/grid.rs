@@ -28,10 +28,11 @@ use mesh::NodeClass;
 
 use crate::face_quads::{FaceQuads, QVertex};
 
-/// The boundary loop of `fq` as local vertex ids, following the directed
-/// boundary edges (the quads on the left), starting at the smallest id.
-/// `None` unless the boundary is one simple loop holding every fixed vertex.
-pub fn single_boundary_loop(fq: &FaceQuads) -> Option<Vec<u32>> {
+/// The boundary of `fq`'s live quads as one loop of local vertex ids,
+/// following the directed boundary edges (the quads on the left), starting
+/// at the smallest id; `None` when the boundary touches itself or is
+/// several loops.
+pub fn boundary_loop(fq: &FaceQuads) -> Option<Vec<u32>> {
     let mut directed = std::collections::BTreeSet::new();
     for q in fq.live_quads() {
         let r = fq.quads[q as usize];
@@ -58,6 +59,13 @@ pub fn single_boundary_loop(fq: &FaceQuads) -> Option<Vec<u32>> {
     if lp.len() != next.len() {
         return None; // several loops
     }
+    Some(lp)
+}
+
+/// [`boundary_loop`] when it holds every fixed vertex of `fq` (one simple
+/// loop is the whole boundary).
+pub fn single_boundary_loop(fq: &FaceQuads) -> Option<Vec<u32>> {
+    let lp = boundary_loop(fq)?;
     let fixed_alive = fq.verts.iter().filter(|x| x.alive && x.fixed).count();
     if fixed_alive != lp.len() {
         return None; // a fixed vertex off the loop (a pole, a hard point)

@@ -246,32 +246,7 @@ impl QuadTarget {
 /// `n1 × n2` for a face with one boundary loop and 4 corners (ideal valence
 /// 2); `None` otherwise.
 fn four_sided_grid(fq: &FaceQuads) -> Option<usize> {
-    let mut directed = std::collections::HashSet::new();
-    for q in fq.live_quads() {
-        let r = fq.quads[q as usize];
-        for i in 0..4 {
-            directed.insert((r[i], r[(i + 1) % 4]));
-        }
-    }
-    let mut next = std::collections::HashMap::new();
-    for &(a, b) in &directed {
-        if !directed.contains(&(b, a)) && next.insert(a, b).is_some() {
-            return None; // a vertex where the boundary touches itself
-        }
-    }
-    let start = *next.keys().min()?;
-    let mut lp = vec![start];
-    let mut v = next[&start];
-    while v != start {
-        if lp.len() > next.len() {
-            return None;
-        }
-        lp.push(v);
-        v = *next.get(&v)?;
-    }
-    if lp.len() != next.len() {
-        return None; // several loops
-    }
+    let lp = grid::boundary_loop(fq)?;
     let corners: Vec<usize> = (0..lp.len())
         .filter(|&i| fq.verts[lp[i] as usize].ideal == 2)
         .collect();

@@ -11,7 +11,7 @@ use super::driver::Regularizer;
 use super::ops::{apply, apply_topology, effect, score_delta, Effect, Op};
 use super::validity::{quad_angles, quad_valid, AngleWindow};
 use super::*;
-use crate::face_quads::test_support::{grid, planar, plane, split_patch};
+use crate::face_quads::test_support::{grid, planar, plane, split_in_quads, split_patch};
 use crate::face_quads::FaceQuads;
 
 mod stars;
@@ -1041,25 +1041,7 @@ fn split_triangle() -> FaceQuads {
         [0.0, 2.0],
     ];
     let tris = [[0u32, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
-    let mut mids = std::collections::BTreeMap::new();
-    let mut quads = Vec::new();
-    for t in &tris {
-        let mut m = [0u32; 3];
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            m[k] = *mids.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                let (p, q) = (pts[a as usize], pts[b as usize]);
-                pts.push([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])]);
-                pts.len() as u32 - 1
-            });
-        }
-        let (a, b, c) = (pts[t[0] as usize], pts[t[1] as usize], pts[t[2] as usize]);
-        pts.push([(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0]);
-        let g = pts.len() as u32 - 1;
-        quads.push([t[0], m[0], g, m[2]]);
-        quads.push([t[1], m[1], g, m[0]]);
-        quads.push([t[2], m[2], g, m[1]]);
-    }
+    let quads = split_in_quads(&mut pts, &tris);
     planar(&pts, quads)
 }
 
