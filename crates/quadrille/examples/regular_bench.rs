@@ -466,13 +466,5 @@ fn boundary_loops(fq: &quadrille::face_quads::FaceQuads) -> usize {
 
 /// Edge counts of the 4 sides of a single-loop face with 4 corners (ideal 2).
 fn four_sides(fq: &quadrille::face_quads::FaceQuads) -> Option<[usize; 4]> {
-    let lp = quadrille::regularize::grid::boundary_loop(fq)?;
-    let corners: Vec<usize> = (0..lp.len())
-        .filter(|&i| fq.verts[lp[i] as usize].ideal == 2)
-        .collect();
-    if corners.len() != 4 {
-        return None;
-    }
-    let side = |k: usize| (corners[(k + 1) % 4] + lp.len() - corners[k]) % lp.len();
-    Some([side(0), side(1), side(2), side(3)])
+    quadrille::regularize::grid::four_side_counts(fq)
 }

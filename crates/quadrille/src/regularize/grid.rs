@@ -62,6 +62,21 @@ pub fn boundary_loop(fq: &FaceQuads) -> Option<Vec<u32>> {
     Some(lp)
 }
 
+/// Edge counts of the 4 sides of a face whose boundary is one loop with 4
+/// corners (ideal valence 2), from the corner after the smallest vertex id;
+/// `None` otherwise.
+pub fn four_side_counts(fq: &FaceQuads) -> Option<[usize; 4]> {
+    let lp = boundary_loop(fq)?;
+    let corners: Vec<usize> = (0..lp.len())
+        .filter(|&i| fq.verts[lp[i] as usize].ideal == 2)
+        .collect();
+    if corners.len() != 4 {
+        return None;
+    }
+    let side = |k: usize| (corners[(k + 1) % 4] + lp.len() - corners[k]) % lp.len();
+    Some([side(0), side(1), side(2), side(3)])
+}
+
 /// [`boundary_loop`] when it holds every fixed vertex of `fq` (one simple
 /// loop is the whole boundary).
 pub fn single_boundary_loop(fq: &FaceQuads) -> Option<Vec<u32>> {

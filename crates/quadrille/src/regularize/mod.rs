@@ -246,15 +246,8 @@ impl QuadTarget {
 /// `n1 × n2` for a face with one boundary loop and 4 corners (ideal valence
 /// 2); `None` otherwise.
 fn four_sided_grid(fq: &FaceQuads) -> Option<usize> {
-    let lp = grid::boundary_loop(fq)?;
-    let corners: Vec<usize> = (0..lp.len())
-        .filter(|&i| fq.verts[lp[i] as usize].ideal == 2)
-        .collect();
-    if corners.len() != 4 {
-        return None;
-    }
-    let side = |k: usize| (corners[(k + 1) % 4] + lp.len() - corners[k]) % lp.len();
-    Some(side(0).max(side(2)) * side(1).max(side(3)))
+    let side = grid::four_side_counts(fq)?;
+    Some(side[0].max(side[2]) * side[1].max(side[3]))
 }
 
 /// 3D area of the live quads (each as two triangles).
