@@ -7,7 +7,7 @@
 //! target, r > 0: r × input), `QR_DEPTH`, `QR_BUDGET`, `QR_TRANSLATION`,
 //! `QR_PAIR_*` override the options, `QR_PREFER_INTERIOR` sets `prefer_interior`; `QR_VERBOSE` prints per-face reports,
 //! `QR_DIAG` / `QR_DIAG_BEFORE` where the irregular vertices sit after / before,
-//! `QR_FACES=DIR` one flat (u, v) picture per face.
+//! `QR_FACES=DIR` one flat (u, v) picture per face, `QR_SIZE_FACTOR` the baseline's size factor.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -41,7 +41,18 @@ fn main() {
             }
         };
         let t0 = Instant::now();
-        let mut mesh = match mesh_model(&model, &MeshOptions::default()) {
+        let size = std::env::var("QR_SIZE_FACTOR")
+            .ok()
+            .and_then(|s| s.parse::<f64>().ok())
+            .map(quadrille::Size::Factor)
+            .unwrap_or_default();
+        let mut mesh = match mesh_model(
+            &model,
+            &MeshOptions {
+                size,
+                ..Default::default()
+            },
+        ) {
             Ok(m) => m,
             Err(e) => {
                 println!("| {name} | baseline mesher failed: {e} |");
