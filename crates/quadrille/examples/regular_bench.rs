@@ -7,6 +7,7 @@
 //! target, r > 0: r × input), `QR_DEPTH`, `QR_BUDGET`, `QR_TRANSLATION`,
 //! `QR_PAIR_*` override the options, `QR_PREFER_INTERIOR` sets `prefer_interior`; `QR_VERBOSE` prints per-face reports,
 //! `QR_DIAG` / `QR_DIAG_BEFORE` where the irregular vertices sit after / before,
+//! `QR_INVALID` the quads left outside (5°, 175°), with their angles and corner classes,
 //! `QR_FACES=DIR` one flat (u, v) picture per face, `QR_SIZE_FACTOR` the baseline's size factor.
 
 use std::path::{Path, PathBuf};
@@ -157,6 +158,9 @@ fn main() {
             t_reg,
             rep.skipped.len()
         );
+        if std::env::var("QR_INVALID").is_ok() {
+            list_invalid(&model, &mesh);
+        }
         if std::env::var("QR_VERBOSE").is_ok() {
             for f in &rep.faces {
                 eprintln!("  face {}: quads {:?} verts {:?} irregular {:?} invalid {:?} window {:?} ops {:?}", f.face.0 + 1, f.quads, f.verts, f.irregular, f.invalid, f.window, f.ops);
@@ -478,4 +482,37 @@ fn boundary_loops(fq: &quadrille::face_quads::FaceQuads) -> usize {
 /// Edge counts of the 4 sides of a single-loop face with 4 corners (ideal 2).
 fn four_sides(fq: &quadrille::face_quads::FaceQuads) -> Option<[usize; 4]> {
     quadrille::regularize::grid::four_side_counts(fq)
+}
+
+/// The quads of the regularized mesh outside the base angle window
+/// (`QR_INVALID`): face, angles, and the classification of each corner.
+fn list_invalid(model: &geometry::Model, mesh: &mesh::QuadMesh) {
+    use quadrille::face_quads::extract::{extract_face, quads_by_face};
+    use quadrille::regularize::validity::{quad_angles, quad_valid};
+    use quadrille::regularize::AngleWindow;
+    for (fid, qids) in quads_by_face(mesh) {
+        let Ok(fq) = extract_face(model, mesh, fid, &qids) else {
+            continue;
+        };
+        let face = &model.faces[fid.idx()];
+        for q in fq.live_quads() {
+            if quad_valid(&fq, face, q, AngleWindow::BASE) {
+                continue;
+            }
+            let angles = quad_angles(&fq, face, q).map(|a| a.0.map(|x| x.round()));
+            let classes: Vec<String> = fq.quads[q as usize]
+                .iter()
+                .map(|&v| match &fq.verts[v as usize].class {
+                    mesh::NodeClass::Corner(c) => format!("corner {}", c.0 + 1),
+                    mesh::NodeClass::Curve(c, _) => format!("curve {}", c.0 + 1),
+                    mesh::NodeClass::Face(..) => "face".to_string(),
+                    other => format!("{other:?}"),
+                })
+                .collect();
+            eprintln!(
+                "  invalid quad, face {}: angles {angles:?} corners {classes:?}",
+                fid.0 + 1
+            );
+        }
+    }
 }

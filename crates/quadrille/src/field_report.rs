@@ -483,6 +483,37 @@ mod tests {
     }
 
     #[test]
+    fn cylinder_side_takes_the_parallel_field_along_its_axis() {
+        let model = geometry::primitives::cylinder(1.0, 2.0);
+        let fields = model_fields(
+            &model,
+            &FieldOptions {
+                size: Size::Absolute(0.4),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let mut sides = 0;
+        for report in &fields.faces {
+            let f = report.outcome.as_ref().expect("field");
+            if f.singularities.list.is_empty() {
+                // the side: no diffusion ran, one branch along z everywhere
+                sides += 1;
+                assert!(f.field.levels.is_empty());
+                // (within the tilt of a secant triangle's plane)
+                for d in f.triangle_directions().into_iter().flatten() {
+                    let along = d[0][2].abs().max(d[1][2].abs());
+                    assert!(along > 0.99, "cross {d:?} off the axis");
+                }
+            } else {
+                // a disc: round boundary, the diffusion and its singularities
+                assert!(!f.field.levels.is_empty());
+            }
+        }
+        assert_eq!(sides, 1);
+    }
+
+    #[test]
     fn field_mesh_triangles_follow_the_oriented_normal() {
         for reversed in [false, true] {
             let mut model = geometry::primitives::square(1.0);

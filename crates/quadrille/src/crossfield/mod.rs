@@ -18,6 +18,11 @@
 //!    one numeric factorization per level into the same buffers, and
 //!    [`linsolve`]'s own supernodal triangular solves for the iterations.
 //!
+//! Before step 3, a face whose boundary-aligned field is one constant 3D
+//! direction projected on the surface (a cylinder's side, a plane face with
+//! axis-parallel sides) gets that field directly ([`parallel_field`]): it
+//! has zero Dirichlet energy, so the diffusion would converge to it.
+//!
 //! A surface without any feature edge (a closed sphere or torus given as one
 //! triangle mesh) has no Dirichlet condition; the iterations then start from
 //! a deterministic non-trivial field ([`mbo::closed_surface_start`]).
@@ -127,6 +132,10 @@ pub struct CrossFieldOptions {
     pub max_iterations: usize,
     /// Apply the one-triangle boundary-condition extension (§3.1 of the paper).
     pub extend_boundary_conditions: bool,
+    /// Before the diffusion, try the parallel field of [`parallel_field`]
+    /// (a cylinder, a plane with axis-aligned sides): when it exists it is
+    /// the minimizer, and the diffusion is skipped.
+    pub parallel_shortcut: bool,
 }
 
 impl Default for CrossFieldOptions {
@@ -136,6 +145,7 @@ impl Default for CrossFieldOptions {
             tolerance: 1e-3,
             max_iterations: 8,
             extend_boundary_conditions: true,
+            parallel_shortcut: true,
         }
     }
 }
@@ -180,6 +190,17 @@ pub fn compute_cross_field(
         ));
     }
     let topology = FaceTopology::build(mesh)?;
+    if opts.parallel_shortcut {
+        if let Some(u) = parallel_field(&topology) {
+            let fixed = topology.feature.clone();
+            return Ok(CrossField {
+                topology,
+                u,
+                fixed,
+                levels: Vec::new(),
+            });
+        }
+    }
     let ne = topology.edges.len();
     let mut fixed = topology.feature.clone();
     let mut u: Vec<Cplx> = vec![[0.0, 0.0]; ne];
@@ -200,6 +221,79 @@ pub fn compute_cross_field(
         fixed,
         levels,
     })
+}
+
+/// Largest deviation, in radians of θ, that [`parallel_field`] accepts: of a
+/// feature edge from the field, and between the crosses of one triangle's
+/// three edges.
+pub const PARALLEL_TOLERANCE: f64 = 0.5 * std::f64::consts::PI / 180.0;
+
+/// The boundary-aligned cross field made of one constant 3D direction `a`
+/// projected on every triangle's plane, when it exists: every feature edge
+/// parallel or orthogonal to it and the three edges of every triangle
+/// carrying the same cross (within [`PARALLEL_TOLERANCE`]). Such a field has
+/// zero Dirichlet energy and meets every boundary condition, so it is what
+/// the diffusion converges to, without the solves: the lateral face of a
+/// cylinder (a = its axis), a plane face whose sides are parallel to two
+/// orthogonal directions. The candidates for `a` are the first feature
+/// edge's direction, the normal of the plane of that edge and the next
+/// feature edge not parallel to it (a cylinder's axis, from two chords of
+/// one circle), and the first edge's perpendicular in the tangent plane of
+/// its triangle. `None` on a face without feature edges or when no
+/// candidate fits.
+pub fn parallel_field(topo: &FaceTopology) -> Option<Vec<Cplx>> {
+    let first = topo.feature.iter().position(|&f| f)?;
+    let t0 = topo.edge_tris[first]
+        .iter()
+        .copied()
+        .find(|&t| t != topology::NONE)?;
+    let x = topo.edge_dir[first];
+    let n = topo.normals[t0 as usize];
+    let tol4 = 4.0 * PARALLEL_TOLERANCE;
+    // the normal of the plane of two non-parallel feature edges: a
+    // cylinder's axis from two chords of one of its circles
+    let across = (0..topo.edges.len())
+        .filter(|&e| topo.feature[e])
+        .map(|e| vec3::cross(x, topo.edge_dir[e]))
+        .find(|c| vec3::norm(*c) > 0.2)
+        .and_then(vec3::normalize);
+    let candidates = [Some(x), across, Some(vec3::cross(n, x))];
+    'candidate: for a in candidates.into_iter().flatten() {
+        let mut u: Vec<Cplx> = Vec::with_capacity(topo.edges.len());
+        for e in 0..topo.edges.len() {
+            let t = topo.edge_tris[e]
+                .iter()
+                .copied()
+                .find(|&t| t != topology::NONE)?;
+            let n = topo.normals[t as usize];
+            let d = vec3::sub(a, vec3::scale(n, vec3::dot(a, n)));
+            let (ex, ey) = (topo.edge_dir[e], vec3::cross(n, topo.edge_dir[e]));
+            let (c, s) = (vec3::dot(d, ex), vec3::dot(d, ey));
+            if !(c.hypot(s) > 0.5) {
+                continue 'candidate; // a leaves the tangent plane
+            }
+            let phi4 = 4.0 * s.atan2(c);
+            if topo.feature[e] {
+                if phi4.cos() < tol4.cos() {
+                    continue 'candidate;
+                }
+                u.push([1.0, 0.0]);
+            } else {
+                u.push([phi4.cos(), phi4.sin()]);
+            }
+        }
+        for t in 0..topo.triangles.len() {
+            let v0 = topology::cmul(topo.rot4[t][0], u[topo.tri_edges[t][0] as usize]);
+            for k in 1..3 {
+                let v = topology::cmul(topo.rot4[t][k], u[topo.tri_edges[t][k] as usize]);
+                if topology::arg_ratio(v, v0).abs() > tol4 {
+                    continue 'candidate;
+                }
+            }
+        }
+        return Some(u);
+    }
+    None
 }
 
 impl CrossField {

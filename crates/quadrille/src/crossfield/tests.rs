@@ -89,8 +89,13 @@ fn bad_input_is_an_error_not_a_panic() {
 
 #[test]
 fn square_field_is_constant_and_boundary_aligned() {
+    // the diffusion itself (the parallel shortcut would skip it)
     let sq = fixtures::square_grid(1.0, 20);
-    let f = compute_cross_field(&sq, &CrossFieldOptions::default()).unwrap();
+    let opts = CrossFieldOptions {
+        parallel_shortcut: false,
+        ..Default::default()
+    };
+    let f = compute_cross_field(&sq, &opts).unwrap();
     let topo = &f.topology;
     for e in 0..topo.edges.len() {
         let u = f.u[e];
@@ -156,4 +161,39 @@ fn deterministic() {
     let a = compute_cross_field(&d, &CrossFieldOptions::default()).unwrap();
     let b = compute_cross_field(&d, &CrossFieldOptions::default()).unwrap();
     assert_eq!(a.u, b.u);
+}
+
+#[test]
+fn parallel_shortcut_gives_the_diffused_field_of_a_square() {
+    let sq = fixtures::square_grid(1.0, 12);
+    let fast = compute_cross_field(&sq, &CrossFieldOptions::default()).unwrap();
+    let slow = compute_cross_field(
+        &sq,
+        &CrossFieldOptions {
+            parallel_shortcut: false,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(fast.levels.is_empty(), "no diffusion level ran");
+    assert!(!slow.levels.is_empty());
+    let topo = &fast.topology;
+    for e in 0..topo.edges.len() {
+        if topo.feature[e] {
+            assert_eq!(fast.u[e], [1.0, 0.0], "edge {e}: boundary condition");
+        }
+        let step = topology::arg_ratio(fast.u[e], slow.u[e]).abs() / 4.0;
+        assert!(step < 1e-3, "edge {e}: {step} rad from the diffused field");
+    }
+}
+
+#[test]
+fn disk_and_annulus_have_no_parallel_field() {
+    // a round boundary cannot be parallel or orthogonal to one direction
+    for mesh in [fixtures::disk(8), fixtures::annulus(1.0, 2.0, 4, 24)] {
+        let topo = FaceTopology::build(&mesh).unwrap();
+        assert!(parallel_field(&topo).is_none());
+        let f = compute_cross_field(&mesh, &CrossFieldOptions::default()).unwrap();
+        assert!(!f.levels.is_empty());
+    }
 }
