@@ -100,8 +100,32 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             threads: args.threads,
             ..Default::default()
         };
-        quadrille::regularize::regularize_mesh(&model, &mut m, &ropts)
-            .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
+        let bar = FaceProgress::new(args.quiet, model.faces.len(), "regularizing");
+        let progress = bar.callback();
+        let rep = quadrille::regularize::regularize_mesh_with_progress(
+            &model,
+            &mut m,
+            &ropts,
+            progress.as_ref(),
+        )
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
+        bar.finish();
+        if !args.quiet {
+            let (before, after) = rep.irregular();
+            let reverted = rep.faces.iter().filter(|f| f.reverted).count();
+            eprintln!(
+                "regularized {} faces: face-local irregular vertices {before} -> {after}{}",
+                rep.faces.len(),
+                if reverted > 0 {
+                    format!(", {reverted} kept as split (regularizing them inverted quads)")
+                } else {
+                    String::new()
+                }
+            );
+            for (f, why) in &rep.skipped {
+                eprintln!("face {}: not regularized ({why})", f.0 + 1);
+            }
+        }
     }
     let t_improve = t2.elapsed().as_secs_f64();
 

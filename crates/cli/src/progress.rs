@@ -1,4 +1,5 @@
-//! The progress bar of the commands that work face by face (`mesh`, `field`).
+//! The progress bar of the commands that work face by face (`mesh`, its
+//! regularization, `field`).
 
 use std::sync::Arc;
 
@@ -28,7 +29,10 @@ impl FaceProgress {
     /// The callback the library calls as faces finish.
     pub fn callback(&self) -> Option<quadrille::ProgressFn> {
         self.bar.clone().map(|b| -> quadrille::ProgressFn {
-            Arc::new(move |done, _| b.set_position(done as u64))
+            Arc::new(move |done, total| {
+                b.set_length(total as u64);
+                b.set_position(done as u64)
+            })
         })
     }
 

@@ -667,6 +667,19 @@ pub fn regularize_mesh(
     mesh: &mut QuadMesh,
     opts: &RegularizeOptions,
 ) -> Result<RegularizeReport, RegularizeError> {
+    regularize_mesh_with_progress(model, mesh, opts, None)
+}
+
+/// [`regularize_mesh`], calling `progress(faces done, faces with quads)` as
+/// each face's regularization finishes (from worker threads, in no
+/// particular order): the stage takes seconds on CAD models with dozens of
+/// faces, far longer than the baseline mesh it starts from.
+pub fn regularize_mesh_with_progress(
+    model: &Model,
+    mesh: &mut QuadMesh,
+    opts: &RegularizeOptions,
+    progress: Option<&crate::ProgressFn>,
+) -> Result<RegularizeReport, RegularizeError> {
     if mesh.quad_face.len() != mesh.quads.len() {
         return Err(RegularizeError::Inconsistent(format!(
             "{} quads but {} quad faces",
@@ -681,8 +694,11 @@ pub fn regularize_mesh(
             mesh.node_class.len()
         )));
     }
+    let done = std::sync::atomic::AtomicUsize::new(0);
     let work = || -> Vec<(FaceId, Result<(FaceQuads, FaceReport), String>)> {
-        quads_by_face(mesh)
+        let faces = quads_by_face(mesh);
+        let total = faces.len();
+        faces
             .into_par_iter()
             .map(|(fid, qids)| {
                 let res = extract_face(model, mesh, fid, &qids)
@@ -691,6 +707,12 @@ pub fn regularize_mesh(
                         let rep = regularize_face(&model.faces[fid.idx()], fid, &mut fq, opts);
                         (fq, rep)
                     });
+                if let Some(p) = progress {
+                    p(
+                        done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
+                        total,
+                    );
+                }
                 (fid, res)
             })
             .collect()

@@ -1114,3 +1114,40 @@ fn boundary_angles_at_the_225_degree_threshold_count_as_straight() {
         }
     }
 }
+
+#[test]
+fn regularize_progress_counts_every_face_once() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let model = primitives::cylinder(1.0, 2.0);
+    let mut mesh = crate::mesh_model(
+        &model,
+        &crate::MeshOptions {
+            size: crate::Size::Absolute(0.3),
+            threads: Some(1),
+            progress: None,
+        },
+    )
+    .unwrap();
+    let calls = std::sync::Arc::new(AtomicUsize::new(0));
+    let last = std::sync::Arc::new(AtomicUsize::new(0));
+    let (c, l) = (calls.clone(), last.clone());
+    let progress: crate::ProgressFn = std::sync::Arc::new(move |done, total| {
+        assert!(done >= 1 && done <= total, "{done} of {total}");
+        c.fetch_add(1, Ordering::Relaxed);
+        l.fetch_max(done, Ordering::Relaxed);
+    });
+    let rep = regularize_mesh_with_progress(
+        &model,
+        &mut mesh,
+        &RegularizeOptions {
+            threads: Some(2),
+            ..Default::default()
+        },
+        Some(&progress),
+    )
+    .unwrap();
+    // the side and the two discs
+    assert_eq!(rep.faces.len(), 3);
+    assert_eq!(calls.load(Ordering::Relaxed), 3);
+    assert_eq!(last.load(Ordering::Relaxed), 3);
+}
