@@ -13,6 +13,9 @@
 //! lowest vertex of each connected component. Triangles whose medial loop
 //! holds a singularity get `G_T = 0` (their gradient is meaningless).
 //!
+//! A field from [`crate::crossfield::parallel_field`] does not turn, so its
+//! `H` is 0 without a solve.
+//!
 //! `H` is defined up to a constant `C`; [`scaling_constant`] picks it so that
 //! `∫ e^{−2(H + C)} = N`, the target number of quads on the face.
 
@@ -82,6 +85,13 @@ pub fn conformal_scaling(field: &CrossField) -> Result<ConformalScaling, Scaling
     let topo = &field.topology;
     let nv = topo.positions.len();
     let nt = topo.triangles.len();
+    if field.parallel {
+        // a parallel field does not turn: ∇θ = 0, so G = 0 and H = 0
+        return Ok(ConformalScaling {
+            h: vec![0.0; nv],
+            singular_triangles: 0,
+        });
+    }
     // connected components: pin the lowest vertex of each
     let mut parent: Vec<u32> = (0..nv as u32).collect();
     fn find(p: &mut [u32], mut i: u32) -> u32 {

@@ -177,6 +177,9 @@ pub struct CrossField {
     pub fixed: Vec<bool>,
     /// Per-level statistics of the MBO diffusion.
     pub levels: Vec<LevelStats>,
+    /// True for the field of [`parallel_field`] (no diffusion ran): its
+    /// conformal scaling is 0, as on the developable surface it sits on.
+    pub parallel: bool,
 }
 
 /// Computes the cross field of one face (see the module documentation).
@@ -198,6 +201,7 @@ pub fn compute_cross_field(
                 u,
                 fixed,
                 levels: Vec::new(),
+                parallel: true,
             });
         }
     }
@@ -220,6 +224,7 @@ pub fn compute_cross_field(
         u,
         fixed,
         levels,
+        parallel: false,
     })
 }
 

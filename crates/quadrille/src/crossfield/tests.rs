@@ -175,8 +175,17 @@ fn parallel_shortcut_gives_the_diffused_field_of_a_square() {
         },
     )
     .unwrap();
-    assert!(fast.levels.is_empty(), "no diffusion level ran");
-    assert!(!slow.levels.is_empty());
+    assert!(
+        fast.levels.is_empty() && fast.parallel,
+        "no diffusion level ran"
+    );
+    assert!(!slow.levels.is_empty() && !slow.parallel);
+    // the scaling of the parallel field is 0 without a solve, as the solve
+    // gives for the diffused one
+    let h_fast = crate::scaling::conformal_scaling(&fast).unwrap().h;
+    let h_slow = crate::scaling::conformal_scaling(&slow).unwrap().h;
+    assert!(h_fast.iter().all(|&x| x == 0.0));
+    assert!(h_slow.iter().all(|&x| x.abs() < 1e-6), "{:?}", &h_slow[..4]);
     let topo = &fast.topology;
     for e in 0..topo.edges.len() {
         if topo.feature[e] {
