@@ -17,8 +17,12 @@ use geometry::{CurveId, Model};
 /// make a cusp.
 pub const CUSP_DEG: f64 = 10.0;
 
-/// Width over length the first quads beyond a cusp should reach.
-pub const MIN_WIDTH_RATIO: f64 = 0.1;
+/// Width over length the first quads beyond a cusp should reach. 0.2
+/// rather than 0.1: on the 26 shared models the worst quad of the five
+/// models with cusps rises (i13o_s6 0.097 → 0.164, i12o_s5 0.108 → 0.149,
+/// i16o_s9 0.117 → 0.188, i14o_s7 0.105 → 0.124, i03o_m3 0.097 → 0.117) and
+/// the irregular share falls on three of them (BENCHMARKS.md, "Cusps again").
+pub const MIN_WIDTH_RATIO: f64 = 0.2;
 
 /// Distances along the curves at which the wedge width is measured: shares
 /// of the shorter curve's length, growing geometrically up to a half.
@@ -110,14 +114,14 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_circle_tangent_to_a_line_asks_for_a_fifth_of_its_radius() {
+    fn a_circle_tangent_to_a_line_asks_for_two_fifths_of_its_radius() {
         // the wedge between y = 0 and the circle of radius R about (0, R):
-        // width s² / 2R at distance s, a tenth of s at s = R / 5
+        // width s² / 2R at distance s, a fifth of s at s = 2R / 5
         let model = geometry::primitives::cusp(7.0, 0.0);
         let r = cusp_reaches(&model);
         let at_origin = [r[0][0], r[2][0]];
         for reach in at_origin {
-            assert!(reach > 0.17 * 7.0 && reach < 0.3 * 7.0, "{r:?}");
+            assert!(reach > 0.36 * 7.0 && reach < 0.5 * 7.0, "{r:?}");
         }
         // the 90° corner at (R, 0) is no cusp
         assert_eq!(r[0][1], 0.0, "{r:?}");
@@ -141,8 +145,8 @@ mod tests {
         let kept = discretize_all(&model, &plan_final_curves(&model, 3.0, &sizes));
         for c in [0, 2] {
             assert!(first(&plain, c) < 0.6, "{}", first(&plain, c));
-            // a fifth of the radius: where the wedge is a tenth as wide as long
-            assert!(first(&kept, c) > 0.18 * 7.0, "{}", first(&kept, c));
+            // two fifths of the radius: where the wedge is a fifth as wide as long
+            assert!(first(&kept, c) > 0.36 * 7.0, "{}", first(&kept, c));
         }
     }
 }
