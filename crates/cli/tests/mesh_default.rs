@@ -116,8 +116,9 @@ fn default_method_gives_a_valid_all_quad_mesh() {
 #[test]
 fn each_no_switch_turns_its_step_off() {
     let dir = tempfile::tempdir().unwrap();
-    // s10o_cyl_cutsphere: by default some faces by patterns, defects replaced, cavities remeshed
-    let model = cad("s10o_cyl_cutsphere.stp");
+    // n12o_limit_cycle_genus0: by default some faces by patterns, defects
+    // replaced, cavities remeshed (3 of 5, 2 of 2, 9)
+    let model = cad("n12o_limit_cycle_genus0.stp");
     let out = dir.path().join("m.msh");
     let all = topology_line(&mesh(&model, &out, &[]));
     assert!(number_after(&all, "") > 0, "{all}");
