@@ -1,6 +1,7 @@
 //! Developer aid: meshes a model with the quasi-structured method (all stages)
 //! and prints its poor quads (face, SICN, corner SICNs, node classes).
-//! Usage: unstructured_debug MODEL [THRESHOLD] (default 0: the inverted ones).
+//! Usage: unstructured_debug MODEL [THRESHOLD] (default 0: the inverted ones);
+//! `QD_SIZE_FACTOR` sets the size factor.
 fn main() {
     let mut args = std::env::args().skip(1);
     let path = args
@@ -8,7 +9,14 @@ fn main() {
         .expect("usage: unstructured_debug MODEL [THRESHOLD]");
     let threshold: f64 = args.next().map_or(0.0, |t| t.parse().expect("a number"));
     let model = occt::load(std::path::Path::new(&path)).expect("loads");
+    // QD_SIZE_FACTOR: the size factor (default 1)
+    let size = std::env::var("QD_SIZE_FACTOR")
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+        .map(quadrille::Size::Factor)
+        .unwrap_or_default();
     let opts = quadrille::MeshOptions {
+        size,
         threads: Some(1),
         ..Default::default()
     };
