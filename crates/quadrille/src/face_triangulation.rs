@@ -19,7 +19,7 @@
 use std::collections::HashMap;
 
 use geometry::vec3::{self, Vec3};
-use geometry::{CornerId, CurveId, Face, FaceId, Model};
+use geometry::{CornerId, CurveEntity, CurveId, CurveUse, Face, FaceId, Model};
 use spade::handles::{FixedFaceHandle, FixedVertexHandle, InnerTag};
 use spade::{
     ConstrainedDelaunayTriangulation, HasPosition, Point2, PositionInTriangulation, Triangulation,
@@ -232,20 +232,12 @@ impl<'a> FaceTriangulation<'a> {
                 let ce = &model.curves[c.idx()];
                 let cm = &curve_meshes[c.idx()];
                 let m = cm.params.len() - 1;
-                let pole_seg = if ce.degenerate {
-                    Some([u.pcurve.eval(ce.range.0), u.pcurve.eval(ce.range.1)])
-                } else {
-                    None
-                };
+                let pole_seg = ce.degenerate.then(|| pole_segment(face, u, ce));
                 // the previous / next uses may be degenerate: the corner nodes are poles then
                 let prev_deg = {
                     let p = &lp.uses[(k + nuses - 1) % nuses];
                     let pc = &model.curves[p.curve.idx()];
-                    if pc.degenerate {
-                        Some([p.pcurve.eval(pc.range.0), p.pcurve.eval(pc.range.1)])
-                    } else {
-                        None
-                    }
+                    pc.degenerate.then(|| pole_segment(face, p, pc))
                 };
                 for j in 0..cm.coarse {
                     let (i0, i1) = if u.forward {
@@ -813,6 +805,43 @@ impl<'a> FaceTriangulation<'a> {
     }
 }
 
+/// The (u, v) segment that maps to the pole of degenerate curve use `u`: its
+/// pcurve, widened to the face's whole (u, v) range when it runs along an
+/// iso-line. A cone apex's pcurve may cover only part of the face's u range
+/// (i04o_m4: a half cone whose apex pcurve spans a quarter turn, the next
+/// generatrix's pcurve starting from its end), yet every point of that
+/// iso-line is the apex; seen from an interior node the pole must sit at the
+/// node's own u, or the edges to it spiral across the surface.
+fn pole_segment(face: &Face, u: &CurveUse, ce: &CurveEntity) -> [[f64; 2]; 2] {
+    let a = u.pcurve.eval(ce.range.0);
+    let b = u.pcurve.eval(ce.range.1);
+    let bd = face.uv_bounds;
+    let tol = 1e-9 * ((bd.umax - bd.umin).abs() + (bd.vmax - bd.vmin).abs()).max(1e-300);
+    let finite = [bd.umin, bd.umax, bd.vmin, bd.vmax]
+        .iter()
+        .all(|x| x.is_finite());
+    if !finite {
+        return [a, b];
+    }
+    // keep the pcurve's direction so the segment is traversed the same way
+    let span = |x: f64, y: f64, min: f64, max: f64| {
+        if x <= y {
+            (min.min(x), max.max(y))
+        } else {
+            (max.max(x), min.min(y))
+        }
+    };
+    if (a[1] - b[1]).abs() <= tol {
+        let (u0, u1) = span(a[0], b[0], bd.umin, bd.umax);
+        [[u0, a[1]], [u1, b[1]]]
+    } else if (a[0] - b[0]).abs() <= tol {
+        let (v0, v1) = span(a[1], b[1], bd.vmin, bd.vmax);
+        [[a[0], v0], [b[0], v1]]
+    } else {
+        [a, b]
+    }
+}
+
 /// (u, v) midpoint of the edge between two local nodes (poles moved toward the other end).
 pub fn edge_mid_uv(a: &LocalNode, b: &LocalNode) -> [f64; 2] {
     let ua = a.uv_toward(b.uv);
@@ -903,6 +932,40 @@ mod tests {
         let r = tri(&m, 0.05);
         // 20 boundary points, area 1 at triangle size 0.1: roughly 100-300 triangles
         assert!(r[0].1 > 100 && r[0].1 < 400, "{r:?}");
+    }
+
+    #[test]
+    fn a_partial_apex_pcurve_is_widened_to_the_face() {
+        // the cone's apex pcurve covers [0, 2π]; cut it to a quarter turn, as
+        // i04o_m4's half cones do: the pole still spans the face's u range
+        let mut m = primitives::cone(1.0, 2.0);
+        m.curves[0].range = (0.0, 0.5 * std::f64::consts::PI);
+        let face = &m.faces[0];
+        let u = &face.loops[0].uses[0];
+        let va = u.pcurve.eval(0.0)[1];
+        let seg = pole_segment(face, u, &m.curves[0]);
+        let b = face.uv_bounds;
+        assert_eq!(seg, [[b.umin, va], [b.umax, va]]);
+        // seen from an interior node, the pole sits at the node's own u
+        let n = LocalNode {
+            uv: [0.0, va],
+            node: NodeRef::Corner(CornerId(0)),
+            pole: Some(seg),
+        };
+        assert_eq!(n.uv_toward([4.0, 0.3]), [4.0, va]);
+        // a pcurve across the iso-lines is left alone
+        m.curves[0].range = (0.0, 1.0);
+        let skew = geometry::CurveUse {
+            pcurve: std::sync::Arc::new(primitives::Line2d {
+                origin: [0.0, va],
+                dir: [1.0, 0.1],
+            }),
+            ..u.clone()
+        };
+        assert_eq!(
+            pole_segment(face, &skew, &m.curves[0]),
+            [[0.0, va], [1.0, va + 0.1]]
+        );
     }
 
     #[test]

@@ -4,7 +4,9 @@
 //! candidate quad. Candidates are ranked by `SICN_min · w`, the quad's worst
 //! corner SICN (with the CAD normals) times its alignment `w ∈ [0, 1]` with
 //! the cross field, and taken greedily, best first, each triangle at most
-//! once, as long as their SICN is above a threshold (0.1 in the paper).
+//! once, as long as their SICN is above a threshold (0.1 in the paper). A
+//! corner between two curve edges is measured as midpoint subdivision will
+//! leave it, between the curve's midpoint nodes.
 //! Triangles left over stay triangles: the result is quad-dominant (no
 //! perfect matching is sought). Optionally ([`recombine`]'s `max_path`), short
 //! augmenting paths then pair more triangles: a free triangle, a candidate
@@ -16,9 +18,10 @@ use std::collections::HashMap;
 
 use geometry::vec3::Vec3;
 use geometry::Face;
+use mesh::quality::corner_sicn;
 
 use crate::face_triangulation::LocalNode;
-use crate::split::quad_quality;
+use crate::split::{node_normal, quad_quality};
 
 /// The paper's threshold on the SICN of a recombined quad.
 pub const MIN_SICN: f64 = 0.1;
@@ -33,8 +36,12 @@ pub struct QuadDominant {
 }
 
 /// Recombines `tris` (counter-clockwise in (u, v), on `nodes` at 3D
-/// positions `pos`). `is_curve_edge(a, b)` tells which edges lie on CAD
-/// curves (never removed); `alignment` gives the weight of a quad from its
+/// positions `pos`). `curve_mid(a, b)` is, for an edge on a CAD curve (never
+/// removed), the 3D position of its midpoint node on the curve, and `None`
+/// for other edges: a quad with two curve edges in a row keeps, after
+/// midpoint subdivision, a corner between the two midpoints, flatter than the
+/// coarse one on a convex curve, and that corner is what is measured against
+/// `min_sicn`. `alignment` gives the weight of a quad from its
 /// four 3D corners (return 1 to rank by quality only). Quads are counter-
 /// clockwise in (u, v) like the triangles; their quality is measured with the
 /// face's oriented normal (reversed faces are taken into account).
@@ -44,7 +51,7 @@ pub fn recombine(
     nodes: &[LocalNode],
     pos: &[Vec3],
     tris: &[[u32; 3]],
-    is_curve_edge: impl Fn(u32, u32) -> bool,
+    curve_mid: impl Fn(u32, u32) -> Option<Vec3>,
     alignment: impl Fn(&[Vec3; 4]) -> f64,
     min_sicn: f64,
     max_path: usize,
@@ -61,7 +68,7 @@ pub fn recombine(
                     first.insert(key, (ti as u32, k));
                 }
                 Some(&(tj, kj)) => {
-                    if is_curve_edge(a, b) {
+                    if curve_mid(a, b).is_some() {
                         continue;
                     }
                     let u = tris[tj as usize];
@@ -81,7 +88,9 @@ pub fn recombine(
                     } else {
                         q
                     };
-                    let sicn = quad_quality(face, nodes, pos, &oriented);
+                    let sicn = quad_quality(face, nodes, pos, &oriented).min(
+                        subdivided_curve_corners(face, nodes, pos, &oriented, &curve_mid),
+                    );
                     if !(sicn > min_sicn) {
                         continue;
                     }
@@ -201,6 +210,34 @@ fn augment(
     }
 }
 
+/// Worst SICN, after midpoint subdivision, of the corners of quad `q`
+/// (oriented) that lie between two curve edges: the corner's sub-quad meets
+/// the curve at the two edges' midpoint nodes (`curve_mid`), not at the far
+/// ends. `+∞` when no corner has two curve edges.
+fn subdivided_curve_corners(
+    face: &Face,
+    nodes: &[LocalNode],
+    pos: &[Vec3],
+    q: &[u32; 4],
+    curve_mid: &impl Fn(u32, u32) -> Option<Vec3>,
+) -> f64 {
+    let mut worst = f64::INFINITY;
+    for k in 0..4 {
+        let (prev, b, next) = (q[(k + 3) % 4], q[k], q[(k + 1) % 4]);
+        let (Some(m_prev), Some(m_next)) = (curve_mid(prev, b), curve_mid(b, next)) else {
+            continue;
+        };
+        let Some(n) = node_normal(face, nodes, q, k) else {
+            continue;
+        };
+        let pb = pos[b as usize];
+        // corner 0 of (B, m_next, ·, m_prev) is the sub-quad's corner at B
+        let s = corner_sicn(&[pb, m_next, pb, m_prev], &[n; 4])[0];
+        worst = worst.min(s);
+    }
+    worst
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -231,7 +268,7 @@ mod tests {
             &nodes,
             &pos,
             &tris,
-            |_, _| false,
+            |_, _| None,
             |_| 1.0,
             MIN_SICN,
             0,
@@ -250,13 +287,65 @@ mod tests {
             &nodes,
             &pos,
             &tris,
-            |a, b| (a.min(b), a.max(b)) == (0, 2),
+            |a, b| ((a.min(b), a.max(b)) == (0, 2)).then_some([0.0; 3]),
             |_| 1.0,
             MIN_SICN,
             3,
         );
         assert!(r.quads.is_empty());
         assert_eq!(r.triangles.len(), 2);
+    }
+
+    #[test]
+    fn a_corner_flattened_by_subdivision_is_refused() {
+        // A, B, C on a circular arc bulging 0.08 at B, X inside: the pair
+        // (A, X, B), (B, X, C) makes the quad A X C B, whose corner at B has
+        // SICN 0.159; after subdivision that corner lies between the arc's
+        // midpoints and its SICN is 0.080, below the threshold
+        let m = primitives::square(1.0);
+        let h = 0.08;
+        let nodes = vec![
+            node(-1.0, 0.0),
+            node(0.0, -1.0),
+            node(0.0, h),
+            node(1.0, 0.0),
+        ];
+        let pos: Vec<Vec3> = nodes.iter().map(|n| [n.uv[0], n.uv[1], 0.0]).collect();
+        let tris = vec![[0, 1, 2], [2, 1, 3]];
+        // the arc: centre (0, c), radius r, through A, B and C
+        let c = (h * h - 1.0) / (2.0 * h);
+        let r = (1.0 + c * c).sqrt();
+        // the arc's midpoint between B (at angle π/2) and the end at x = ±1
+        let arc_mid = |x: f64| {
+            let t = 0.5 * ((-c).atan2(x) + 0.5 * std::f64::consts::PI);
+            [r * t.cos(), c + r * t.sin(), 0.0]
+        };
+        let mids = |a: u32, b: u32| match (a.min(b), a.max(b)) {
+            (0, 2) => Some(arc_mid(-1.0)),
+            (2, 3) => Some(arc_mid(1.0)),
+            _ => None,
+        };
+        // the coarse corner alone passes
+        let r0 = recombine(
+            &m.faces[0],
+            &nodes,
+            &pos,
+            &tris,
+            |_, _| None,
+            |_| 1.0,
+            MIN_SICN,
+            0,
+        );
+        assert_eq!(r0.quads.len(), 1);
+        let q = r0.quads[0];
+        let coarse = quad_quality(&m.faces[0], &nodes, &pos, &q);
+        assert!((coarse - 0.159).abs() < 1e-3, "{coarse}");
+        // measured at the midpoints, it does not
+        let sub = subdivided_curve_corners(&m.faces[0], &nodes, &pos, &q, &mids);
+        assert!((sub - 0.0797).abs() < 1e-3, "{sub}");
+        let r1 = recombine(&m.faces[0], &nodes, &pos, &tris, mids, |_| 1.0, MIN_SICN, 0);
+        assert!(r1.quads.is_empty());
+        assert_eq!(r1.triangles.len(), 2);
     }
 
     #[test]
@@ -279,7 +368,7 @@ mod tests {
             &nodes,
             &pos,
             &tris,
-            |_, _| false,
+            |_, _| None,
             |_| 1.0,
             MIN_SICN,
             3,
@@ -303,7 +392,7 @@ mod tests {
             &nodes,
             &pos,
             &tris,
-            |_, _| false,
+            |_, _| None,
             |_| 1.0,
             MIN_SICN,
             0,
@@ -322,7 +411,7 @@ mod tests {
             &nodes,
             &pos,
             &tris,
-            |_, _| false,
+            |_, _| None,
             middle,
             MIN_SICN,
             0,
@@ -339,7 +428,7 @@ mod tests {
             &nodes,
             &pos,
             &tris,
-            |_, _| false,
+            |_, _| None,
             middle,
             MIN_SICN,
             3,
@@ -351,7 +440,7 @@ mod tests {
             &nodes,
             &pos,
             &tris,
-            |_, _| false,
+            |_, _| None,
             middle,
             MIN_SICN,
             1,

@@ -164,7 +164,7 @@ pub fn mesh_face_unstructured(
         &ft.nodes,
         &ft.pos,
         &tris,
-        |a, b| boundary.contains_key(&(a.min(b), a.max(b))),
+        |a, b| boundary.get(&(a.min(b), a.max(b))).map(|m| m.pos),
         |q| bg.alignment(q).unwrap_or(0.0),
         opts.min_sicn,
         opts.augment_path,
