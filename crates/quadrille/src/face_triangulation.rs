@@ -812,7 +812,7 @@ impl<'a> FaceTriangulation<'a> {
 /// generatrix's pcurve starting from its end), yet every point of that
 /// iso-line is the apex; seen from an interior node the pole must sit at the
 /// node's own u, or the edges to it spiral across the surface.
-fn pole_segment(face: &Face, u: &CurveUse, ce: &CurveEntity) -> [[f64; 2]; 2] {
+pub fn pole_segment(face: &Face, u: &CurveUse, ce: &CurveEntity) -> [[f64; 2]; 2] {
     let a = u.pcurve.eval(ce.range.0);
     let b = u.pcurve.eval(ce.range.1);
     let bd = face.uv_bounds;

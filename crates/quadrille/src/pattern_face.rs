@@ -11,7 +11,7 @@ use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
 use crate::curve_mesh::CurveMesh;
-use crate::face_triangulation::{LocalNode, NodeRef};
+use crate::face_triangulation::{pole_segment, LocalNode, NodeRef};
 use crate::patterns::{library, match_pattern, refine};
 use crate::singularities::ideal_corner_valence;
 use crate::split::{quad_quality, QuadPatch};
@@ -58,7 +58,7 @@ fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, 
             if degenerate(k + n - 1) {
                 return Err("two degenerate curves in a row".into());
             }
-            let seg = [u.pcurve.eval(ce.range.0), u.pcurve.eval(ce.range.1)];
+            let seg = pole_segment(face, u, ce);
             let mid = [0.5 * (seg[0][0] + seg[1][0]), 0.5 * (seg[0][1] + seg[1][1])];
             ring.corners.push((ring.nodes.len(), f64::NAN));
             ring.nodes.push(LocalNode {

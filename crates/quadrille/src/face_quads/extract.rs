@@ -17,6 +17,7 @@ use geometry::{FaceId, Model};
 use mesh::{NodeClass, QuadMesh};
 
 use super::{FaceQuads, QVertex};
+use crate::face_triangulation::pole_segment;
 
 /// Why a face could not be turned into a [`FaceQuads`] (the face is then left as it is).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -83,11 +84,11 @@ fn candidates(model: &Model, fid: FaceId, class: NodeClass, xyz: [f64; 3]) -> Ve
                 let Some(ce) = model.curves.get(u.curve.idx()) else {
                     continue;
                 };
-                let (a, b) = (u.pcurve.eval(ce.range.0), u.pcurve.eval(ce.range.1));
                 if ce.degenerate && (ce.start == k || ce.end == k) {
-                    out.push(Cand::Pole([a, b]));
+                    out.push(Cand::Pole(pole_segment(face, u, ce)));
                     continue;
                 }
+                let (a, b) = (u.pcurve.eval(ce.range.0), u.pcurve.eval(ce.range.1));
                 if ce.start == k {
                     out.push(Cand::Pt(a));
                 }
