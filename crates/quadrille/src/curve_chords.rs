@@ -5,7 +5,10 @@
 //! (union–find); every curve of a chord gets the same count, the rounded mean
 //! of their ideal counts.
 
-use geometry::Model;
+use geometry::vec3;
+use geometry::{Face, Loop, Model};
+
+use crate::singularities::ideal_corner_valence;
 
 /// Two opposite curves join a chord only when their ideal counts differ by at
 /// most this fraction of the larger one (the spec's τ: "very different" means
@@ -79,6 +82,110 @@ pub fn chord_counts(classes: &[usize], ideal: &[f64]) -> Vec<usize> {
         .collect()
 }
 
+/// Interior angle (radians, measured on the surface) of loop `lp` of `face`
+/// where use `k` starts, between the previous use's end tangent and this
+/// use's start tangent; `None` when either use is a degenerate curve (a pole
+/// has no tangent) or the angle is undefined.
+pub fn use_start_angle(model: &Model, face: &Face, lp: &Loop, k: usize) -> Option<f64> {
+    let n = lp.uses.len();
+    let u = &lp.uses[k];
+    let prev = &lp.uses[(k + n - 1) % n];
+    let (ce, pce) = (
+        &model.curves[u.curve.idx()],
+        &model.curves[prev.curve.idx()],
+    );
+    if ce.degenerate || pce.degenerate {
+        return None;
+    }
+    let t_prev = if prev.forward {
+        pce.range.1
+    } else {
+        pce.range.0
+    };
+    let t_here = if u.forward { ce.range.0 } else { ce.range.1 };
+    let uv = u.pcurve.eval(t_here);
+    let sgn = |fwd: bool| if fwd { 1.0 } else { -1.0 };
+    let d_in = prev.pcurve.deriv(t_prev).map(|x| x * sgn(prev.forward));
+    let d_out = u.pcurve.deriv(t_here).map(|x| x * sgn(u.forward));
+    let d = face.surface.derivs(uv);
+    let lift = |t: [f64; 2]| vec3::add(vec3::scale(d.du, t[0]), vec3::scale(d.dv, t[1]));
+    let (a, b) = (lift(d_in), lift(d_out));
+    let normal = vec3::cross(d.du, d.dv);
+    let turn = vec3::dot(normal, vec3::cross(a, b)).atan2(vec3::dot(a, b) * vec3::norm(normal));
+    let angle = std::f64::consts::PI - turn;
+    angle.is_finite().then_some(angle)
+}
+
+/// The four sides of a face bounded by one loop with exactly four convex
+/// corners (ideal valence 1, [`ideal_corner_valence`]) and no pole: for each
+/// side, its curves in loop order. Flat junctions (ideal valence 2) lie
+/// inside a side. A cylinder band whose one end is split into arcs is such
+/// a face: its sides are the full circle, the seam, the arcs, the seam.
+pub fn four_sides(model: &Model, face: &Face) -> Option<[Vec<usize>; 4]> {
+    let [lp] = face.loops.as_slice() else {
+        return None;
+    };
+    let n = lp.uses.len();
+    let mut corners = Vec::new();
+    for k in 0..n {
+        match use_start_angle(model, face, lp, k) {
+            Some(a) if ideal_corner_valence(a) == 1 => corners.push(k),
+            Some(_) => {}
+            None => return None,
+        }
+    }
+    let [c0, c1, c2, c3] = corners.as_slice() else {
+        return None;
+    };
+    let side = |a: usize, b: usize| -> Vec<usize> {
+        let len = (b + n - a) % n;
+        (0..len).map(|j| lp.uses[(a + j) % n].curve.idx()).collect()
+    };
+    Some([
+        side(*c0, *c1),
+        side(*c1, *c2),
+        side(*c2, *c3),
+        side(*c3, *c0),
+    ])
+}
+
+/// Sides made of several curves facing a side of one curve (see
+/// [`four_sides`]): the single curve's chord gets the sum of the other
+/// side's counts, so the face can be a grid, when the ideal counts agree
+/// within [`CHORD_TOLERANCE`] and the two sides share no curve. `members(c)`
+/// lists the curves of `c`'s chord (all set together, as chords are equal).
+/// One pass over the faces in order: a later face may undo an earlier one
+/// where their constraints conflict.
+pub fn balance_composite_sides(
+    model: &Model,
+    ideal: &[f64],
+    counts: &mut [usize],
+    members: impl Fn(usize) -> Vec<usize>,
+) {
+    for face in &model.faces {
+        let Some(sides) = four_sides(model, face) else {
+            continue;
+        };
+        for (a, b) in [(0, 2), (2, 0), (1, 3), (3, 1)] {
+            let ([single], many) = (sides[a].as_slice(), &sides[b]) else {
+                continue;
+            };
+            if many.len() < 2 || many.contains(single) {
+                continue;
+            }
+            let sum: usize = many.iter().map(|&c| counts[c]).sum();
+            let ideal_sum: f64 = many.iter().map(|&c| ideal[c]).sum();
+            let agree = (ideal[*single] - ideal_sum).abs()
+                <= CHORD_TOLERANCE * ideal[*single].max(ideal_sum);
+            if counts[*single] != sum && agree {
+                for c in members(*single) {
+                    counts[c] = sum;
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -109,5 +216,44 @@ mod tests {
         let classes = chord_classes(&m, &[12.3, 12.4, 2.0]);
         assert_eq!(classes[0], classes[1]);
         assert_ne!(classes[0], classes[2]);
+    }
+
+    #[test]
+    fn a_side_of_two_curves_gets_the_count_of_the_side_it_faces() {
+        // a 4 × 1 rectangle whose bottom is split at (2, 0): five curves, four
+        // convex corners, the flat junction inside the bottom side
+        let m = primitives::polygon(&[[0.0, 0.0], [2.0, 0.0], [4.0, 0.0], [4.0, 1.0], [0.0, 1.0]]);
+        let sides = four_sides(&m, &m.faces[0]).expect("four sides");
+        let mut sorted = sides.to_vec();
+        sorted.sort();
+        assert_eq!(sorted, vec![vec![0, 1], vec![2], vec![3], vec![4]]);
+        // at coarse spacing 0.6 the top's ideal count is 6.67 (7) and the
+        // halves' 3.33 (3 each): the top takes their sum
+        let ideal = [10.0 / 3.0, 10.0 / 3.0, 5.0 / 3.0, 20.0 / 3.0, 5.0 / 3.0];
+        let classes = chord_classes(&m, &ideal);
+        let mut counts = chord_counts(&classes, &ideal);
+        assert_eq!(counts, vec![3, 3, 2, 7, 2]);
+        balance_composite_sides(&m, &ideal, &mut counts, |c| vec![c]);
+        assert_eq!(counts, vec![3, 3, 2, 6, 2]);
+        // the whole planner does the same
+        let plan = crate::curve_mesh::plan_curves(&m, 0.3);
+        assert_eq!(plan.counts[3], plan.counts[0] + plan.counts[1]);
+        // a plain rectangle has no composite side: nothing changes
+        let r = primitives::rectangle(4.0, 1.0);
+        let ideal = [6.6, 1.7, 6.8, 1.6];
+        let mut counts = chord_counts(&chord_classes(&r, &ideal), &ideal);
+        let before = counts.clone();
+        balance_composite_sides(&r, &ideal, &mut counts, |c| vec![c]);
+        assert_eq!(counts, before);
+    }
+
+    #[test]
+    fn sides_too_different_keep_their_counts() {
+        // the top is three times the bottom halves' total in ideal count
+        let m = primitives::polygon(&[[0.0, 0.0], [2.0, 0.0], [4.0, 0.0], [4.0, 1.0], [0.0, 1.0]]);
+        let ideal = [1.0, 1.0, 2.0, 6.0, 2.0];
+        let mut counts = chord_counts(&chord_classes(&m, &ideal), &ideal);
+        balance_composite_sides(&m, &ideal, &mut counts, |c| vec![c]);
+        assert_eq!(counts, vec![1, 1, 2, 6, 2]);
     }
 }

@@ -17,7 +17,7 @@
 use geometry::vec3::{self, Vec3};
 use geometry::{CurveId, Model};
 
-use crate::curve_chords::{chord_classes, chord_counts};
+use crate::curve_chords::{balance_composite_sides, chord_classes, chord_counts};
 
 /// Largest turning angle of the tangent along one coarse segment (radians).
 /// Keeps small circles from being a 1- or 2-segment polygon in (u, v).
@@ -502,6 +502,9 @@ fn plan_curves_with(
         plan_chords[root].push(c);
     }
     let members = |c: usize| plan_chords[chords[c]].clone();
+    // a side of several curves facing one curve: equal totals
+    balance_composite_sides(model, &ideal, &mut counts, members);
+    // a closed curve keeps at least 3
     for (i, ce) in model.curves.iter().enumerate() {
         if ce.start == ce.end && !ce.degenerate && counts[i] < 3 {
             for j in members(i) {

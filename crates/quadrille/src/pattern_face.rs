@@ -10,6 +10,7 @@
 use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
+use crate::curve_chords::use_start_angle;
 use crate::curve_mesh::CurveMesh;
 use crate::face_triangulation::{pole_segment, LocalNode, NodeRef};
 use crate::patterns::{library, match_pattern, refine};
@@ -73,28 +74,7 @@ fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, 
         let after_pole = degenerate(k + n - 1);
         if !after_pole {
             // the corner where this use starts: angle between the previous use's end and this use's start
-            let prev = &lp.uses[(k + n - 1) % n];
-            let pce = &model.curves[prev.curve.idx()];
-            let t_prev = if prev.forward {
-                pce.range.1
-            } else {
-                pce.range.0
-            };
-            let t_here = if u.forward { ce.range.0 } else { ce.range.1 };
-            let uv = u.pcurve.eval(t_here);
-            let sgn = |fwd: bool| if fwd { 1.0 } else { -1.0 };
-            let d_in = prev.pcurve.deriv(t_prev).map(|x| x * sgn(prev.forward));
-            let d_out = u.pcurve.deriv(t_here).map(|x| x * sgn(u.forward));
-            let d = face.surface.derivs(uv);
-            let lift = |t: [f64; 2]| vec3::add(vec3::scale(d.du, t[0]), vec3::scale(d.dv, t[1]));
-            let (a, b) = (lift(d_in), lift(d_out));
-            let normal = vec3::cross(d.du, d.dv);
-            let turn =
-                vec3::dot(normal, vec3::cross(a, b)).atan2(vec3::dot(a, b) * vec3::norm(normal));
-            let angle = std::f64::consts::PI - turn;
-            if !angle.is_finite() {
-                return Err("corner angle undefined".into());
-            }
+            let angle = use_start_angle(model, face, lp, k).ok_or("corner angle undefined")?;
             ring.corners.push((ring.nodes.len(), angle));
         }
         // after a pole, the use's first point is the pole, already in the ring
