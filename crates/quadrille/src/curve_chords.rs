@@ -154,18 +154,41 @@ pub fn four_sides(model: &Model, face: &Face) -> Option<[Vec<usize>; 4]> {
 /// side's counts, so the face can be a grid, when the ideal counts agree
 /// within [`CHORD_TOLERANCE`] and the two sides share no curve. `members(c)`
 /// lists the curves of `c`'s chord (all set together, as chords are equal).
-/// One pass over the faces in order: a later face may undo an earlier one
-/// where their constraints conflict.
+/// Passes over the faces repeat while they change something (a face's
+/// balance can move a curve of another face's side), at most
+/// [`BALANCE_PASSES`] times: conflicting constraints are left as the last
+/// pass sets them.
 pub fn balance_composite_sides(
     model: &Model,
     ideal: &[f64],
     counts: &mut [usize],
-    members: impl Fn(usize) -> Vec<usize>,
+    members: &impl Fn(usize) -> Vec<usize>,
 ) {
-    for face in &model.faces {
-        let Some(sides) = four_sides(model, face) else {
-            continue;
-        };
+    let sided: Vec<[Vec<usize>; 4]> = model
+        .faces
+        .iter()
+        .filter_map(|f| four_sides(model, f))
+        .collect();
+    for _ in 0..BALANCE_PASSES {
+        if !balance_pass(&sided, ideal, counts, members) {
+            return;
+        }
+    }
+}
+
+/// Passes of [`balance_composite_sides`], at most.
+pub const BALANCE_PASSES: usize = 8;
+
+/// One pass of [`balance_composite_sides`] over the four-sided faces'
+/// `sided`; true when a count changed.
+fn balance_pass(
+    sided: &[[Vec<usize>; 4]],
+    ideal: &[f64],
+    counts: &mut [usize],
+    members: &impl Fn(usize) -> Vec<usize>,
+) -> bool {
+    let mut changed = false;
+    for sides in sided {
         for (a, b) in [(0, 2), (2, 0), (1, 3), (3, 1)] {
             let ([single], many) = (sides[a].as_slice(), &sides[b]) else {
                 continue;
@@ -181,9 +204,11 @@ pub fn balance_composite_sides(
                 for c in members(*single) {
                     counts[c] = sum;
                 }
+                changed = true;
             }
         }
     }
+    changed
 }
 
 #[cfg(test)]
@@ -233,7 +258,7 @@ mod tests {
         let classes = chord_classes(&m, &ideal);
         let mut counts = chord_counts(&classes, &ideal);
         assert_eq!(counts, vec![3, 3, 2, 7, 2]);
-        balance_composite_sides(&m, &ideal, &mut counts, |c| vec![c]);
+        balance_composite_sides(&m, &ideal, &mut counts, &|c| vec![c]);
         assert_eq!(counts, vec![3, 3, 2, 6, 2]);
         // the whole planner does the same
         let plan = crate::curve_mesh::plan_curves(&m, 0.3);
@@ -243,7 +268,7 @@ mod tests {
         let ideal = [6.6, 1.7, 6.8, 1.6];
         let mut counts = chord_counts(&chord_classes(&r, &ideal), &ideal);
         let before = counts.clone();
-        balance_composite_sides(&r, &ideal, &mut counts, |c| vec![c]);
+        balance_composite_sides(&r, &ideal, &mut counts, &|c| vec![c]);
         assert_eq!(counts, before);
     }
 
@@ -253,7 +278,7 @@ mod tests {
         let m = primitives::polygon(&[[0.0, 0.0], [2.0, 0.0], [4.0, 0.0], [4.0, 1.0], [0.0, 1.0]]);
         let ideal = [1.0, 1.0, 2.0, 6.0, 2.0];
         let mut counts = chord_counts(&chord_classes(&m, &ideal), &ideal);
-        balance_composite_sides(&m, &ideal, &mut counts, |c| vec![c]);
+        balance_composite_sides(&m, &ideal, &mut counts, &|c| vec![c]);
         assert_eq!(counts, vec![1, 1, 2, 6, 2]);
     }
 }

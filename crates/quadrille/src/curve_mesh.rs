@@ -503,8 +503,36 @@ fn plan_curves_with(
     }
     let members = |c: usize| plan_chords[chords[c]].clone();
     // a side of several curves facing one curve: equal totals
-    balance_composite_sides(model, &ideal, &mut counts, members);
-    // a closed curve keeps at least 3
+    balance_composite_sides(model, &ideal, &mut counts, &members);
+    let lengths: Vec<f64> = profiles
+        .iter()
+        .map(|p| p.as_ref().map_or(0.0, |p| *p.cum.last().unwrap_or(&0.0)))
+        .collect();
+    enforce_minimum_counts(model, &mut counts, &members, &lengths);
+    // the minimums may have raised a curve of a composite side: balance
+    // again (the minimums then hold unless a balance undid one)
+    balance_composite_sides(model, &ideal, &mut counts, &members);
+    enforce_minimum_counts(model, &mut counts, &members, &lengths);
+    CurvePlan {
+        counts,
+        profiles,
+        chords,
+        ideal,
+    }
+}
+
+/// The smallest counts the meshers need, raised chord by chord (`members`):
+/// at least 3 on a closed curve, an even count on the seam of a full sphere
+/// (meshed as a cube, [`crate::sphere_face`]; its seam bounds no other face),
+/// and at least 3 coarse segments on every face loop (the use with the
+/// longest coarse segments, of length `lengths[c] / counts[c]`, is refined
+/// first; the first on ties).
+fn enforce_minimum_counts(
+    model: &Model,
+    counts: &mut [usize],
+    members: &impl Fn(usize) -> Vec<usize>,
+    lengths: &[f64],
+) {
     for (i, ce) in model.curves.iter().enumerate() {
         if ce.start == ce.end && !ce.degenerate && counts[i] < 3 {
             for j in members(i) {
@@ -512,8 +540,6 @@ fn plan_curves_with(
             }
         }
     }
-    // a full sphere is meshed as a cube whose seam count must be even
-    // (crate::sphere_face); its seam bounds no other face
     let curve_faces = model.curve_faces();
     for f in 0..model.faces.len() {
         let fid = geometry::FaceId(f as u32);
@@ -526,10 +552,6 @@ fn plan_curves_with(
             }
         }
     }
-    let lengths: Vec<f64> = profiles
-        .iter()
-        .map(|p| p.as_ref().map_or(0.0, |p| *p.cum.last().unwrap_or(&0.0)))
-        .collect();
     for f in &model.faces {
         for l in &f.loops {
             loop {
@@ -537,7 +559,6 @@ fn plan_curves_with(
                 if total >= 3 || l.uses.is_empty() {
                     break;
                 }
-                // refine the use with the longest coarse segments (first on ties), with its chord
                 let mut best = 0;
                 let mut best_len = f64::NEG_INFINITY;
                 for (k, u) in l.uses.iter().enumerate() {
@@ -552,12 +573,6 @@ fn plan_curves_with(
                 }
             }
         }
-    }
-    CurvePlan {
-        counts,
-        profiles,
-        chords,
-        ideal,
     }
 }
 
