@@ -135,6 +135,43 @@ pub struct Face {
 }
 
 impl Face {
+    /// The (u, v) segment that maps to the pole of degenerate curve use `u`: its
+    /// pcurve, widened to the face's whole (u, v) range when it runs along an
+    /// iso-line. A cone apex's pcurve may cover only part of the face's u range
+    /// (i04o_m4: a half cone whose apex pcurve spans a quarter turn, the next
+    /// generatrix's pcurve starting from its end), yet every point of that
+    /// iso-line is the apex; seen from an interior node the pole must sit at the
+    /// node's own u, or the edges to it spiral across the surface.
+    pub fn pole_segment(&self, u: &CurveUse, ce: &CurveEntity) -> [[f64; 2]; 2] {
+        let a = u.pcurve.eval(ce.range.0);
+        let b = u.pcurve.eval(ce.range.1);
+        let bd = self.uv_bounds;
+        let tol = 1e-9 * ((bd.umax - bd.umin).abs() + (bd.vmax - bd.vmin).abs()).max(1e-300);
+        let finite = [bd.umin, bd.umax, bd.vmin, bd.vmax]
+            .iter()
+            .all(|x| x.is_finite());
+        if !finite {
+            return [a, b];
+        }
+        // keep the pcurve's direction so the segment is traversed the same way
+        let span = |x: f64, y: f64, min: f64, max: f64| {
+            if x <= y {
+                (min.min(x), max.max(y))
+            } else {
+                (max.max(x), min.min(y))
+            }
+        };
+        if (a[1] - b[1]).abs() <= tol {
+            let (u0, u1) = span(a[0], b[0], bd.umin, bd.umax);
+            [[u0, a[1]], [u1, b[1]]]
+        } else if (a[0] - b[0]).abs() <= tol {
+            let (v0, v1) = span(a[1], b[1], bd.vmin, bd.vmax);
+            [[a[0], v0], [b[0], v1]]
+        } else {
+            [a, b]
+        }
+    }
+
     /// Unit normal with the face's orientation, or `None` at a singular point.
     pub fn normal(&self, uv: [f64; 2]) -> Option<Vec3> {
         let n = self.surface.normal(uv)?;
@@ -143,6 +180,37 @@ impl Face {
         } else {
             n
         })
+    }
+
+    /// Largest angle (radians) between the limit normals along pole segment
+    /// `seg` ([`Face::pole_segment`]), sampled at [`POLE_SPREAD_SAMPLES`]
+    /// points each taken just inside the face: 0 at a sphere's pole, where
+    /// every direction sees one tangent plane; π − 2α at the apex of a cone
+    /// of half-angle α spanning half a turn or more, whose normal turns with
+    /// the generatrix. A single quad cornered at a pole with a large spread
+    /// folds. `None` when a normal is undefined.
+    pub fn pole_normal_spread(&self, seg: [[f64; 2]; 2]) -> Option<f64> {
+        let b = self.uv_bounds;
+        let centre = [0.5 * (b.umin + b.umax), 0.5 * (b.vmin + b.vmax)];
+        let mid = [0.5 * (seg[0][0] + seg[1][0]), 0.5 * (seg[0][1] + seg[1][1])];
+        // each sample steps inside parallel to the midpoint → centre direction
+        let inward = [centre[0] - mid[0], centre[1] - mid[1]];
+        let mut normals = Vec::with_capacity(POLE_SPREAD_SAMPLES);
+        for i in 0..POLE_SPREAD_SAMPLES {
+            let t = i as f64 / (POLE_SPREAD_SAMPLES - 1) as f64;
+            let p = [
+                seg[0][0] + t * (seg[1][0] - seg[0][0]) + POLE_OFFSET * inward[0],
+                seg[0][1] + t * (seg[1][1] - seg[0][1]) + POLE_OFFSET * inward[1],
+            ];
+            normals.push(self.normal(p)?);
+        }
+        let mut spread = 0.0f64;
+        for (i, a) in normals.iter().enumerate() {
+            for c in &normals[i + 1..] {
+                spread = spread.max(vec3::dot(*a, *c).clamp(-1.0, 1.0).acos());
+            }
+        }
+        spread.is_finite().then_some(spread)
     }
 
     /// All curves bounding this face (a seam appears twice).
@@ -232,6 +300,9 @@ pub const SINGULAR_RATIO: f64 = 1e-9;
 fn singular_ratio(d: &SurfaceDerivs) -> f64 {
     vec3::norm(vec3::cross(d.du, d.dv)) / (vec3::dot(d.du, d.du) + vec3::dot(d.dv, d.dv))
 }
+
+/// Samples of [`Face::pole_normal_spread`] along a pole segment.
+pub const POLE_SPREAD_SAMPLES: usize = 9;
 
 /// Fraction of the way from a singular element corner toward the element's
 /// (u, v) centre at which [`Face::corner_normal`] takes its limit normal.
@@ -383,7 +454,8 @@ impl Model {
 
     /// The (u, v) segments of the degenerate curves of `face` at `corner`, each
     /// mapping entirely to the corner (empty when the corner is no pole of
-    /// the face). Each segment runs from the pcurve at `range.0` to `range.1`.
+    /// the face). Each segment runs from the pcurve at `range.0` toward
+    /// `range.1`, widened as [`Face::pole_segment`] says.
     pub fn pole_segments(&self, face: FaceId, corner: CornerId) -> Vec<[[f64; 2]; 2]> {
         let Some(f) = self.faces.get(face.idx()) else {
             return Vec::new();
@@ -392,7 +464,7 @@ impl Model {
             .filter_map(|u| {
                 let c = self.curves.get(u.curve.idx())?;
                 (c.degenerate && (c.start == corner || c.end == corner))
-                    .then(|| [u.pcurve.eval(c.range.0), u.pcurve.eval(c.range.1)])
+                    .then(|| f.pole_segment(u, c))
             })
             .collect()
     }
@@ -482,6 +554,31 @@ mod tests {
             f.corner_normal(CornerUv::Point(uv), [2.0, 0.4 * va]),
             f.normal(uv)
         );
+    }
+
+    #[test]
+    fn normals_spread_at_a_cone_apex_and_not_at_a_sphere_pole() {
+        // cone(1, 1): half-angle 45°, normals (cos u, sin u, −1)/√2 around
+        // the apex, opposite generatrices 90° apart
+        let m = cone(1.0, 1.0);
+        let f = &m.faces[0];
+        let seg = f.pole_segment(&f.loops[0].uses[0], &m.curves[0]);
+        let spread = f.pole_normal_spread(seg).unwrap().to_degrees();
+        assert!((spread - 90.0).abs() < 0.5, "{spread}");
+        // an eighth of a turn: cos θ = (cos 45° + 1) / 2, θ = 31.4°
+        let eighth = [seg[0], [seg[0][0] + std::f64::consts::FRAC_PI_4, seg[0][1]]];
+        let q = f.pole_normal_spread(eighth).unwrap().to_degrees();
+        assert!((q - 31.40).abs() < 0.1, "{q}");
+        // a sphere's pole: one tangent plane from every direction
+        let s = crate::primitives::sphere(1.0);
+        let f = &s.faces[0];
+        for u in &f.loops[0].uses {
+            let c = &s.curves[u.curve.idx()];
+            if c.degenerate {
+                let spread = f.pole_normal_spread(f.pole_segment(u, c)).unwrap();
+                assert!(spread.to_degrees() < 1.0, "{}", spread.to_degrees());
+            }
+        }
     }
 
     #[test]

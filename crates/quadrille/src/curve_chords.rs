@@ -116,37 +116,99 @@ pub fn use_start_angle(model: &Model, face: &Face, lp: &Loop, k: usize) -> Optio
     angle.is_finite().then_some(angle)
 }
 
-/// The four sides of a face bounded by one loop with exactly four convex
-/// corners (ideal valence 1, [`ideal_corner_valence`]) and no pole: for each
-/// side, its curves in loop order. Flat junctions (ideal valence 2) lie
-/// inside a side. A cylinder band whose one end is split into arcs is such
-/// a face: its sides are the full circle, the seam, the arcs, the seam.
-pub fn four_sides(model: &Model, face: &Face) -> Option<[Vec<usize>; 4]> {
+/// Interior angle, in 3D, at the pole of degenerate use `k` of loop `lp`:
+/// between the curves that reach it and leave it (`None` when a neighbour is
+/// degenerate too or a tangent vanishes). The same angle as the pattern
+/// mesher measures between the pole's ring neighbours.
+fn pole_angle(model: &Model, lp: &Loop, k: usize) -> Option<f64> {
+    let n = lp.uses.len();
+    let (prev, next) = (&lp.uses[(k + n - 1) % n], &lp.uses[(k + 1) % n]);
+    let tangent = |u: &geometry::CurveUse, at_start: bool| -> Option<vec3::Vec3> {
+        let ce = &model.curves[u.curve.idx()];
+        let g = ce.geom.as_ref()?;
+        // the loop runs from range.0 to range.1 when forward
+        let t = if at_start == u.forward {
+            ce.range.0
+        } else {
+            ce.range.1
+        };
+        let d = g.deriv(t);
+        // pointing away from the pole
+        let away = if at_start == u.forward { 1.0 } else { -1.0 };
+        vec3::normalize(vec3::scale(d, away))
+    };
+    let a = tangent(prev, false)?;
+    let b = tangent(next, true)?;
+    let angle = vec3::dot(a, b).clamp(-1.0, 1.0).acos();
+    angle.is_finite().then_some(angle)
+}
+
+/// The sides of a face for a pattern (paper §6.1.2): a face bounded by one
+/// loop whose corners are convex (ideal valence 1, [`ideal_corner_valence`])
+/// or flat (2, inside a side), at least 3 convex; for each side, its curves
+/// in loop order (a pole is a corner, or a flat point, with no curve; a pole
+/// corner where one quad would fold rules the face out, as in
+/// [`crate::pattern_face`]).
+/// `None` for any other face (holes, a concave corner). A cylinder band
+/// whose one end is split into arcs has four sides: the full circle, the
+/// seam, the arcs, the seam.
+pub fn convex_sides(model: &Model, face: &Face) -> Option<Vec<Vec<usize>>> {
     let [lp] = face.loops.as_slice() else {
         return None;
     };
     let n = lp.uses.len();
+    let degenerate = |k: usize| model.curves[lp.uses[k % n].curve.idx()].degenerate;
+    if (0..n).all(degenerate) {
+        return None;
+    }
+    // a corner at use k's start (or at its pole, for a degenerate use)
     let mut corners = Vec::new();
     for k in 0..n {
-        match use_start_angle(model, face, lp, k) {
-            Some(a) if ideal_corner_valence(a) == 1 => corners.push(k),
-            Some(_) => {}
-            None => return None,
+        let angle = if degenerate(k) {
+            pole_angle(model, lp, k)?
+        } else if degenerate(k + n - 1) {
+            continue;
+        } else {
+            use_start_angle(model, face, lp, k)?
+        };
+        match ideal_corner_valence(angle) {
+            // as the pattern mesher: no pattern puts one quad on a pole
+            1 if degenerate(k)
+                && crate::pattern_face::folds_at_pole(
+                    face,
+                    face.pole_segment(&lp.uses[k], &model.curves[lp.uses[k].curve.idx()]),
+                ) =>
+            {
+                return None
+            }
+            1 => corners.push(k),
+            2 => {}
+            _ => return None,
         }
     }
-    let [c0, c1, c2, c3] = corners.as_slice() else {
+    if corners.len() < 3 {
         return None;
-    };
-    let side = |a: usize, b: usize| -> Vec<usize> {
-        let len = (b + n - a) % n;
-        (0..len).map(|j| lp.uses[(a + j) % n].curve.idx()).collect()
-    };
-    Some([
-        side(*c0, *c1),
-        side(*c1, *c2),
-        side(*c2, *c3),
-        side(*c3, *c0),
-    ])
+    }
+    let m = corners.len();
+    Some(
+        (0..m)
+            .map(|i| {
+                let (a, b) = (corners[i], corners[(i + 1) % m]);
+                let len = (b + n - a) % n;
+                (0..len)
+                    .map(|j| (a + j) % n)
+                    .filter(|&k| !degenerate(k))
+                    .map(|k| lp.uses[k].curve.idx())
+                    .collect()
+            })
+            .collect(),
+    )
+}
+
+/// The four sides of a face with exactly four convex corners and only flat
+/// other junctions ([`convex_sides`]).
+pub fn four_sides(model: &Model, face: &Face) -> Option<[Vec<usize>; 4]> {
+    convex_sides(model, face)?.try_into().ok()
 }
 
 /// Sides made of several curves facing a side of one curve (see
@@ -209,6 +271,117 @@ fn balance_pass(
         }
     }
     changed
+}
+
+/// Ring edges of each side under the coarse `counts`: a curve of `n`
+/// coarse segments puts `2n` edges on the face's boundary ring (spec §1.2).
+fn ring_side_counts(sides: &[Vec<usize>], counts: &[usize]) -> Vec<u32> {
+    sides
+        .iter()
+        .map(|s| s.iter().map(|&c| 2 * counts[c] as u32).sum())
+        .collect()
+}
+
+/// True when a library pattern meshes a face with `sides` under `counts`.
+fn has_pattern(sides: &[Vec<usize>], counts: &[usize]) -> bool {
+    crate::patterns::match_pattern(&ring_side_counts(sides, counts)).is_some()
+}
+
+/// Most sides of a face [`balance_for_patterns`] considers (the library's
+/// patterns have 3, 4 or 5).
+const PATTERN_MAX_SIDES: usize = 5;
+
+/// Nudges curve counts so that more faces can be meshed by a pattern (paper
+/// §6.1.2): for each face with [`convex_sides`] that no library pattern
+/// fits, every curve of its boundary is tried one coarse segment up and one
+/// down (with its whole chord, `members`, never below `min_count`), and the
+/// change that makes the most faces fit a pattern, counted over the faces of
+/// the changed curves, is kept when it adds at least one; ties go to the
+/// counts closest to their `ideal`. Two passes over the faces.
+pub fn balance_for_patterns(
+    model: &Model,
+    ideal: &[f64],
+    counts: &mut [usize],
+    members: &impl Fn(usize) -> Vec<usize>,
+    min_count: &impl Fn(usize) -> usize,
+) {
+    let faces: Vec<Vec<Vec<usize>>> = model
+        .faces
+        .iter()
+        .filter_map(|f| convex_sides(model, f))
+        .filter(|s| s.len() <= PATTERN_MAX_SIDES && s.iter().all(|x| !x.is_empty()))
+        .collect();
+    let mut faces_of: Vec<Vec<usize>> = vec![Vec::new(); model.curves.len()];
+    for (fi, sides) in faces.iter().enumerate() {
+        for &c in sides.iter().flatten() {
+            if !faces_of[c].contains(&fi) {
+                faces_of[c].push(fi);
+            }
+        }
+    }
+    let mut fits: Vec<bool> = faces.iter().map(|s| has_pattern(s, counts)).collect();
+    for _ in 0..2 {
+        for fi in 0..faces.len() {
+            if fits[fi] {
+                continue;
+            }
+            let mut curves: Vec<usize> = faces[fi].iter().flatten().copied().collect();
+            curves.sort_unstable();
+            curves.dedup();
+            // (faces gained, deviation from the ideal, curve, step)
+            let mut best: Option<(i64, f64, usize, bool)> = None;
+            for &c in &curves {
+                let chord = members(c);
+                for up in [true, false] {
+                    if !up && chord.iter().any(|&m| counts[m] <= min_count(m)) {
+                        continue;
+                    }
+                    let step = |counts: &mut [usize], forward: bool| {
+                        for &m in &chord {
+                            counts[m] = if forward == up {
+                                counts[m] + 1
+                            } else {
+                                counts[m] - 1
+                            };
+                        }
+                    };
+                    step(counts, true);
+                    let mut touched: Vec<usize> = chord
+                        .iter()
+                        .flat_map(|&m| faces_of[m].iter().copied())
+                        .collect();
+                    touched.sort_unstable();
+                    touched.dedup();
+                    let gained: i64 = touched
+                        .iter()
+                        .map(|&f| has_pattern(&faces[f], counts) as i64 - fits[f] as i64)
+                        .sum();
+                    let deviation: f64 = chord
+                        .iter()
+                        .map(|&m| (counts[m] as f64 - ideal[m]).abs() / ideal[m].max(0.5))
+                        .sum();
+                    if gained > 0
+                        && has_pattern(&faces[fi], counts)
+                        && best.is_none_or(|b| gained > b.0 || (gained == b.0 && deviation < b.1))
+                    {
+                        best = Some((gained, deviation, c, up));
+                    }
+                    step(counts, false);
+                }
+            }
+            if let Some((_, _, c, up)) = best {
+                let chord = members(c);
+                for &m in &chord {
+                    counts[m] = if up { counts[m] + 1 } else { counts[m] - 1 };
+                }
+                for &m in &chord {
+                    for &f in &faces_of[m] {
+                        fits[f] = has_pattern(&faces[f], counts);
+                    }
+                }
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -280,5 +453,26 @@ mod tests {
         let mut counts = chord_counts(&chord_classes(&m, &ideal), &ideal);
         balance_composite_sides(&m, &ideal, &mut counts, &|c| vec![c]);
         assert_eq!(counts, vec![1, 1, 2, 6, 2]);
+    }
+
+    #[test]
+    fn a_triangle_gets_counts_its_pattern_accepts() {
+        // a triangle's pattern (three quads around a valence-3 vertex) needs
+        // each side shorter than the other two together: coarse counts
+        // [2, 2, 4] have none; the long side one down (closest to its ideal)
+        // gives [2, 2, 3]
+        let m = primitives::polygon(&[[0.0, 0.0], [2.0, 0.0], [1.0, 1.7]]);
+        let sides = convex_sides(&m, &m.faces[0]).expect("three convex corners");
+        assert_eq!(sides, vec![vec![0], vec![1], vec![2]]);
+        let ideal = [2.2, 2.1, 3.9];
+        let mut counts = vec![2, 2, 4];
+        assert!(!has_pattern(&sides, &counts));
+        balance_for_patterns(&m, &ideal, &mut counts, &|c| vec![c], &|_| 1);
+        assert_eq!(counts, vec![2, 2, 3]);
+        assert!(has_pattern(&sides, &counts));
+        // counts a pattern already accepts stay
+        let mut fine = vec![2, 2, 2];
+        balance_for_patterns(&m, &ideal, &mut fine, &|c| vec![c], &|_| 1);
+        assert_eq!(fine, vec![2, 2, 2]);
     }
 }

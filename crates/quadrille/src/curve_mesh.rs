@@ -17,7 +17,9 @@
 use geometry::vec3::{self, Vec3};
 use geometry::{CurveId, Model};
 
-use crate::curve_chords::{balance_composite_sides, chord_classes, chord_counts};
+use crate::curve_chords::{
+    balance_composite_sides, balance_for_patterns, chord_classes, chord_counts,
+};
 
 /// Largest turning angle of the tangent along one coarse segment (radians).
 /// Keeps small circles from being a 1- or 2-segment polygon in (u, v).
@@ -512,6 +514,17 @@ fn plan_curves_with(
     // the minimums may have raised a curve of a composite side: balance
     // again (the minimums then hold unless a balance undid one)
     balance_composite_sides(model, &ideal, &mut counts, &members);
+    enforce_minimum_counts(model, &mut counts, &members, &lengths);
+    // counts nudged so that more faces fit a pattern (§6.1.2)
+    let min_count = |c: usize| {
+        let ce = &model.curves[c];
+        if ce.start == ce.end {
+            3
+        } else {
+            1
+        }
+    };
+    balance_for_patterns(model, &ideal, &mut counts, &members, &min_count);
     enforce_minimum_counts(model, &mut counts, &members, &lengths);
     CurvePlan {
         counts,

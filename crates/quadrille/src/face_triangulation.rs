@@ -19,7 +19,7 @@
 use std::collections::HashMap;
 
 use geometry::vec3::{self, Vec3};
-use geometry::{CornerId, CurveEntity, CurveId, CurveUse, Face, FaceId, Model};
+use geometry::{CornerId, CurveId, Face, FaceId, Model};
 use spade::handles::{FixedFaceHandle, FixedVertexHandle, InnerTag};
 use spade::{
     ConstrainedDelaunayTriangulation, HasPosition, Point2, PositionInTriangulation, Triangulation,
@@ -232,12 +232,12 @@ impl<'a> FaceTriangulation<'a> {
                 let ce = &model.curves[c.idx()];
                 let cm = &curve_meshes[c.idx()];
                 let m = cm.params.len() - 1;
-                let pole_seg = ce.degenerate.then(|| pole_segment(face, u, ce));
+                let pole_seg = ce.degenerate.then(|| face.pole_segment(u, ce));
                 // the previous / next uses may be degenerate: the corner nodes are poles then
                 let prev_deg = {
                     let p = &lp.uses[(k + nuses - 1) % nuses];
                     let pc = &model.curves[p.curve.idx()];
-                    pc.degenerate.then(|| pole_segment(face, p, pc))
+                    pc.degenerate.then(|| face.pole_segment(p, pc))
                 };
                 for j in 0..cm.coarse {
                     let (i0, i1) = if u.forward {
@@ -805,43 +805,6 @@ impl<'a> FaceTriangulation<'a> {
     }
 }
 
-/// The (u, v) segment that maps to the pole of degenerate curve use `u`: its
-/// pcurve, widened to the face's whole (u, v) range when it runs along an
-/// iso-line. A cone apex's pcurve may cover only part of the face's u range
-/// (i04o_m4: a half cone whose apex pcurve spans a quarter turn, the next
-/// generatrix's pcurve starting from its end), yet every point of that
-/// iso-line is the apex; seen from an interior node the pole must sit at the
-/// node's own u, or the edges to it spiral across the surface.
-pub fn pole_segment(face: &Face, u: &CurveUse, ce: &CurveEntity) -> [[f64; 2]; 2] {
-    let a = u.pcurve.eval(ce.range.0);
-    let b = u.pcurve.eval(ce.range.1);
-    let bd = face.uv_bounds;
-    let tol = 1e-9 * ((bd.umax - bd.umin).abs() + (bd.vmax - bd.vmin).abs()).max(1e-300);
-    let finite = [bd.umin, bd.umax, bd.vmin, bd.vmax]
-        .iter()
-        .all(|x| x.is_finite());
-    if !finite {
-        return [a, b];
-    }
-    // keep the pcurve's direction so the segment is traversed the same way
-    let span = |x: f64, y: f64, min: f64, max: f64| {
-        if x <= y {
-            (min.min(x), max.max(y))
-        } else {
-            (max.max(x), min.min(y))
-        }
-    };
-    if (a[1] - b[1]).abs() <= tol {
-        let (u0, u1) = span(a[0], b[0], bd.umin, bd.umax);
-        [[u0, a[1]], [u1, b[1]]]
-    } else if (a[0] - b[0]).abs() <= tol {
-        let (v0, v1) = span(a[1], b[1], bd.vmin, bd.vmax);
-        [[a[0], v0], [b[0], v1]]
-    } else {
-        [a, b]
-    }
-}
-
 /// (u, v) midpoint of the edge between two local nodes (poles moved toward the other end).
 pub fn edge_mid_uv(a: &LocalNode, b: &LocalNode) -> [f64; 2] {
     let ua = a.uv_toward(b.uv);
@@ -943,7 +906,7 @@ mod tests {
         let face = &m.faces[0];
         let u = &face.loops[0].uses[0];
         let va = u.pcurve.eval(0.0)[1];
-        let seg = pole_segment(face, u, &m.curves[0]);
+        let seg = face.pole_segment(u, &m.curves[0]);
         let b = face.uv_bounds;
         assert_eq!(seg, [[b.umin, va], [b.umax, va]]);
         // seen from an interior node, the pole sits at the node's own u
@@ -963,7 +926,7 @@ mod tests {
             ..u.clone()
         };
         assert_eq!(
-            pole_segment(face, &skew, &m.curves[0]),
+            face.pole_segment(&skew, &m.curves[0]),
             [[0.0, va], [1.0, va + 0.1]]
         );
     }

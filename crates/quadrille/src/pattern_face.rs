@@ -12,7 +12,7 @@ use geometry::{FaceId, Model};
 
 use crate::curve_chords::use_start_angle;
 use crate::curve_mesh::CurveMesh;
-use crate::face_triangulation::{pole_segment, LocalNode, NodeRef};
+use crate::face_triangulation::{LocalNode, NodeRef};
 use crate::patterns::{library, match_pattern, refine};
 use crate::singularities::ideal_corner_valence;
 use crate::split::{quad_quality, QuadPatch};
@@ -20,6 +20,17 @@ use crate::split::{quad_quality, QuadPatch};
 /// Smallest quad SICN a pattern mesh must reach to be kept (the paper's
 /// "satisfactory quality"; its value is ours).
 pub const MIN_PATTERN_SICN: f64 = 0.3;
+
+/// Largest spread of the normals around a pole ([`geometry::Face::pole_normal_spread`])
+/// at which one quad may take the pole as a corner (a sphere's pole: 0; the
+/// apex of i04o_m4's half cones: about 70°).
+pub const MAX_POLE_CORNER_SPREAD_DEG: f64 = 30.0;
+
+/// True when a quad cornered at the pole of segment `seg` would fold.
+pub fn folds_at_pole(face: &geometry::Face, seg: [[f64; 2]; 2]) -> bool {
+    face.pole_normal_spread(seg)
+        .is_none_or(|a| a.to_degrees() > MAX_POLE_CORNER_SPREAD_DEG)
+}
 
 /// Conjugate-gradient iterations of the harmonic map, at most (times √n).
 const CG_ITERATIONS_PER_ROOT: usize = 40;
@@ -59,7 +70,7 @@ fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, 
             if degenerate(k + n - 1) {
                 return Err("two degenerate curves in a row".into());
             }
-            let seg = pole_segment(face, u, ce);
+            let seg = face.pole_segment(u, ce);
             let mid = [0.5 * (seg[0][0] + seg[1][0]), 0.5 * (seg[0][1] + seg[1][1])];
             ring.corners.push((ring.nodes.len(), f64::NAN));
             ring.nodes.push(LocalNode {
@@ -222,6 +233,18 @@ pub fn mesh_face_pattern(
     let mut corners = Vec::new();
     for &(at, angle) in &ring.corners {
         match ideal_corner_valence(angle) {
+            // one quad would span the whole fan of normals at the pole (a
+            // half cone's apex: its corner folds, SICN ≈ 0 with the CAD
+            // normals, however it looks from the middle direction)
+            1 if ring.nodes[at]
+                .pole
+                .is_some_and(|seg| folds_at_pole(face, seg)) =>
+            {
+                return Err(format!(
+                    "a folding pole corner ({:.0}°)",
+                    angle.to_degrees()
+                ))
+            }
             1 => corners.push(at),
             2 => {}
             _ => return Err(format!("a concave corner ({:.0}°)", angle.to_degrees())),

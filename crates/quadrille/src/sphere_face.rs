@@ -16,7 +16,7 @@ use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
 use crate::curve_mesh::CurveMesh;
-use crate::face_triangulation::{pole_segment, LocalNode, NodeRef};
+use crate::face_triangulation::{LocalNode, NodeRef};
 use crate::split::QuadPatch;
 
 /// A projected point farther than this share of the radius from the
@@ -146,7 +146,7 @@ fn lay_cube(
                 let c = &model.curves[w.curve.idx()];
                 c.degenerate && c.start == corner
             })
-            .map(|w| pole_segment(face, w, &model.curves[w.curve.idx()]))
+            .map(|w| face.pole_segment(w, &model.curves[w.curve.idx()]))
     };
     let mut nodes: Vec<LocalNode> = Vec::new();
     let mut pos: Vec<Vec3> = Vec::new();

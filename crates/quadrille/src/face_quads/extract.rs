@@ -17,7 +17,6 @@ use geometry::{FaceId, Model};
 use mesh::{NodeClass, QuadMesh};
 
 use super::{FaceQuads, QVertex};
-use crate::face_triangulation::pole_segment;
 
 /// Why a face could not be turned into a [`FaceQuads`] (the face is then left as it is).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -85,7 +84,7 @@ fn candidates(model: &Model, fid: FaceId, class: NodeClass, xyz: [f64; 3]) -> Ve
                     continue;
                 };
                 if ce.degenerate && (ce.start == k || ce.end == k) {
-                    out.push(Cand::Pole(pole_segment(face, u, ce)));
+                    out.push(Cand::Pole(face.pole_segment(u, ce)));
                     continue;
                 }
                 let (a, b) = (u.pcurve.eval(ce.range.0), u.pcurve.eval(ce.range.1));
