@@ -244,6 +244,27 @@ mod tests {
     use crate::face_triangulation::NodeRef;
     use geometry::primitives;
 
+    /// Recombination with no curve edge, quality alone (weight 1) and the
+    /// paper's threshold.
+    fn plain(
+        m: &geometry::Model,
+        nodes: &[LocalNode],
+        pos: &[Vec3],
+        tris: &[[u32; 3]],
+        max_path: usize,
+    ) -> QuadDominant {
+        recombine(
+            &m.faces[0],
+            nodes,
+            pos,
+            tris,
+            |_, _| None,
+            |_| 1.0,
+            MIN_SICN,
+            max_path,
+        )
+    }
+
     fn node(u: f64, v: f64) -> LocalNode {
         LocalNode {
             uv: [u, v],
@@ -263,16 +284,7 @@ mod tests {
         ];
         let pos: Vec<Vec3> = nodes.iter().map(|n| [n.uv[0], n.uv[1], 0.0]).collect();
         let tris = [[0, 1, 2], [0, 2, 3]];
-        let r = recombine(
-            &m.faces[0],
-            &nodes,
-            &pos,
-            &tris,
-            |_, _| None,
-            |_| 1.0,
-            MIN_SICN,
-            0,
-        );
+        let r = plain(&m, &nodes, &pos, &tris, 0);
         assert_eq!(r.quads.len(), 1);
         assert!(r.triangles.is_empty());
         let q = r.quads[0];
@@ -326,16 +338,7 @@ mod tests {
             _ => None,
         };
         // the coarse corner alone passes
-        let r0 = recombine(
-            &m.faces[0],
-            &nodes,
-            &pos,
-            &tris,
-            |_, _| None,
-            |_| 1.0,
-            MIN_SICN,
-            0,
-        );
+        let r0 = plain(&m, &nodes, &pos, &tris, 0);
         assert_eq!(r0.quads.len(), 1);
         let q = r0.quads[0];
         let coarse = quad_quality(&m.faces[0], &nodes, &pos, &q);
@@ -363,16 +366,7 @@ mod tests {
         let tris = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
         // two pairings are possible (0-1 & 2-3, or 1-2 & 3-0): all four quads
         // have a 180° corner at the centre, SICN 0, refused
-        let r = recombine(
-            &m.faces[0],
-            &nodes,
-            &pos,
-            &tris,
-            |_, _| None,
-            |_| 1.0,
-            MIN_SICN,
-            3,
-        );
+        let r = plain(&m, &nodes, &pos, &tris, 3);
         assert!(r.quads.is_empty());
         // a strip of two unit squares cut in four triangles: quality alone
         // takes the two squares, a weight favouring the middle parallelogram
@@ -387,16 +381,7 @@ mod tests {
         ];
         let pos: Vec<Vec3> = nodes.iter().map(|n| [n.uv[0], n.uv[1], 0.0]).collect();
         let tris = [[0, 1, 4], [0, 4, 5], [1, 2, 3], [1, 3, 4]];
-        let r = recombine(
-            &m.faces[0],
-            &nodes,
-            &pos,
-            &tris,
-            |_, _| None,
-            |_| 1.0,
-            MIN_SICN,
-            0,
-        );
+        let r = plain(&m, &nodes, &pos, &tris, 0);
         assert_eq!(r.quads.len(), 2);
         assert!(r.triangles.is_empty());
         let middle = |q: &[Vec3; 4]| {
