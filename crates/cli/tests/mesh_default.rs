@@ -232,3 +232,26 @@ fn bad_combinations_and_values_are_refused() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn the_quads_beyond_a_cusp_corner_quad_stay_above_the_quality_bar() {
+    // i11o_s1 has a 0.04° cusp (a line tangent to an arc); the quad at the
+    // corner is excused, the ones beyond it must reach SICN 0.1 (they were
+    // 0.047 while the tip quad counted at face value in the untangler)
+    let dir = tempfile::tempdir().unwrap();
+    let model = cad("i11o_s1.step");
+    let out = dir.path().join("m.msh");
+    let r = mesh(&model, &out, &["--quiet"]);
+    assert!(r.status.success(), "{}", stderr(&r));
+    let s = quadrille(&[
+        "stats",
+        out.to_str().unwrap(),
+        "--cad",
+        model.to_str().unwrap(),
+        "--json",
+    ]);
+    let json = String::from_utf8_lossy(&s.stdout);
+    assert!(json.contains("\"angle_deg\""), "a sharp corner is listed: {json}");
+    assert_eq!(stat(&json, "inverted_quads"), 0.0, "{json}");
+    assert!(stat(&json, "min_sicn_excluding_sharp") >= 0.1, "{json}");
+}

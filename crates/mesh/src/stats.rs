@@ -475,8 +475,16 @@ const CHORD_STEP: f64 = 1e-3;
 /// tangent the angle is measured on short chords instead, so a cusp reads
 /// as about 0°, not 360°.
 pub fn sharp_corners(model: &Model, below_deg: f64) -> Vec<SharpCorner> {
+    (0..model.faces.len())
+        .flat_map(|fi| sharp_corners_in_face(model, fi, below_deg))
+        .collect()
+}
+
+/// [`sharp_corners`] of the face with 0-based index `fi` (none when there is
+/// no such face).
+pub fn sharp_corners_in_face(model: &Model, fi: usize, below_deg: f64) -> Vec<SharpCorner> {
     let mut out: Vec<SharpCorner> = Vec::new();
-    for (fi, face) in model.faces.iter().enumerate() {
+    if let Some(face) = model.faces.get(fi) {
         for lp in &face.loops {
             let n = lp.uses.len();
             for k in 0..n {

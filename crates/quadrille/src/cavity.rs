@@ -1204,7 +1204,7 @@ impl<'a> Work<'a> {
             .map(|q| quad_quality(self.face, &sub.nodes, &sub.pos, q))
             .fold(f64::INFINITY, f64::min);
         if worst < UNTANGLE_BELOW {
-            crate::smoothing::untangle(self.face, &mut sub, UNTANGLE_BELOW, 4, 5000);
+            crate::smoothing::untangle(self.face, &mut sub, UNTANGLE_BELOW, 4, 5000, &[]);
         }
         self.units += (movable.len() * SMOOTHING_WORK) as u64 + quads.len() as u64;
         for (i, &v) in back.iter().enumerate() {

@@ -509,6 +509,7 @@ fn run_unstructured(
                     &model.faces[fid.idx()],
                     &mut p,
                     crate::smoothing::POOR_SICN,
+                    &crate::smoothing::sharp_corners_of(model, fid),
                 );
                 ft.smoothing += t.elapsed();
                 if debug_enabled() {
@@ -838,6 +839,7 @@ fn mesh_face_once(
         UNTANGLE_BELOW,
         UNTANGLE_PASSES,
         UNTANGLE_MAX_NODES,
+        &crate::smoothing::sharp_corners_of(model, fid),
     );
     let bad = bad_triangles(face, &patch);
     Ok((patch, tris, bad, ft.boundary_mid))

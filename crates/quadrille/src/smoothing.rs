@@ -7,7 +7,7 @@
 //! angle-based on irregular ones) and their smoothing loop, [`optimize`].
 
 use geometry::vec3::{self, Vec3};
-use geometry::Face;
+use geometry::{CornerId, Face, FaceId, Model};
 
 use crate::face_triangulation::NodeRef;
 use crate::split::{node_normal, quad_quality, quad_quality_with, NodeNormals, QuadPatch};
@@ -148,20 +148,59 @@ const WAKE_SHARE: f64 = 0.01;
 /// pass ([`lift_poor_quads`]): the minimum-quality bar of the method.
 pub const POOR_SICN: f64 = 0.1;
 
-/// A last [`untangle`] pass on a finished face whose worst quad is below
-/// `threshold`: the nodes of those quads and their neighbours move to raise
-/// the worst SICN around them. The face keeps the result only when its worst
-/// quad rose at least half way to `threshold`; otherwise every node goes
-/// back, so a face whose worst quads cannot be lifted (slivers along a thin
-/// rounded edge) keeps the smoother's positions and average quality (moves
-/// around such slivers trade the average for a worst that barely changes).
-/// Returns whether the face changed.
-pub fn lift_poor_quads(face: &Face, p: &mut QuadPatch, threshold: f64) -> bool {
+/// A quad touching a sharp CAD corner (`sharp`, below
+/// `mesh::stats::SHARP_CORNER_DEG` in this face) counts in [`untangle`] and
+/// [`lift_poor_quads`] as this many times its SICN. Its corner angle is the
+/// CAD's, so it is poor whatever is done; counted at face value it pins the
+/// node opposite the corner, and the quads beyond it stay slivers (i11o_s1:
+/// the centre of the split tip triangle of a 0.04° cusp sat a third of the
+/// way along the wedge, the next quad had SICN 0.047). Weighted, it still
+/// keeps that quad from folding.
+pub const SHARP_CORNER_WEIGHT: f64 = 10.0;
+
+/// The corners of face `fid` whose interior angle there is below
+/// `mesh::stats::SHARP_CORNER_DEG`: the ones the statistics excuse.
+pub fn sharp_corners_of(model: &Model, fid: FaceId) -> Vec<CornerId> {
+    mesh::stats::sharp_corners_in_face(model, fid.idx(), mesh::stats::SHARP_CORNER_DEG)
+        .into_iter()
+        .map(|s| CornerId(s.corner))
+        .collect()
+}
+
+/// Per quad, the factor its SICN is weighted by in [`untangle`]:
+/// [`SHARP_CORNER_WEIGHT`] when it touches one of the corners `sharp`, else 1.
+pub fn sharp_corner_weights(p: &QuadPatch, sharp: &[CornerId]) -> Vec<f64> {
+    p.quads
+        .iter()
+        .map(|q| {
+            let at_sharp = q.iter().any(
+                |&v| matches!(p.nodes[v as usize].node, NodeRef::Corner(c) if sharp.contains(&c)),
+            );
+            if at_sharp {
+                SHARP_CORNER_WEIGHT
+            } else {
+                1.0
+            }
+        })
+        .collect()
+}
+
+/// A last [`untangle`] pass on a finished face whose worst quad (weighted
+/// as [`sharp_corner_weights`] says) is below `threshold`: the nodes of those
+/// quads and their neighbours move to raise the worst SICN around them. The
+/// face keeps the result only when its worst quad rose at least half way to
+/// `threshold`; otherwise every node goes back, so a face whose worst quads
+/// cannot be lifted (slivers along a thin rounded edge) keeps the smoother's
+/// positions and average quality (moves around such slivers trade the
+/// average for a worst that barely changes). Returns whether the face changed.
+pub fn lift_poor_quads(face: &Face, p: &mut QuadPatch, threshold: f64, sharp: &[CornerId]) -> bool {
+    let weights = sharp_corner_weights(p, sharp);
     let worst = |p: &QuadPatch| {
         let mut normals = NodeNormals::new(p.nodes.len());
         p.quads
             .iter()
-            .map(|q| normals.quality(face, &p.nodes, &p.pos, q))
+            .zip(&weights)
+            .map(|(q, w)| w * normals.quality(face, &p.nodes, &p.pos, q))
             .fold(f64::INFINITY, f64::min)
     };
     let before = worst(p);
@@ -174,7 +213,7 @@ pub fn lift_poor_quads(face: &Face, p: &mut QuadPatch, threshold: f64) -> bool {
         .zip(&p.pos)
         .map(|(n, &x)| (n.uv, x))
         .collect();
-    untangle(face, p, threshold, 4, 5000);
+    untangle(face, p, threshold, 4, 5000, sharp);
     if worst(p) >= before + 0.5 * (threshold - before) {
         return true;
     }
@@ -189,18 +228,23 @@ pub fn lift_poor_quads(face: &Face, p: &mut QuadPatch, threshold: f64) -> bool {
 /// their interior neighbours) by a compass search in (u, v) that maximizes the
 /// worst SICN of the quads around each node: it untangles inverted quads that
 /// Laplacian smoothing cannot fix (thin wedges at cusps, curved boundaries).
-/// A move is kept only when it raises that worst value. Returns the number of
-/// improved nodes. Gives up when more than `max_nodes` nodes would move.
+/// A move is kept only when it raises that worst value. Quads at the corners
+/// `sharp` count as [`SHARP_CORNER_WEIGHT`] times their SICN. Returns the
+/// number of improved nodes. Gives up when more than `max_nodes` nodes would
+/// move.
 pub fn untangle(
     face: &Face,
     p: &mut QuadPatch,
     threshold: f64,
     passes: usize,
     max_nodes: usize,
+    sharp: &[CornerId],
 ) -> usize {
     let (quads_of, nbrs) = adjacency(p);
-    let quality =
-        |p: &QuadPatch, q: u32| quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize]);
+    let weights = sharp_corner_weights(p, sharp);
+    let quality = |p: &QuadPatch, q: u32| {
+        weights[q as usize] * quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize])
+    };
     let mut improved = 0;
     for _ in 0..passes {
         // nodes to move: interior nodes of poor quads and their interior neighbours
@@ -245,7 +289,8 @@ pub fn untangle(
                     .iter()
                     .zip(&known)
                     .map(|(&q, k)| {
-                        quad_quality_with(face, &p.nodes, &p.pos, &p.quads[q as usize], k)
+                        weights[q as usize]
+                            * quad_quality_with(face, &p.nodes, &p.pos, &p.quads[q as usize], k)
                     })
                     .fold(f64::INFINITY, f64::min)
             };

@@ -189,6 +189,7 @@ pub fn mesh_face_unstructured(
         UNTANGLE_BELOW,
         UNTANGLE_PASSES,
         UNTANGLE_MAX_NODES,
+        &crate::smoothing::sharp_corners_of(model, fid),
     );
     // the paper's kernels (Winslow, angle-based) on the valid mesh
     optimize(

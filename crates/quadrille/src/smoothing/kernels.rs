@@ -468,7 +468,7 @@ mod tests {
     use crate::face_triangulation::LocalNode;
     use crate::smoothing::untangle;
     use crate::split::quad_quality;
-    use geometry::{primitives, CurveId};
+    use geometry::{primitives, CornerId, CurveId};
 
     /// Ring `x₁..x₈` of the node at grid point (0, 0) under the map `f`.
     fn grid_ring(f: impl Fn(f64, f64) -> Vec3) -> [Vec3; 8] {
@@ -842,7 +842,7 @@ mod tests {
             }
         });
         assert!(worst(&p) > 0.0 && worst(&p) < 0.1, "{}", worst(&p));
-        assert!(crate::smoothing::lift_poor_quads(face, &mut p, 0.1));
+        assert!(crate::smoothing::lift_poor_quads(face, &mut p, 0.1, &[]));
         assert!(worst(&p) >= 0.1, "{}", worst(&p));
         // nothing to move (a single quad, all its nodes on the boundary): unchanged
         let mut q = grid_patch(face, 1, |i, j| {
@@ -855,7 +855,7 @@ mod tests {
         let orig = q.clone();
         let before = worst(&q);
         assert!(before < 0.1, "{before}");
-        assert!(!crate::smoothing::lift_poor_quads(face, &mut q, 0.1));
+        assert!(!crate::smoothing::lift_poor_quads(face, &mut q, 0.1, &[]));
         assert!(same_bits(&q, &orig));
     }
 
@@ -876,8 +876,65 @@ mod tests {
             "{:?}",
             qualities(face, &p)
         );
-        untangle(face, &mut p, 0.1, 8, 10);
+        untangle(face, &mut p, 0.1, 8, 10, &[]);
         let q = qualities(face, &p);
         assert!(q.iter().all(|&s| s > 0.1), "{q:?}");
+    }
+
+    #[test]
+    fn a_cusp_tip_quad_is_weighted_so_the_quads_beyond_it_open_up() {
+        let m = primitives::square(1.0);
+        let face = &m.faces[0];
+        // a wedge of half-slope 0.04 from a corner at the origin, with curve
+        // nodes at x = 0.5 and 0.625: the split tip triangle's centre C sits
+        // almost at the far end, so the two quads beyond the tip quad are
+        // slivers at R1 and L1
+        let slope = 0.04;
+        let at = [
+            ([0.0, 0.0], NodeRef::Corner(CornerId(0))),           // T
+            ([0.5, -0.5 * slope], NodeRef::Curve(CurveId(0), 1)), // R1
+            ([0.625, -0.625 * slope], NodeRef::Curve(CurveId(0), 2)), // R2
+            ([0.625, 0.0], NodeRef::Curve(CurveId(1), 1)),        // M
+            ([0.625, 0.625 * slope], NodeRef::Curve(CurveId(2), 2)), // L2
+            ([0.5, 0.5 * slope], NodeRef::Curve(CurveId(2), 1)),  // L1
+            ([0.62, 0.0], NodeRef::Interior),                     // C
+        ];
+        let mut p = QuadPatch {
+            nodes: at
+                .iter()
+                .map(|&(uv, node)| LocalNode {
+                    uv,
+                    node,
+                    pole: None,
+                })
+                .collect(),
+            pos: at.iter().map(|&(uv, _)| face.surface.eval(uv)).collect(),
+            quads: vec![[0, 1, 6, 5], [1, 2, 3, 6], [6, 3, 4, 5]],
+            quad_tri: vec![0, 0, 0],
+        };
+        if quad_quality(face, &p.nodes, &p.pos, &p.quads[0]) < 0.0 {
+            p.quads.iter_mut().for_each(|q| q.reverse());
+        }
+        let beyond = |p: &QuadPatch| {
+            qualities(face, p)[1..]
+                .iter()
+                .cloned()
+                .fold(f64::INFINITY, f64::min)
+        };
+        // the tip quad's corner at T caps it near sin(2 atan 0.04) ≈ 0.08
+        let tip = qualities(face, &p)[0];
+        assert!(tip > 0.0 && tip < 0.09, "{tip}");
+        assert!(beyond(&p) < 0.05, "{}", beyond(&p));
+        // counted at face value, the tip quad pins C: the quads beyond stay poor
+        let mut plain = p.clone();
+        untangle(face, &mut plain, 0.1, 8, 10, &[]);
+        assert!(beyond(&plain) < 0.1, "{}", beyond(&plain));
+        // weighted, C moves back toward R1 and L1 and the quads beyond open up
+        untangle(face, &mut p, 0.1, 8, 10, &[CornerId(0)]);
+        let q = qualities(face, &p);
+        assert!(beyond(&p) > 0.25, "{q:?}");
+        assert!(q[0] > 0.0, "the tip quad stays valid: {q:?}");
+        // only C moved
+        assert!(p.nodes[..6].iter().zip(&at).all(|(n, a)| n.uv == a.0));
     }
 }
