@@ -201,6 +201,7 @@ pub fn run(args: &FieldArgs) -> Result<()> {
         min_size: args.min_size,
         max_size: args.max_size,
         entity_sizes: args.entity_sizes.clone(),
+        quads_per_turn: (args.quads_per_turn != 0.0).then_some(args.quads_per_turn),
     };
     let opts = FieldOptions {
         size,

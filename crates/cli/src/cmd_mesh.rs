@@ -59,6 +59,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         size,
         threads: args.threads,
         progress,
+        quads_per_turn: args.quads_per_turn,
     };
     let t1 = Instant::now();
     let method = match args.method {

@@ -112,6 +112,11 @@ pub struct MeshArgs {
     /// Multiplier of the default edge length (1/18 of the bounding-box diagonal).
     #[arg(long)]
     size_factor: Option<f64>,
+    /// Curved faces: quads per full turn of the surface normal (a 90° fillet
+    /// gets a quarter of them across), kept within half to twice the target
+    /// edge length; 0 turns it off. Not used by the baseline and regular methods.
+    #[arg(long, default_value_t = quadrille::DEFAULT_QUADS_PER_TURN, value_name = "N")]
+    quads_per_turn: f64,
     /// Worker threads (default: all cores). The output is the same for any count.
     #[arg(long)]
     threads: Option<usize>,
@@ -246,6 +251,10 @@ pub struct FieldArgs {
     /// Sizes are never above this (model units).
     #[arg(long)]
     max_size: Option<f64>,
+    /// Curved faces: quads per full turn of the surface normal, as in
+    /// `quadrille mesh`; 0 turns it off.
+    #[arg(long, default_value_t = quadrille::DEFAULT_QUADS_PER_TURN, value_name = "N")]
+    quads_per_turn: f64,
     /// A size on one entity, `KIND:ID=SIZE` with KIND `corner`, `curve` or
     /// `face` and ID 1-based as in `quadrille info` (repeatable), e.g. `curve:3=0.05`.
     #[arg(long = "entity-size", value_name = "KIND:ID=SIZE", value_parser = parse_entity_size)]

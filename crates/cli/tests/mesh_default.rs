@@ -251,7 +251,42 @@ fn the_quads_beyond_a_cusp_corner_quad_stay_above_the_quality_bar() {
         "--json",
     ]);
     let json = String::from_utf8_lossy(&s.stdout);
-    assert!(json.contains("\"angle_deg\""), "a sharp corner is listed: {json}");
+    assert!(
+        json.contains("\"angle_deg\""),
+        "a sharp corner is listed: {json}"
+    );
     assert_eq!(stat(&json, "inverted_quads"), 0.0, "{json}");
     assert!(stat(&json, "min_sicn_excluding_sharp") >= 0.1, "{json}");
+}
+
+#[test]
+fn fillets_get_four_quads_across_by_default() {
+    // s12o_cube_rounded_1: a cube whose 12 edges are fillets narrower than
+    // the default size; 16 quads per turn puts four across each 90° fillet
+    let dir = tempfile::tempdir().unwrap();
+    let model = cad("s12o_cube_rounded_1.stp");
+    let counts = |extra: &[&str]| {
+        let out = dir.path().join("m.msh");
+        let mut args = vec!["--quiet"];
+        args.extend_from_slice(extra);
+        let r = mesh(&model, &out, &args);
+        assert!(r.status.success(), "{}", stderr(&r));
+        let s = quadrille(&["stats", out.to_str().unwrap(), "--json"]);
+        let json = String::from_utf8_lossy(&s.stdout).to_string();
+        (stat(&json, "quads"), stat(&json, "irregular_nodes"))
+    };
+    let (fine, fine_irregular) = counts(&[]);
+    let (plain, plain_irregular) = counts(&["--quads-per-turn", "0"]);
+    // four times the quads across every face: the fillets set the curves'
+    // counts and the flat faces follow them
+    assert!(fine >= 3.5 * plain, "{fine} vs {plain} quads");
+    // still only the 8 valence-3 cube corners
+    assert_eq!(fine_irregular, 8.0);
+    assert_eq!(plain_irregular, 8.0);
+    // a negative count is refused, nothing written
+    let out = dir.path().join("bad.msh");
+    let r = mesh(&model, &out, &["--quads-per-turn=-1"]);
+    assert!(!r.status.success());
+    assert!(stderr(&r).contains("quads per turn"), "{}", stderr(&r));
+    assert!(!out.exists());
 }

@@ -213,6 +213,35 @@ impl Face {
         spread.is_finite().then_some(spread)
     }
 
+    /// The largest absolute principal curvature of the surface at `uv`
+    /// (1 / radius: 1/R on a sphere or a cylinder of radius R, 0 on a plane),
+    /// from the first and second fundamental forms; `None` at a singular
+    /// point or where the derivatives are not finite. The size map bounds
+    /// the quad size on curved faces with it.
+    pub fn max_curvature(&self, uv: [f64; 2]) -> Option<f64> {
+        let d = self.surface.derivs(uv);
+        let n = self.regular_normal_from(&d)?;
+        let (e, f, g) = (
+            vec3::dot(d.du, d.du),
+            vec3::dot(d.du, d.dv),
+            vec3::dot(d.dv, d.dv),
+        );
+        let (l, m, nn) = (
+            vec3::dot(d.duu, n),
+            vec3::dot(d.duv, n),
+            vec3::dot(d.dvv, n),
+        );
+        let det = e * g - f * f;
+        if !(det > 0.0) {
+            return None;
+        }
+        // mean and Gaussian curvature; the principal ones are H ± √(H² − K)
+        let mean = (e * nn - 2.0 * f * m + g * l) / (2.0 * det);
+        let gauss = (l * nn - m * m) / det;
+        let k = mean.abs() + (mean * mean - gauss).max(0.0).sqrt();
+        k.is_finite().then_some(k)
+    }
+
     /// All curves bounding this face (a seam appears twice).
     pub fn curve_uses(&self) -> impl Iterator<Item = &CurveUse> {
         self.loops.iter().flat_map(|l| l.uses.iter())
@@ -579,6 +608,19 @@ mod tests {
                 assert!(spread.to_degrees() < 1.0, "{}", spread.to_degrees());
             }
         }
+    }
+
+    #[test]
+    fn max_curvature_is_one_over_the_radius() {
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-6 * b.max(1.0);
+        let s = crate::primitives::sphere(2.5);
+        let k = s.faces[0].max_curvature([0.3, 0.2]).unwrap();
+        assert!(close(k, 0.4), "sphere {k}");
+        let c = crate::primitives::cylinder(0.5, 3.0);
+        let k = c.faces[0].max_curvature([1.0, 1.0]).unwrap();
+        assert!(close(k, 2.0), "cylinder {k}");
+        let p = crate::primitives::square(1.0);
+        assert_eq!(p.faces[0].max_curvature([0.5, 0.5]), Some(0.0));
     }
 
     #[test]

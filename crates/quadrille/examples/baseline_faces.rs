@@ -28,6 +28,7 @@ fn main() {
             size: quadrille::Size::Factor(factor),
             threads: Some(1),
             progress: None,
+            ..Default::default()
         };
         match quadrille::mesh_model(&model, &opts) {
             Ok(m) => println!(

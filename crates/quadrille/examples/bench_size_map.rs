@@ -68,6 +68,7 @@ fn main() {
                     topo: &f.field.topology,
                     refs: &f.refs,
                     scaling: f.scaling.as_deref(),
+                    curvature: f.curvature,
                 })
             })
             .collect();

@@ -123,6 +123,9 @@ pub struct FaceField {
     /// [`model_fields`]: the model's size map ([`crate::size_map`]), which
     /// adds small features, gradation and continuity across curves.
     pub size: Option<Vec<f64>>,
+    /// The face's typical largest principal curvature
+    /// ([`crate::size_map::typical_curvature`] of its background nodes).
+    pub curvature: Option<f64>,
 }
 
 impl FaceField {
@@ -300,12 +303,16 @@ pub fn face_field(
     let size = scaling
         .as_ref()
         .and_then(|h| face_conformal_size(&field, h, quad_size));
+    let face = &model.faces[fid.idx()];
+    let uvs: Vec<[f64; 2]> = ft.nodes.iter().map(|n| n.uv).collect();
+    let curvature = crate::size_map::typical_curvature(face, &uvs, &ft.pos, &ft.triangles());
     Ok(FaceField {
         field,
         singularities,
         refs,
         scaling,
         size,
+        curvature,
     })
 }
 
@@ -385,6 +392,7 @@ impl ModelFields {
                     topo: &f.field.topology,
                     refs: &f.refs,
                     scaling: f.scaling.as_deref(),
+                    curvature: f.curvature,
                 }
             })
             .collect();

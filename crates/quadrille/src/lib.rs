@@ -53,4 +53,5 @@ pub mod unstructured;
 pub use pipeline::{
     default_size, mesh_model, mesh_model_stages, mesh_model_with, resolve_size, MeshError,
     MeshMethod, MeshOptions, MeshReport, ProgressFn, Size, StageTimes, Stages,
+    DEFAULT_QUADS_PER_TURN,
 };

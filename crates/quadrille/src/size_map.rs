@@ -69,6 +69,11 @@ pub struct SizeMapOptions {
     pub max_size: Option<f64>,
     /// User sizes on corners, curves and faces.
     pub entity_sizes: Vec<(Entity, f64)>,
+    /// Quads per full turn of the surface normal on curved faces: a face
+    /// whose typical curvature is `κ` gets at most the size `2π / (n κ)`
+    /// (a fillet of radius r at most `2πr / n`), unless the user gave the
+    /// face a size. `None`: no curvature bound.
+    pub quads_per_turn: Option<f64>,
 }
 
 impl Default for SizeMapOptions {
@@ -79,6 +84,7 @@ impl Default for SizeMapOptions {
             min_size: None,
             max_size: None,
             entity_sizes: Vec::new(),
+            quads_per_turn: None,
         }
     }
 }
@@ -106,6 +112,9 @@ pub struct FaceBackground<'a> {
     /// The conformal scaling `H` per welded vertex, when it was computed
     /// (without it the face's conformal size is uniform).
     pub scaling: Option<&'a [f64]>,
+    /// The face's typical largest principal curvature ([`typical_curvature`]),
+    /// which bounds its size when [`SizeMapOptions::quads_per_turn`] is set.
+    pub curvature: Option<f64>,
 }
 
 /// The background vertices of all faces, welded along shared curves and
@@ -170,6 +179,61 @@ impl BackgroundGraph {
     pub fn is_empty(&self) -> bool {
         self.positions.is_empty()
     }
+}
+
+/// Area quantile of the curvature that [`typical_curvature`] returns: a
+/// fillet or a cylinder (constant curvature) reads its 1/R, while a small,
+/// sharply curved strip of a free-form face (a wing's leading and trailing
+/// edges) does not make the whole face fine.
+pub const CURVATURE_QUANTILE: f64 = 0.75;
+
+/// Triangles [`typical_curvature`] samples at most per face.
+const CURVATURE_SAMPLES: usize = 512;
+
+/// The curvature below which [`CURVATURE_QUANTILE`] of the area of `face`
+/// lies: the largest principal curvature ([`geometry::Face::max_curvature`])
+/// at the centroid (u, v) of each triangle of a triangulation of the face
+/// (`uvs`, `xyz` per node, `triangles`; evenly strided down to
+/// [`CURVATURE_SAMPLES`]), weighted by the triangle's area. `None` when no
+/// centroid has a curvature (all singular) or the area is zero.
+pub fn typical_curvature(
+    face: &geometry::Face,
+    uvs: &[[f64; 2]],
+    xyz: &[Vec3],
+    triangles: &[[u32; 3]],
+) -> Option<f64> {
+    let stride = triangles.len().div_ceil(CURVATURE_SAMPLES).max(1);
+    let mut k: Vec<(f64, f64)> = triangles
+        .iter()
+        .step_by(stride)
+        .filter_map(|t| {
+            let [a, b, c] = t.map(|i| i as usize);
+            let uv = [
+                (uvs[a][0] + uvs[b][0] + uvs[c][0]) / 3.0,
+                (uvs[a][1] + uvs[b][1] + uvs[c][1]) / 3.0,
+            ];
+            let area = 0.5
+                * vec3::norm(vec3::cross(
+                    vec3::sub(xyz[b], xyz[a]),
+                    vec3::sub(xyz[c], xyz[a]),
+                ));
+            Some((face.max_curvature(uv)?, area))
+        })
+        .filter(|&(_, a)| a.is_finite())
+        .collect();
+    k.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let total: f64 = k.iter().map(|x| x.1).sum();
+    if !(total > 0.0) {
+        return None;
+    }
+    let mut below = 0.0;
+    for &(kappa, a) in &k {
+        below += a;
+        if below >= CURVATURE_QUANTILE * total {
+            return Some(kappa);
+        }
+    }
+    k.last().map(|x| x.0)
 }
 
 /// A heap entry ordered by size, smallest first.
@@ -485,6 +549,7 @@ fn check_options(model: &Model, opts: &SizeMapOptions) -> Result<(), SizeMapErro
     for (name, v) in [
         ("minimum size", opts.min_size),
         ("maximum size", opts.max_size),
+        ("quads per turn", opts.quads_per_turn),
     ] {
         if let Some(v) = v.filter(|&v| !positive(v)) {
             return Err(SizeMapError::InvalidOption(format!(
@@ -534,24 +599,27 @@ pub fn build_size_map(
         )));
     }
     let graph = BackgroundGraph::build(faces);
-    // a face's own size (the smallest given), else the global one
-    let face_size = |f: FaceId| {
+    // a face's own size (the smallest given), else the global one, bounded
+    // by its curvature
+    let face_size = |f: &FaceBackground<'_>| {
         let own = opts
             .entity_sizes
             .iter()
-            .filter(|(e, _)| *e == Entity::Face(f))
+            .filter(|(e, _)| *e == Entity::Face(f.face))
             .map(|&(_, s)| s)
             .fold(f64::INFINITY, f64::min);
         if own.is_finite() {
-            own
-        } else {
-            h
+            return own;
+        }
+        match (opts.quads_per_turn, f.curvature) {
+            (Some(n), Some(k)) if n > 0.0 && k > 0.0 => h.min(std::f64::consts::TAU / (n * k)),
+            _ => h,
         }
     };
     // conformal: per face e^{H + C_i}, smallest face value on shared vertices
     let mut conformal = vec![f64::INFINITY; graph.len()];
     for (i, f) in faces.iter().enumerate() {
-        let hf = face_size(f.face);
+        let hf = face_size(f);
         let area: f64 = f.topo.areas.iter().sum();
         let sizes: Vec<f64> = match f.scaling.and_then(|hs| {
             scaling_constant(f.topo, hs, area / (hf * hf))

@@ -75,6 +75,7 @@ fn every_cad_model_meshes_validly() {
                 size: Size::Factor(factor),
                 threads: None,
                 progress: None,
+                ..Default::default()
             },
         ) {
             Ok(m) => m,
@@ -182,6 +183,7 @@ fn cad_output_is_identical_for_any_thread_count() {
                 size: Size::Factor(1.0),
                 threads: Some(threads),
                 progress: None,
+                ..Default::default()
             },
         )
         .expect("meshes")

@@ -14,6 +14,7 @@ fn run(model: &Model, size: Size, threads: usize) -> QuadMesh {
             size,
             threads: Some(threads),
             progress: None,
+            ..Default::default()
         },
     )
     .expect("meshing failed")
@@ -143,6 +144,7 @@ fn progress_reports_every_face() {
             assert_eq!(t, 3);
             seen.fetch_max(d, Ordering::Relaxed);
         })),
+        ..Default::default()
     };
     mesh_model(&m, &opts).unwrap();
     assert_eq!(max.load(Ordering::Relaxed), 3);

@@ -69,6 +69,7 @@ fn triangles_of(model: &Model, factor: f64) -> trimesh::Soup {
             size: Size::Factor(factor),
             threads: Some(1),
             progress: None,
+            ..Default::default()
         },
     )
     .unwrap();
@@ -201,6 +202,7 @@ fn mesh_and_check(imp: &trimesh::Import, method: MeshMethod, what: &str) -> Mesh
         size: Size::Factor(1.0),
         threads: Some(1),
         progress: None,
+        ..Default::default()
     };
     let (m, _) =
         quadrille::mesh_model_with(model, &opts, method).unwrap_or_else(|e| panic!("{what}: {e}"));
@@ -335,6 +337,7 @@ fn cad_exports_mesh_end_to_end() {
                 size: Size::Factor(1.0),
                 threads: Some(1),
                 progress: None,
+                ..Default::default()
             },
         )
         .unwrap();

@@ -444,6 +444,7 @@ fn regularize_mesh_keeps_the_boundary_and_validity_of_a_meshed_model() {
             size: crate::Size::Absolute(0.2),
             threads: Some(1),
             progress: None,
+            ..Default::default()
         },
     )
     .unwrap();
@@ -1125,6 +1126,7 @@ fn regularize_progress_counts_every_face_once() {
             size: crate::Size::Absolute(0.3),
             threads: Some(1),
             progress: None,
+            ..Default::default()
         },
     )
     .unwrap();

@@ -356,3 +356,79 @@ fn bounds_and_face_sizes() {
         "clamped to the maximum"
     );
 }
+
+/// On a curved face the curvature bounds the size: a cylinder of radius 0.5
+/// with 16 quads per turn asks for 2π · 0.5 / 16 ≈ 0.196 although the
+/// requested size is 1. Without the bound, or with a size given to the
+/// face, the face keeps the size it was asked for.
+#[test]
+fn curvature_bounds_the_size_of_curved_faces() {
+    let model = primitives::cylinder(0.5, 3.0);
+    let conformal_range = |quads_per_turn: Option<f64>, entity_sizes: Vec<(Entity, f64)>| {
+        let f = fields(
+            &model,
+            1.0,
+            SizeMapOptions {
+                small_features: false,
+                quads_per_turn,
+                entity_sizes,
+                ..Default::default()
+            },
+        );
+        let k = f.faces[0].outcome.as_ref().unwrap().curvature.unwrap();
+        assert!((k - 2.0).abs() < 1e-6, "curvature {k}");
+        let map = f.size_map.unwrap();
+        map.graph.face_vertices[0]
+            .iter()
+            .map(|&g| map.conformal[g as usize])
+            .fold((f64::INFINITY, 0.0f64), |(a, b), s| (a.min(s), b.max(s)))
+    };
+    let turn = std::f64::consts::TAU * 0.5 / 16.0;
+    let (lo, hi) = conformal_range(Some(16.0), Vec::new());
+    assert!(lo > 0.97 * turn && hi < 1.03 * turn, "{lo} .. {hi}");
+    // the circles it shares with the planar caps take the caps' smaller
+    // conformal sizes, still well above the curvature size
+    let (lo, hi) = conformal_range(None, Vec::new());
+    assert!(lo > 3.0 * turn && (hi - 1.0).abs() < 0.03, "{lo} .. {hi}");
+    let (lo, hi) = conformal_range(Some(16.0), vec![(Entity::Face(FaceId(0)), 0.8)]);
+    assert!(lo > 2.0 * turn && (hi - 0.8).abs() < 0.03, "{lo} .. {hi}");
+}
+
+/// The typical curvature is an area quantile: a sphere reads 1/R wherever it
+/// is sampled, a plane 0.
+#[test]
+fn typical_curvature_of_a_sphere_and_a_plane() {
+    let sphere = primitives::sphere(2.0);
+    let face = &sphere.faces[0];
+    let b = &face.uv_bounds;
+    let uvs: Vec<[f64; 2]> = (0..25)
+        .map(|i| {
+            let (s, t) = ((i % 5) as f64 / 4.0, (i / 5) as f64 / 4.0);
+            [
+                b.umin + s * (b.umax - b.umin),
+                b.vmin + 0.1 + t * 0.8 * (b.vmax - b.vmin - 0.2),
+            ]
+        })
+        .collect();
+    let xyz: Vec<Vec3> = uvs.iter().map(|&uv| face.surface.eval(uv)).collect();
+    let tris: Vec<[u32; 3]> = (0..4u32)
+        .flat_map(|j| {
+            (0..4u32).flat_map(move |i| {
+                let a = j * 5 + i;
+                [[a, a + 1, a + 6], [a, a + 6, a + 5]]
+            })
+        })
+        .collect();
+    let k = typical_curvature(face, &uvs, &xyz, &tris).unwrap();
+    assert!((k - 0.5).abs() < 1e-6, "{k}");
+    let plane = primitives::square(1.0);
+    let k = typical_curvature(
+        &plane.faces[0],
+        &uvs.iter()
+            .map(|p| [p[0].rem_euclid(1.0), p[1].rem_euclid(1.0)])
+            .collect::<Vec<_>>(),
+        &xyz,
+        &tris,
+    );
+    assert_eq!(k, Some(0.0));
+}
