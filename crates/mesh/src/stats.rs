@@ -121,6 +121,14 @@ pub struct MeshStats {
     pub irregular_nodes: usize,
     /// `100 · irregular_nodes / face_interior_nodes`.
     pub irregular_percent: f64,
+    /// Number of curve nodes (classified on a CAD curve, corners excluded).
+    pub curve_nodes: usize,
+    /// Curve nodes that some face meets with other than two quads per side
+    /// ([`curve_node_is_irregular`]): a node on one quad of a face makes a
+    /// 180° corner, a node on three an extra edge into the face. The face-
+    /// interior count above does not see them, so a mesher can trade one
+    /// kind for the other; this keeps the trade visible.
+    pub irregular_curve_nodes: usize,
     /// Per-quad SICN summary.
     pub sicn: QualitySummary,
     /// Per-quad scaled Jacobian summary.
@@ -598,6 +606,42 @@ pub fn node_cad_distances(mesh: &QuadMesh, model: &Model) -> Vec<Option<f64>> {
 }
 
 /// Counts of element edges by number of incident elements (quads and triangles).
+/// The quads around each node.
+fn node_quads(mesh: &QuadMesh) -> Vec<Vec<u32>> {
+    let mut at = vec![Vec::new(); mesh.nodes.len()];
+    for (qi, q) in mesh.quads.iter().enumerate() {
+        for &v in q {
+            at[v as usize].push(qi as u32);
+        }
+    }
+    at
+}
+
+/// True when some face meets curve node `v` (its quads `at`) with other
+/// than two quads per side of the curve: two on each face of an ordinary
+/// curve, four on a face the curve is a seam of (all quads around the node
+/// in one face, no open edge at it), two on an open shell's boundary.
+pub fn curve_node_is_irregular(
+    mesh: &QuadMesh,
+    v: u32,
+    at: &[u32],
+    uses: &HashMap<(u32, u32), u32>,
+) -> bool {
+    let mut per_face: BTreeMap<u32, usize> = BTreeMap::new();
+    for &q in at {
+        *per_face.entry(mesh.quad_face[q as usize].0).or_insert(0) += 1;
+    }
+    let open = at.iter().any(|&q| {
+        let quad = &mesh.quads[q as usize];
+        (0..4).any(|k| {
+            let (a, b) = (quad[k], quad[(k + 1) % 4]);
+            (a == v || b == v) && uses.get(&(a.min(b), a.max(b))) == Some(&1)
+        })
+    });
+    let expected = if per_face.len() == 1 && !open { 4 } else { 2 };
+    per_face.values().any(|&n| n != expected)
+}
+
 fn edge_uses(mesh: &QuadMesh) -> HashMap<(u32, u32), u32> {
     let mut uses: HashMap<(u32, u32), u32> =
         HashMap::with_capacity(2 * (mesh.quads.len() + mesh.triangles.len()));
@@ -675,6 +719,15 @@ impl MeshStats {
         }
         if s.face_interior_nodes > 0 {
             s.irregular_percent = 100.0 * s.irregular_nodes as f64 / s.face_interior_nodes as f64;
+        }
+        let quads_at = node_quads(mesh);
+        for (v, at) in quads_at.iter().enumerate() {
+            if matches!(mesh.node_class[v], NodeClass::Curve(..)) && !at.is_empty() {
+                s.curve_nodes += 1;
+                if curve_node_is_irregular(mesh, v as u32, at, &uses) {
+                    s.irregular_curve_nodes += 1;
+                }
+            }
         }
 
         let normals = quad_corner_normals(mesh, model);
@@ -815,6 +868,18 @@ impl fmt::Display for MeshStats {
             "irregular nodes",
             format!("{} ({:.2} %)", self.irregular_nodes, self.irregular_percent),
         )?;
+        if self.curve_nodes > 0 {
+            row(
+                f,
+                "curve nodes off 2 quads per side",
+                format!(
+                    "{} of {} ({:.2} %)",
+                    self.irregular_curve_nodes,
+                    self.curve_nodes,
+                    100.0 * self.irregular_curve_nodes as f64 / self.curve_nodes as f64
+                ),
+            )?;
+        }
         let normals = if self.cad_normals {
             "CAD normals"
         } else {
@@ -890,6 +955,28 @@ mod tests {
     use super::*;
     use crate::fixtures;
     use geometry::CurveId;
+
+    /// Curve nodes with two quads per side are regular (on an open
+    /// boundary, between two faces, and on a seam inside one face); a face
+    /// that meets one with a single quad makes it irregular.
+    #[test]
+    fn curve_nodes_count_quads_per_side() {
+        let (_, mut mesh) = fixtures::square_grid(3.0, 3);
+        let id = |i: u32, j: u32| j * 4 + i;
+        let s = MeshStats::compute(&mesh, None);
+        assert_eq!((s.curve_nodes, s.irregular_curve_nodes), (8, 0));
+        // a seam through the middle node: four quads of one face, no open edge
+        mesh.node_class[id(1, 1) as usize] = NodeClass::Curve(CurveId(4), None);
+        let s = MeshStats::compute(&mesh, None);
+        assert_eq!((s.curve_nodes, s.irregular_curve_nodes), (9, 0));
+        assert_eq!(s.face_interior_nodes, 3);
+        // the corner quad moved to another face: the boundary nodes (1, 0)
+        // and (0, 1) now have one quad of each face, and the seam node one
+        // quad of face 1 against three of face 0
+        mesh.quad_face[0] = FaceId(1);
+        let s = MeshStats::compute(&mesh, None);
+        assert_eq!((s.curve_nodes, s.irregular_curve_nodes), (9, 3));
+    }
 
     /// Nodes no element uses (the mesh of a free wire curve) are nodes of the
     /// file but not vertices of the surface: χ of the disk stays 1.
