@@ -761,8 +761,41 @@ fn run(
 
 /// Meshes one face against the given curve meshes; `target` is the triangle
 /// size. When quads stay invalid, it tries once more with normal layers
-/// ([`FaceTriangulation::insert_normal_layers`]) before asking for finer curves.
+/// ([`FaceTriangulation::insert_normal_layers`]) before asking for finer
+/// curves. When quads stay invalid all over the face, it asks for all of the
+/// face's curves finer (the caller's rounds are capped): at a size larger
+/// than a curved face (i04o_m4 at size factor 4: a quarter torus of tube
+/// radius 1 against triangles of 13) the boundary had a few segments, the
+/// refinement crowded nodes onto a boundary curve and 7 266 of 63 588 quads
+/// folded, at any triangle size; with finer curves the face meshes.
 pub fn mesh_face(
+    model: &Model,
+    fid: FaceId,
+    cms: &[CurveMesh],
+    target: f64,
+) -> Result<QuadPatch, FaceFailure> {
+    match mesh_face_at(model, fid, cms, target) {
+        Err(FaceFailure::Fatal(reason)) => {
+            let curves: BTreeSet<CurveId> = model.faces[fid.idx()]
+                .curve_uses()
+                .map(|u| u.curve)
+                .filter(|c| !model.curves[c.idx()].degenerate)
+                .collect();
+            if curves.is_empty() {
+                Err(FaceFailure::Fatal(reason))
+            } else {
+                Err(FaceFailure::RefineCurves(
+                    curves.into_iter().collect(),
+                    reason,
+                ))
+            }
+        }
+        r => r,
+    }
+}
+
+/// [`mesh_face`] at one triangle size.
+fn mesh_face_at(
     model: &Model,
     fid: FaceId,
     cms: &[CurveMesh],

@@ -306,3 +306,24 @@ fn fine_meshes_of_a_half_cone_and_a_disk_keep_their_worst_quad() {
         }
     }
 }
+
+/// At a size larger than some of its faces, i04o_m4 used to fail: its quarter
+/// torus (tube radius 1, triangles of 13) folded 7 266 of 63 588 quads at
+/// any triangle size while its curves had a few segments. Such a face now
+/// asks for finer curves, and the coarse mesh is valid.
+#[test]
+fn a_coarse_size_asks_for_finer_curves_instead_of_failing() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/i04o_m4.step");
+    let model = occt::load(&path).expect("the model loads");
+    let opts = MeshOptions {
+        size: Size::Factor(4.0),
+        threads: None,
+        ..Default::default()
+    };
+    let (mesh, _) = mesh_model_stages(&model, &opts, MeshMethod::Unstructured, Stages::ALL)
+        .expect("a coarse mesh, not an error");
+    let r = common::check(&model, &mesh);
+    assert_eq!(r.inverted, 0);
+    // coarse: a few hundred quads, not the tens of thousands of the folded face
+    assert!(mesh.quads.len() < 3000, "{} quads", mesh.quads.len());
+}
