@@ -109,7 +109,7 @@ pub struct MeshArgs {
     /// Target edge length, in model units.
     #[arg(long, conflicts_with = "size_factor")]
     size: Option<f64>,
-    /// Multiplier of the default edge length (1/18 of the bounding-box diagonal).
+    /// Multiplier of the default edge length (1/24 of the bounding-box diagonal).
     #[arg(long)]
     size_factor: Option<f64>,
     /// Curved faces: quads per full turn of the surface normal (a 90° fillet
@@ -236,7 +236,7 @@ pub struct FieldArgs {
     /// Target quad edge length, in model units (the background triangles are finer).
     #[arg(long, conflicts_with = "size_factor")]
     size: Option<f64>,
-    /// Multiplier of the default quad edge length (1/18 of the bounding-box diagonal).
+    /// Multiplier of the default quad edge length (1/24 of the bounding-box diagonal).
     #[arg(long)]
     size_factor: Option<f64>,
     /// Largest growth of the size map per unit of distance (Eq. 10 of the paper).

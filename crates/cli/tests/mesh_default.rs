@@ -23,6 +23,10 @@ fn mesh(model: &Path, out: &Path, extra: &[&str]) -> Output {
     quadrille(&args)
 }
 
+/// `--size-factor` for 1/18 of the diagonal (the default is 1/24), the size
+/// some of these tests were written for.
+const EIGHTEENTH_OF_THE_DIAGONAL: &str = "1.3333333333333333";
+
 fn stderr(r: &Output) -> String {
     String::from_utf8_lossy(&r.stderr).into_owned()
 }
@@ -116,10 +120,15 @@ fn default_method_gives_a_valid_all_quad_mesh() {
 #[test]
 fn each_no_switch_turns_its_step_off() {
     let dir = tempfile::tempdir().unwrap();
-    // n12o_limit_cycle_genus0: by default some faces by patterns, defects
-    // replaced, cavities remeshed (3 of 5, 2 of 2, 9)
+    // n12o_limit_cycle_genus0 at 1/18 of its diagonal: some faces by
+    // patterns, defects replaced, cavities remeshed (3 of 5, 2 of 2, 9)
     let model = cad("n12o_limit_cycle_genus0.stp");
     let out = dir.path().join("m.msh");
+    let mesh = |model: &Path, out: &Path, extra: &[&str]| {
+        let mut args = vec!["--size-factor", EIGHTEENTH_OF_THE_DIAGONAL];
+        args.extend_from_slice(extra);
+        mesh(model, out, &args)
+    };
     let all = topology_line(&mesh(&model, &out, &[]));
     assert!(number_after(&all, "") > 0, "{all}");
     assert!(number_after(&all, "defects:") > 0, "{all}");
@@ -261,13 +270,14 @@ fn the_quads_beyond_a_cusp_corner_quad_stay_above_the_quality_bar() {
 
 #[test]
 fn fillets_get_four_quads_across_by_default() {
-    // s12o_cube_rounded_1: a cube whose 12 edges are fillets narrower than
-    // the default size; 16 quads per turn puts four across each 90° fillet
+    // s12o_cube_rounded_1 at 1/18 of its diagonal: a cube whose 12 edges
+    // are fillets narrower than that size; 16 quads per turn puts four
+    // across each 90° fillet
     let dir = tempfile::tempdir().unwrap();
     let model = cad("s12o_cube_rounded_1.stp");
     let counts = |extra: &[&str]| {
         let out = dir.path().join("m.msh");
-        let mut args = vec!["--quiet"];
+        let mut args = vec!["--quiet", "--size-factor", EIGHTEENTH_OF_THE_DIAGONAL];
         args.extend_from_slice(extra);
         let r = mesh(&model, &out, &args);
         assert!(r.status.success(), "{}", stderr(&r));

@@ -61,3 +61,30 @@ pub fn lerp(a: Vec3, b: Vec3, t: f64) -> Vec3 {
         a[2] + t * (b[2] - a[2]),
     ]
 }
+
+/// Distance from `p` to the segment `ab` (to `a` when the segment is a point).
+pub fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
+    let ab = sub(b, a);
+    let l2 = dot(ab, ab);
+    let t = if l2 > 0.0 {
+        (dot(sub(p, a), ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    dist(p, add(a, scale(ab, t)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn segment_distance_measures_to_the_nearest_point_of_the_segment() {
+        let (a, b) = ([0.0, 0.0, 0.0], [2.0, 0.0, 0.0]);
+        // above the middle, beyond an end, on the segment, a point segment
+        assert_eq!(segment_distance([1.0, 3.0, 0.0], a, b), 3.0);
+        assert_eq!(segment_distance([5.0, 0.0, 4.0], a, b), 5.0);
+        assert_eq!(segment_distance([0.5, 0.0, 0.0], a, b), 0.0);
+        assert_eq!(segment_distance([0.0, 3.0, 4.0], a, a), 5.0);
+    }
+}

@@ -509,6 +509,19 @@ impl<'a> FaceTriangulation<'a> {
                 if !self.is_inside(f) {
                     return false;
                 }
+                // a point numerically on a boundary edge (a circumcentre or
+                // centroid of a sliver along it) would make a triangle flat
+                // in 3D, which the cross field refuses
+                let x = self.eval(uv);
+                for e in self.cdt.face(f).adjacent_edges() {
+                    if e.as_undirected().data().is_constraint_edge() {
+                        let a = self.pos[e.from().data().id as usize];
+                        let b = self.pos[e.to().data().id as usize];
+                        if vec3::segment_distance(x, a, b) < min_dist {
+                            return false;
+                        }
+                    }
+                }
                 self.cdt
                     .face(f)
                     .vertices()
@@ -943,6 +956,22 @@ mod tests {
             assert!(!n[0].same_pole(&n[1]) && !n[1].same_pole(&n[2]) && !n[0].same_pole(&n[2]));
         }
         assert!(ft.triangles().len() > 50);
+    }
+
+    #[test]
+    fn a_point_on_a_boundary_edge_is_not_inserted() {
+        // the unit square, curves of 0.25: the boundary edge from (0, 0) to
+        // (0.25, 0) along v = 0
+        let m = primitives::square(1.0);
+        let cms = discretize_all(&m, &plan_curves(&m, 0.25));
+        let mut ft = FaceTriangulation::new(&m, FaceId(0), &cms, 0.5).unwrap();
+        let n = ft.nodes.len();
+        // 1e-13 inside the edge: a triangle flat in 3D; refused
+        assert!(!ft.try_insert([0.125, 1e-13], 1e-4));
+        assert_eq!(ft.nodes.len(), n);
+        // a little farther in than the minimum distance: inserted
+        assert!(ft.try_insert([0.125, 2e-4], 1e-4));
+        assert_eq!(ft.nodes.len(), n + 1);
     }
 
     #[test]

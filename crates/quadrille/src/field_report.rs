@@ -42,7 +42,7 @@ use crate::size_map::{build_size_map, FaceBackground, SizeMap, SizeMapError, Siz
 /// average SICN within noise (BENCHMARKS.md, "Background size").
 pub const BACKGROUND_REFINE: f64 = 6.0;
 
-/// The background size never goes below the default quad size (1/18 of the
+/// The background size never goes below the default quad size (1/24 of the
 /// diagonal) divided by this: the fields are smooth, and a background that
 /// follows a fine quad size costs time that grows much faster than the
 /// output (at `--size-factor 0.0625`, 96 % of the run went to fields on a
@@ -414,7 +414,7 @@ mod tests {
 
     #[test]
     fn background_size_stops_at_a_fraction_of_the_default_size() {
-        // square of side 2: diagonal 2√2, default size 2√2 / 18
+        // square of side 2: diagonal 2√2, default size 2√2 / DEFAULT_DIVISIONS
         let model = geometry::primitives::square(2.0);
         let default = crate::pipeline::default_size(&model);
         // a coarse quad size: h / BACKGROUND_REFINE

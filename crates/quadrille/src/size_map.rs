@@ -292,18 +292,6 @@ fn box_distance(p: Vec3, lo: Vec3, hi: Vec3) -> f64 {
     (d(0).powi(2) + d(1).powi(2) + d(2).powi(2)).sqrt()
 }
 
-/// Distance from `p` to segment `ab`.
-fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
-    let ab = vec3::sub(b, a);
-    let l2 = vec3::dot(ab, ab);
-    let t = if l2 > 0.0 {
-        (vec3::dot(vec3::sub(p, a), ab) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    vec3::dist(p, vec3::add(a, vec3::scale(ab, t)))
-}
-
 /// Cluster id of each corner: corners within `tol` of each other (chained)
 /// share one, the smallest corner index of the cluster.
 fn corner_clusters(model: &Model, tol: f64) -> Vec<usize> {
@@ -436,7 +424,7 @@ pub fn feature_sizes(model: &Model, cms: &[CurveMesh], graph: &BackgroundGraph) 
             let near = chunks[i]
                 .points
                 .windows(2)
-                .map(|w| segment_distance(p, w[0], w[1]))
+                .map(|w| vec3::segment_distance(p, w[0], w[1]))
                 .fold(f64::INFINITY, f64::min);
             if near <= contact {
                 touching.push(c);

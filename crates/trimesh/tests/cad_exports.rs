@@ -62,11 +62,11 @@ fn smooth_groups(model: &Model, angle_deg: f64) -> usize {
 }
 
 /// The baseline quad mesh of a CAD model as triangles.
-fn triangles_of(model: &Model, factor: f64) -> trimesh::Soup {
+fn triangles_of(model: &Model, eighteenths: f64) -> trimesh::Soup {
     let m = quadrille::mesh_model(
         model,
         &MeshOptions {
-            size: Size::Factor(factor),
+            size: Size::Absolute(eighteenths * model.diagonal() / 18.0),
             threads: Some(1),
             progress: None,
             ..Default::default()
@@ -84,7 +84,8 @@ fn triangles_of(model: &Model, factor: f64) -> trimesh::Soup {
     }
 }
 
-/// The CAD models exported as triangles, with the size factor of the export:
+/// The CAD models exported as triangles, with the size of the export in
+/// eighteenths of the diagonal (the default size when these were chosen):
 /// fine enough that no smooth region of the tessellation bends by 30°
 /// between two triangles.
 const EXPORTED_MODELS: [(&str, f64); 9] = [
