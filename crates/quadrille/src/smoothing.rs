@@ -14,7 +14,7 @@ use crate::split::{node_normal, quad_quality, quad_quality_with, NodeNormals, Qu
 
 pub mod kernels;
 
-pub use kernels::{optimize, optimize_nodes, OptimizeOptions, OptimizeReport};
+pub use kernels::{optimize, optimize_nodes, raise_average, OptimizeOptions, OptimizeReport};
 
 /// Node → incident quads, and node → neighbours along quad edges (sorted, deduplicated).
 fn adjacency(p: &QuadPatch) -> (Vec<Vec<u32>>, Vec<Vec<u32>>) {

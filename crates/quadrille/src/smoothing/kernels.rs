@@ -226,6 +226,71 @@ pub fn optimize_nodes(
     only: Option<&[u32]>,
     opts: &OptimizeOptions,
 ) -> OptimizeReport {
+    sweep_nodes(face, p, only, opts, Objective::Kernels)
+}
+
+/// Raises the average SICN of `p`'s quads: each face-interior node steps
+/// along the gradient (finite differences in its tangent plane) of the sum
+/// of the SICN of its quads; the step, a share of its shortest edge between
+/// [`ASCENT_STEP`] and [`ASCENT_MIN_STEP`], grows after a kept move and
+/// shrinks after a refused one. A move must raise that sum and keep each
+/// of the node's quads above its floor ([`ascent_floor`]: a quad below
+/// [`ASCENT_SAFE`] never gets worse). The Winslow and angle-based kernels
+/// aim at evenly spaced grids; this aims at square quads and lets their
+/// size vary. The result is kept only if the average rose; otherwise every
+/// position is restored exactly.
+pub fn raise_average(face: &Face, p: &mut QuadPatch, max_sweeps: usize) -> OptimizeReport {
+    let opts = OptimizeOptions {
+        max_sweeps,
+        ..Default::default()
+    };
+    sweep_nodes(face, p, None, &opts, Objective::Average)
+}
+
+/// Largest (and first) step of [`raise_average`], as a share of the node's shortest edge.
+pub const ASCENT_STEP: f64 = 0.05;
+/// [`raise_average`] leaves a node when its step falls below this share of its shortest edge.
+pub const ASCENT_MIN_STEP: f64 = 0.0005;
+/// Probe of [`raise_average`]'s finite-difference gradient, as a share of the node's shortest edge.
+pub const ASCENT_PROBE: f64 = 1e-3;
+/// [`raise_average`] keeps a good quad's SICN at least this share of what it
+/// was (see [`ascent_floor`]).
+pub const ASCENT_KEEP: f64 = 0.95;
+/// [`raise_average`] never lowers a quad below this SICN, nor one already
+/// below it.
+pub const ASCENT_SAFE: f64 = 0.5;
+/// [`raise_average`] passes over a node whose quads are all at least this good.
+pub const ASCENT_GOOD: f64 = 0.98;
+
+/// The lowest SICN [`raise_average`] lets a quad take, given its SICN
+/// before the sweeps: a quad below [`ASCENT_SAFE`] never gets worse; a
+/// better one keeps [`ASCENT_KEEP`] of its value and stays above
+/// [`ASCENT_SAFE`].
+fn ascent_floor(initial: f64) -> f64 {
+    if initial < ASCENT_SAFE {
+        initial
+    } else {
+        (ASCENT_KEEP * initial).max(ASCENT_SAFE)
+    }
+}
+
+/// What a sweep of [`sweep_nodes`] moves nodes toward.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Objective {
+    /// The Winslow / angle-based kernel's point; a node's worst quad must not drop.
+    Kernels,
+    /// Compass steps raising the sum of the node's quads' SICN.
+    Average,
+}
+
+/// The Gauss–Seidel sweeps of [`optimize_nodes`] and [`raise_average`].
+fn sweep_nodes(
+    face: &Face,
+    p: &mut QuadPatch,
+    only: Option<&[u32]>,
+    opts: &OptimizeOptions,
+    objective: Objective,
+) -> OptimizeReport {
     let n = p.nodes.len();
     let mut quads_of: Vec<Vec<u32>> = vec![Vec::new(); n];
     for (qi, q) in p.quads.iter().enumerate() {
@@ -325,7 +390,11 @@ pub fn optimize_nodes(
     let mut new_q: Vec<f64> = Vec::with_capacity(8);
     // a node is smoothed again only when it or a ring node moved by more
     // than `stop_displacement` in the previous sweep
+    // the quads' SICN before the sweeps (the floor of the Average objective)
+    let initial_q = qv.clone();
     let mut active = vec![true; free.len()];
+    // per-node compass step of the Average objective (0: not started)
+    let mut step = vec![0.0f64; free.len()];
     let mut moved = vec![false; n];
     for _ in 0..opts.max_sweeps {
         report.sweeps += 1;
@@ -339,6 +408,118 @@ pub fn optimize_nodes(
             ring_pos.clear();
             ring_pos.extend(ring.iter().map(|&r| p.pos[r as usize]));
             let Some(n_i) = nrm[i] else { continue };
+            if objective == Objective::Average {
+                let edge = (0..ring_pos.len())
+                    .step_by(2)
+                    .map(|j| vec3::dist(ring_pos[j], x))
+                    .fold(f64::INFINITY, f64::min);
+                if !(edge > 0.0 && edge.is_finite()) {
+                    continue;
+                }
+                if step[f] == 0.0 {
+                    step[f] = ASCENT_STEP;
+                }
+                if step[f] < ASCENT_MIN_STEP {
+                    continue;
+                }
+                converged = false;
+                let sum_before: f64 = quads_of[i].iter().map(|&q| qv[q as usize]).sum();
+                // quads about square already: nothing to gain here
+                if quads_of[i].iter().all(|&q| qv[q as usize] >= ASCENT_GOOD) {
+                    continue;
+                }
+                let Some(t1) = vec3::normalize(face.surface.derivs(p.nodes[i].uv).du) else {
+                    continue;
+                };
+                let t2 = vec3::cross(n_i, t1);
+                let (old_uv, old_n) = (p.nodes[i].uv, nrm[i]);
+                // the node at `t` (3D, mapped onto the surface): the sum and
+                // the worst of its quads' SICN; the node stays there
+                let place = |p: &mut QuadPatch,
+                             nrm: &mut Vec<Option<Vec3>>,
+                             new_q: &mut Vec<f64>,
+                             t: Vec3| {
+                    let (uv, nx, nn) = map_to_surface(face, old_uv, t, MAP_TOLERANCE * edge)?;
+                    p.nodes[i].uv = uv;
+                    p.pos[i] = nx;
+                    nrm[i] = Some(nn);
+                    new_q.clear();
+                    new_q.extend(quads_of[i].iter().map(|&q| qual(p, nrm, q)));
+                    let sum: f64 = new_q.iter().sum();
+                    let floor_ok = quads_of[i]
+                        .iter()
+                        .zip(new_q.iter())
+                        .all(|(&q, &v)| v >= ascent_floor(initial_q[q as usize]));
+                    Some((sum, floor_ok))
+                };
+                // a finite-difference gradient in the tangent frame
+                let h = ASCENT_PROBE * edge;
+                let mut g = [0.0; 2];
+                for (k, t) in [t1, t2].into_iter().enumerate() {
+                    if let Some((sum, _)) =
+                        place(p, &mut nrm, &mut new_q, vec3::add(x, vec3::scale(t, h)))
+                    {
+                        g[k] = (sum - sum_before) / h;
+                    }
+                }
+                let gn = (g[0] * g[0] + g[1] * g[1]).sqrt();
+                let mut kept = false;
+                if gn > 0.0 && gn.is_finite() {
+                    let dir = vec3::add(vec3::scale(t1, g[0] / gn), vec3::scale(t2, g[1] / gn));
+                    for shrink in [1.0, 0.5, 0.25] {
+                        let t = vec3::add(x, vec3::scale(dir, shrink * step[f] * edge));
+                        let Some((sum, floor_ok)) = place(p, &mut nrm, &mut new_q, t) else {
+                            continue;
+                        };
+                        if sum > sum_before + 1e-12 && floor_ok {
+                            for (&q, &v) in quads_of[i].iter().zip(&new_q) {
+                                qv[q as usize] = v;
+                            }
+                            report.moves += 1;
+                            kept = true;
+                            step[f] = (shrink * step[f] * 1.5).min(ASCENT_STEP);
+                            break;
+                        }
+                    }
+                }
+                // at a kink of the sum (two corners of a quad tie for its
+                // worst) the gradient misleads: compass steps instead
+                if !kept {
+                    let d = std::f64::consts::FRAC_1_SQRT_2;
+                    for (a, b) in [
+                        (1.0, 0.0),
+                        (-1.0, 0.0),
+                        (0.0, 1.0),
+                        (0.0, -1.0),
+                        (d, d),
+                        (-d, -d),
+                        (d, -d),
+                        (-d, d),
+                    ] {
+                        let dir = vec3::add(vec3::scale(t1, a), vec3::scale(t2, b));
+                        let t = vec3::add(x, vec3::scale(dir, step[f] * edge));
+                        let Some((sum, floor_ok)) = place(p, &mut nrm, &mut new_q, t) else {
+                            continue;
+                        };
+                        if sum > sum_before + 1e-12 && floor_ok {
+                            for (&q, &v) in quads_of[i].iter().zip(&new_q) {
+                                qv[q as usize] = v;
+                            }
+                            report.moves += 1;
+                            kept = true;
+                            break;
+                        }
+                    }
+                }
+                if !kept {
+                    p.nodes[i].uv = old_uv;
+                    p.pos[i] = x;
+                    nrm[i] = old_n;
+                    report.rejected += 1;
+                    step[f] *= 0.5;
+                }
+                continue;
+            }
             let target = if ring.len() == 8 {
                 let r: [Vec3; 8] = [
                     ring_pos[0],
@@ -436,15 +617,21 @@ pub fn optimize_nodes(
         if converged {
             break;
         }
-        for (f, (i, ring)) in free.iter().enumerate() {
-            active[f] = moved[*i as usize] || ring.iter().any(|&r| moved[r as usize]);
+        if objective == Objective::Kernels {
+            for (f, (i, ring)) in free.iter().enumerate() {
+                active[f] = moved[*i as usize] || ring.iter().any(|&r| moved[r as usize]);
+            }
         }
         for (i, _) in &free {
             moved[*i as usize] = false;
         }
     }
     let after = stats(&qv);
-    if after.0 >= report.before.0 && after.1 > report.before.1 {
+    let worst_kept = match objective {
+        Objective::Kernels => after.0 >= report.before.0,
+        Objective::Average => after.0 >= ascent_floor(report.before.0),
+    };
+    if worst_kept && after.1 > report.before.1 {
         report.after = after;
     } else {
         for ((i, _), &(uv, x)) in free.iter().zip(&saved) {
@@ -630,6 +817,67 @@ mod tests {
         }
         // a boundary node's star is not a disk
         assert!(one_ring(&p.quads, 1, &[0, 1]).is_none());
+    }
+
+    #[test]
+    fn raising_the_average_squares_a_sheared_grid_and_keeps_its_boundary() {
+        // a 4 × 4 grid of the unit square whose interior nodes are sheared
+        // toward +u: its quads are parallelograms; the boundary is fixed
+        let m = primitives::square(1.0);
+        let face = &m.faces[0];
+        let n = 4;
+        let h = 1.0 / n as f64;
+        let mut p = grid_patch(face, n, |i, j| {
+            let inner = i > 0 && j > 0 && i < n && j < n;
+            let shear = if inner {
+                0.3 * h * (j as f64 - 2.0)
+            } else {
+                0.0
+            };
+            [i as f64 * h + shear, j as f64 * h]
+        });
+        let boundary: Vec<([f64; 2], Vec3)> = (0..p.nodes.len())
+            .filter(|&i| p.nodes[i].node != NodeRef::Interior)
+            .map(|i| (p.nodes[i].uv, p.pos[i]))
+            .collect();
+        let before = qualities(face, &p);
+        let avg = |q: &[f64]| q.iter().sum::<f64>() / q.len() as f64;
+        let r = raise_average(face, &mut p, 20);
+        let after = qualities(face, &p);
+        assert!(r.kept && r.moves > 0, "{r:?}");
+        // the average rises to where nodes count as done (ASCENT_GOOD)
+        assert!(
+            avg(&before) < 0.95 && avg(&after) > ASCENT_GOOD,
+            "{} → {}",
+            avg(&before),
+            avg(&after)
+        );
+        assert!((r.after.1 - avg(&after)).abs() < 1e-12);
+        // no quad falls below its floor
+        for (b, a) in before.iter().zip(&after) {
+            assert!(*a >= ascent_floor(*b), "{b} → {a}");
+        }
+        // boundary nodes bit-identical, interior ones on the plane
+        let still: Vec<([f64; 2], Vec3)> = (0..p.nodes.len())
+            .filter(|&i| p.nodes[i].node != NodeRef::Interior)
+            .map(|i| (p.nodes[i].uv, p.pos[i]))
+            .collect();
+        assert_eq!(boundary, still);
+        assert!(p.pos.iter().all(|x| x[2] == 0.0));
+        // on the square grid itself nothing moves
+        let mut square = grid_patch(face, n, |i, j| [i as f64 * h, j as f64 * h]);
+        let copy = square.clone();
+        let r = raise_average(face, &mut square, 20);
+        assert_eq!(r.moves, 0);
+        assert!(same_bits(&square, &copy));
+    }
+
+    #[test]
+    fn the_floor_never_lowers_a_poor_quad_and_keeps_good_ones_above_half() {
+        assert_eq!(ascent_floor(0.2), 0.2);
+        assert_eq!(ascent_floor(0.5), 0.5);
+        assert_eq!(ascent_floor(0.52), 0.5);
+        assert!((ascent_floor(0.9) - 0.855).abs() < 1e-12);
     }
 
     #[test]
