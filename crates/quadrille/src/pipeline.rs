@@ -29,9 +29,10 @@ use crate::split::{quad_quality, split_triangles, QuadPatch};
 pub const DEFAULT_DIVISIONS: f64 = 24.0;
 /// Sweeps of [`crate::smoothing::raise_average`] on every face of the
 /// default and unstructured methods, last: on the 25 shared models (wing
-/// out) the average SICN rises by 0.001–0.030 (s17o_sphere 0.948 → 0.978),
-/// for 3–15 % more time (BENCHMARKS.md, "Raising the average SICN").
-const ASCENT_SWEEPS: usize = 20;
+/// out) the average SICN rises by up to 0.006 (s17o_sphere 0.948 → 0.976)
+/// for 4.5 % more time in all; 20 sweeps give the same averages within
+/// 0.001 (s17o 0.978) (BENCHMARKS.md, "Raising the average SICN").
+const ASCENT_SWEEPS: usize = 10;
 /// Rounds of "refine the curves around failed faces and mesh them again".
 const CURVE_ROUNDS: usize = 6;
 /// A face with more bad quads than this (or than 5 % of its quads) fails at

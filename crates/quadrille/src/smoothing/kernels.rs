@@ -516,7 +516,7 @@ fn sweep_nodes(
                     p.pos[i] = x;
                     nrm[i] = old_n;
                     report.rejected += 1;
-                    step[f] *= 0.5;
+                    step[f] *= 0.25;
                 }
                 continue;
             }
