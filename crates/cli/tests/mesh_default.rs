@@ -7,7 +7,7 @@ mod common;
 use std::path::Path;
 use std::process::Output;
 
-use common::{assert_clean_failure, cad, quadrille};
+use common::{assert_clean_failure, cad, quadrille, stats_json};
 
 /// `quadrille mesh MODEL -o OUT --threads 1 EXTRA...`.
 fn mesh(model: &Path, out: &Path, extra: &[&str]) -> Output {
@@ -87,15 +87,7 @@ fn default_method_gives_a_valid_all_quad_mesh() {
         "{}",
         stderr(&r)
     );
-    let s = quadrille(&[
-        "stats",
-        out.to_str().unwrap(),
-        "--cad",
-        model.to_str().unwrap(),
-        "--json",
-    ]);
-    assert!(s.status.success(), "{}", stderr(&s));
-    let json = String::from_utf8_lossy(&s.stdout);
+    let json = stats_json(&out, &model);
     assert_eq!(stat(&json, "triangles"), 0.0, "{json}");
     assert_eq!(stat(&json, "inverted_quads"), 0.0, "{json}");
     assert!(stat(&json, "quads") > 500.0, "{json}");
@@ -103,14 +95,7 @@ fn default_method_gives_a_valid_all_quad_mesh() {
     let plain = dir.path().join("u.msh");
     let u = mesh(&model, &plain, &["--method", "unstructured", "--quiet"]);
     assert!(u.status.success(), "{}", stderr(&u));
-    let su = quadrille(&[
-        "stats",
-        plain.to_str().unwrap(),
-        "--cad",
-        model.to_str().unwrap(),
-        "--json",
-    ]);
-    let ju = String::from_utf8_lossy(&su.stdout);
+    let ju = stats_json(&plain, &model);
     assert!(
         stat(&json, "irregular_percent") < stat(&ju, "irregular_percent"),
         "quasi-structured {json}\nunstructured {ju}"
@@ -252,14 +237,7 @@ fn the_quads_beyond_a_cusp_corner_quad_stay_above_the_quality_bar() {
     let out = dir.path().join("m.msh");
     let r = mesh(&model, &out, &["--quiet"]);
     assert!(r.status.success(), "{}", stderr(&r));
-    let s = quadrille(&[
-        "stats",
-        out.to_str().unwrap(),
-        "--cad",
-        model.to_str().unwrap(),
-        "--json",
-    ]);
-    let json = String::from_utf8_lossy(&s.stdout);
+    let json = stats_json(&out, &model);
     assert!(
         json.contains("\"angle_deg\""),
         "a sharp corner is listed: {json}"
@@ -311,14 +289,7 @@ fn the_quads_of_a_sphere_are_squared_up() {
     let out = dir.path().join("m.msh");
     let r = mesh(&model, &out, &["--quiet"]);
     assert!(r.status.success(), "{}", stderr(&r));
-    let s = quadrille(&[
-        "stats",
-        out.to_str().unwrap(),
-        "--cad",
-        model.to_str().unwrap(),
-        "--json",
-    ]);
-    let json = String::from_utf8_lossy(&s.stdout);
+    let json = stats_json(&out, &model);
     assert_eq!(stat(&json, "irregular_nodes"), 8.0, "{json}");
     assert_eq!(stat(&json, "inverted_quads"), 0.0, "{json}");
     assert!(stat(&json, "avg") > 0.97, "{json}");

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{assert_clean_failure, cad, quadrille};
+use common::{assert_clean_failure, cad, quadrille, stats_json};
 
 #[test]
 fn unstructured_method_writes_a_valid_mesh() {
@@ -24,15 +24,7 @@ fn unstructured_method_writes_a_valid_mesh() {
     let stderr = String::from_utf8_lossy(&r.stderr);
     assert!(stderr.contains("0 inverted"), "{stderr}");
     assert!(!stderr.contains("meshed with the baseline"), "{stderr}");
-    let s = quadrille(&[
-        "stats",
-        out.to_str().unwrap(),
-        "--cad",
-        model.to_str().unwrap(),
-        "--json",
-    ]);
-    assert!(s.status.success());
-    let text = String::from_utf8_lossy(&s.stdout);
+    let text = stats_json(&out, &model);
     assert!(
         text.contains("\"triangles\": 0") || text.contains("\"triangles\":0"),
         "{text}"

@@ -282,13 +282,7 @@ pub fn mesh_face_pattern(
         fixed[v as usize] = true;
     }
     // interior (u, v): harmonic in the pattern's connectivity, starting from the ring's centroid
-    let centroid = {
-        let s = ring
-            .nodes
-            .iter()
-            .fold([0.0, 0.0], |a, n| [a[0] + n.uv[0], a[1] + n.uv[1]]);
-        [s[0] / nb as f64, s[1] / nb as f64]
-    };
+    let centroid = uv_centroid(&ring.nodes);
     let mut uv: Vec<[f64; 2]> = (0..nv)
         .map(|v| {
             if fixed[v] {
@@ -401,13 +395,7 @@ fn mesh_disk_o_grid(face: &geometry::Face, ring: &Ring) -> Result<QuadPatch, Str
     }
     let mut fixed = vec![false; nv];
     fixed[..nb].fill(true);
-    let centroid = {
-        let s = ring
-            .nodes
-            .iter()
-            .fold([0.0, 0.0], |s, n| [s[0] + n.uv[0], s[1] + n.uv[1]]);
-        [s[0] / nb as f64, s[1] / nb as f64]
-    };
+    let centroid = uv_centroid(&ring.nodes);
     let mut uv: Vec<[f64; 2]> = (0..nv)
         .map(|v| if v < nb { ring.nodes[v].uv } else { centroid })
         .collect();
@@ -473,6 +461,15 @@ pub fn smooth_and_check(
         return Err(format!("pattern {pattern} gives a quad of SICN {worst:.3}"));
     }
     Ok(patch)
+}
+
+/// The mean (u, v) of `nodes` (the start of a harmonic fill inside a ring).
+fn uv_centroid(nodes: &[LocalNode]) -> [f64; 2] {
+    let s = nodes
+        .iter()
+        .fold([0.0, 0.0], |s, n| [s[0] + n.uv[0], s[1] + n.uv[1]]);
+    let n = nodes.len().max(1) as f64;
+    [s[0] / n, s[1] / n]
 }
 
 #[cfg(test)]

@@ -37,3 +37,16 @@ pub fn assert_clean_failure(r: &Output, name: &str) -> String {
     assert!(stderr.contains(name), "error must name {name}: {stderr}");
     stderr
 }
+
+/// `quadrille stats MESH --cad CAD --json`, checked to succeed; its JSON text.
+pub fn stats_json(mesh: &Path, cad: &Path) -> String {
+    let s = quadrille(&[
+        "stats",
+        mesh.to_str().unwrap(),
+        "--cad",
+        cad.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(s.status.success(), "{}", String::from_utf8_lossy(&s.stderr));
+    String::from_utf8_lossy(&s.stdout).into_owned()
+}
