@@ -46,10 +46,11 @@ pub const BACKGROUND_REFINE: f64 = 6.0;
 /// diagonal) divided by this: the fields are smooth, and a background that
 /// follows a fine quad size costs time that grows much faster than the
 /// output (at `--size-factor 0.0625`, 96 % of the run went to fields on a
-/// background of diagonal / 2304). 16 rather than 32: on i01o_m1 at size
-/// factors 0.125 and 0.0625 the fields take 0.7 s instead of 5 s, and the
-/// meshes are as good or better (BENCHMARKS.md, "Background size").
-pub const MAX_BACKGROUND_DIVISIONS: f64 = 16.0;
+/// background of diagonal / 2304). Diagonal / 288 (16 × the old default of
+/// 1/18) rather than / 576: on i01o_m1 at size factors 0.125 and 0.0625
+/// the fields take 0.7 s instead of 5 s, and the meshes are as good or
+/// better (BENCHMARKS.md, "Background size").
+pub const MAX_BACKGROUND_DIVISIONS: f64 = 12.0;
 
 /// Options of [`model_fields`].
 #[derive(Clone)]

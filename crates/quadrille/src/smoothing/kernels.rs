@@ -237,8 +237,10 @@ pub fn optimize_nodes(
 /// of the node's quads above its floor ([`ascent_floor`]: a quad below
 /// [`ASCENT_SAFE`] never gets worse). The Winslow and angle-based kernels
 /// aim at evenly spaced grids; this aims at square quads and lets their
-/// size vary. The result is kept only if the average rose; otherwise every
-/// position is restored exactly.
+/// size vary. A patch whose average is already [`ASCENT_DONE`] is left
+/// as it is (at fine sizes most faces: i01o_m1 at size factor 0.0625 takes
+/// 6.8 s instead of 7.6 s, the same average). The result is kept only if
+/// the average rose; otherwise every position is restored exactly.
 pub fn raise_average(face: &Face, p: &mut QuadPatch, max_sweeps: usize) -> OptimizeReport {
     let opts = OptimizeOptions {
         max_sweeps,
@@ -259,6 +261,10 @@ pub const ASCENT_KEEP: f64 = 0.95;
 /// [`raise_average`] never lowers a quad below this SICN, nor one already
 /// below it.
 pub const ASCENT_SAFE: f64 = 0.5;
+/// [`raise_average`] leaves a patch whose average SICN is at least this
+/// (on the 25 shared models the averages move by at most 0.0013 against
+/// no such test).
+pub const ASCENT_DONE: f64 = 0.97;
 /// [`raise_average`] passes over a node whose quads are all at least this good.
 pub const ASCENT_GOOD: f64 = 0.98;
 
@@ -378,6 +384,10 @@ fn sweep_nodes(
     report.before = stats(&qv);
     report.after = report.before;
     if free.is_empty() || opts.max_sweeps == 0 {
+        return report;
+    }
+    // a patch whose quads are about square on average has little to gain
+    if objective == Objective::Average && report.before.1 >= ASCENT_DONE {
         return report;
     }
     let saved: Vec<([f64; 2], Vec3)> = free
