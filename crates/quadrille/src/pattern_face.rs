@@ -1,8 +1,9 @@
 //! Meshing a simple CAD face directly with a pattern (paper §6.1.2, spec
-//! §9.6): a face with one boundary loop whose convex corners (ideal valence
-//! 1) split it into the sides of a library pattern ([`crate::patterns`])
-//! gets the refined pattern, its boundary on the face's curve meshes, its
-//! interior placed by a harmonic map in (u, v) and evaluated on the surface.
+//! §9.6): a face with one boundary loop whose convex corners (ideal
+//! valence 1) split it into the sides of a library pattern
+//! ([`crate::patterns`]) gets the refined pattern, its boundary on the
+//! face's curve meshes, its interior placed by a harmonic map in (u, v)
+//! and evaluated on the surface.
 //! The result is kept only when every quad has a SICN (with CAD normals) of
 //! at least [`MIN_PATTERN_SICN`]; otherwise the caller meshes the face
 //! another way.
