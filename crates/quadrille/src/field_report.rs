@@ -401,7 +401,11 @@ impl ModelFields {
             .map_err(|e: SizeMapError| MeshError::Sizing(e.to_string()))?;
         for (k, &i) in ok.iter().enumerate() {
             if let Ok(f) = &mut self.faces[i].outcome {
-                f.size = Some(map.face_sizes(k));
+                let sizes = map.face_sizes(k);
+                for s in &mut f.singularities.list {
+                    s.size = s.size_from(&f.field.topology, &sizes);
+                }
+                f.size = Some(sizes);
             }
         }
         self.size_map = Some(map);

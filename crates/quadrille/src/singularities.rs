@@ -50,6 +50,26 @@ pub struct Singularity {
     pub position: Vec3,
     /// What it sits on.
     pub site: SingularitySite,
+    /// The size map at it, once the model's size map is known
+    /// ([`crate::field_report::ModelFields`]); the cavity stage measures its
+    /// match radius in this size (spec §10.2: ρ · s(p_σ)).
+    pub size: Option<f64>,
+}
+
+impl Singularity {
+    /// The mean of `size` (per welded vertex of `topo`) over the
+    /// singularity's site: its vertex, or its triangle's three vertices.
+    pub fn size_from(&self, topo: &crate::crossfield::FaceTopology, size: &[f64]) -> Option<f64> {
+        let at = |v: u32| size.get(v as usize).copied();
+        let s = match self.site {
+            SingularitySite::Vertex(v) | SingularitySite::AcuteCorner(v, _) => at(v)?,
+            SingularitySite::Triangle(t) => {
+                let tri = topo.triangles.get(t as usize)?;
+                (at(tri[0])? + at(tri[1])? + at(tri[2])?) / 3.0
+            }
+        };
+        (s > 0.0 && s.is_finite()).then_some(s)
+    }
 }
 
 /// A CAD corner on the face boundary with its interior angle and ideal valence.
@@ -199,6 +219,7 @@ pub fn extract_singularities(field: &CrossField) -> Singularities {
                 index: k.signum(),
                 position: topo.positions[v],
                 site: SingularitySite::Vertex(v as u32),
+                size: None,
             });
         }
     }
@@ -214,6 +235,7 @@ pub fn extract_singularities(field: &CrossField) -> Singularities {
                 index: k.signum(),
                 position: c,
                 site: SingularitySite::Triangle(t as u32),
+                size: None,
             });
         }
     }
@@ -224,6 +246,7 @@ pub fn extract_singularities(field: &CrossField) -> Singularities {
                 index: 1,
                 position: topo.positions[c.vertex as usize],
                 site: SingularitySite::AcuteCorner(c.vertex, c.corner),
+                size: None,
             });
         }
     }

@@ -115,6 +115,7 @@ fn singularity(index: i32, position: Vec3) -> Singularity {
         index,
         position,
         site: SingularitySite::Vertex(0),
+        size: None,
     }
 }
 
@@ -187,6 +188,31 @@ fn a_singular_vertex_is_never_removed() {
     let far = [singularity(1, [5.0, 5.0, 0.0])];
     let r = remesh_cavities(face, &mut q, &far, &opts);
     assert_eq!((r.singular, r.irregular_after), (0, 0), "{r:?}");
+}
+
+#[test]
+fn a_singularity_a_little_farther_away_is_matched_late_in_size_map_units() {
+    let model = primitives::square(1.0);
+    let face = &model.faces[0];
+    // steps off: only the matching runs
+    let opts = CavityOptions {
+        steps: [false; 4],
+        ..Default::default()
+    };
+    let cell = 1.0 / 8.0;
+    // a +1 singularity `k` cells below b (valence 3; c, the other valence-3
+    // vertex, is 1.6 cells above b), the size map there one cell
+    let flagged = |k: f64| {
+        let (mut p, [b, _, _, _]) = rotated_grid(8, 3, 3);
+        let x = p.pos[b as usize];
+        let mut s = singularity(1, [x[0], x[1] - k * cell, 0.0]);
+        s.size = Some(cell);
+        remesh_cavities(face, &mut p, &[s], &opts).singular
+    };
+    // within MATCH_RADIUS, within LATE_MATCH_RADIUS, beyond both
+    assert_eq!(flagged(1.5), 1);
+    assert_eq!(flagged(2.5), 1);
+    assert_eq!(flagged(3.5), 0);
 }
 
 /// Rotates the edge shared by quads `q1` and `q2` of `p` (see
