@@ -206,8 +206,8 @@ fn topology_summary(
     let d = &report.defects;
     let defects = if stages.defects {
         format!(
-            "defects: {} of {} very irregular vertices replaced by disk quadrangulations",
-            d.replaced, d.found
+            "defects: {} of {} very irregular vertices and {} of {} corners off their ideal valence replaced by disk quadrangulations",
+            d.replaced, d.found, d.boundary_replaced, d.boundary_found
         )
     } else {
         "defects off".to_string()
@@ -236,7 +236,7 @@ fn topology_summary(
 fn timings_text(t: &quadrille::StageTimes, threads: usize, cli: [f64; 4]) -> String {
     let [load, mesh, regularize, write] = cli;
     let s = |d: std::time::Duration| d.as_secs_f64();
-    let rows: [(&str, &str, f64); 15] = [
+    let rows: [(&str, &str, f64); 16] = [
         ("load", "load", load),
         ("fields", "cross fields and size map", s(t.fields)),
         ("curves", "curve planning and discretization", s(t.curves)),
@@ -252,6 +252,7 @@ fn timings_text(t: &quadrille::StageTimes, threads: usize, cli: [f64; 4]) -> Str
         ("cavities", "  cavities", s(t.cavities)),
         ("fallback", "  fallback (baseline)", s(t.fallback)),
         ("assembly", "assembly", s(t.assembly)),
+        ("curve_slide", "curve nodes slid", s(t.curve_slide)),
         ("mesh", "meshing (wall time)", mesh),
         ("regularize", "regularize", regularize),
         ("write", "writing", write),

@@ -182,6 +182,35 @@ pub fn quad_corner_normals(mesh: &QuadMesh, model: Option<&Model>) -> Vec<[Vec3;
     }
 }
 
+/// [`quad_corner_normals`] of the quads `quads` only (in that order), for
+/// callers that work on a few quads of a large mesh: the CAD normals of
+/// those quads, the mesh-based fallback computed only when one is missing.
+pub fn quad_corner_normals_of(mesh: &QuadMesh, model: &Model, quads: &[u32]) -> Vec<[Vec3; 4]> {
+    let mut cad = CadNormals::new(mesh, model);
+    let found: Vec<[Option<Vec3>; 4]> = quads
+        .iter()
+        .map(|&qi| match mesh.quads.get(qi as usize) {
+            Some(q) => cad.quad_normals(qi as usize, q),
+            None => [None; 4],
+        })
+        .collect();
+    let fallback = found
+        .iter()
+        .any(|n| n.iter().any(Option::is_none))
+        .then(|| mesh_corner_normals(mesh));
+    quads
+        .iter()
+        .zip(found)
+        .map(|(&qi, n)| {
+            let base = fallback
+                .as_ref()
+                .and_then(|f| f.get(qi as usize).copied())
+                .unwrap_or([[0.0, 0.0, 1.0]; 4]);
+            [0, 1, 2, 3].map(|k| n[k].unwrap_or(base[k]))
+        })
+        .collect()
+}
+
 /// SICN of every quad (minimum over its corners), with the normals of
 /// [`quad_corner_normals`]. Used by the statistics, the VTU writer and the renderer.
 ///

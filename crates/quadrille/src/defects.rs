@@ -11,6 +11,16 @@
 //!
 //! Curve and corner vertices of the cavity boundary keep their valence
 //! (a curve vertex may move toward 2 quads, never away).
+//!
+//! A CAD corner off the valence its angle asks for (paper §6.3.2) is
+//! treated the same way: its star, a fan bounded by the loop of the fan's
+//! outer edges through the corner, is replaced by the table disk that gives
+//! the corner a valence closer to its ideal, when Eq. 15's irregularity of
+//! the cavity strictly falls and its count of irregular vertices does not
+//! grow (without that count, i13o_s6 ended with 72 irregular vertices
+//! instead of 68). The same for curve vertices without 2 quads was tried:
+//! i01o_m1 went from 41 to 51 irregular vertices, as the cavities then
+//! removed fewer.
 
 use geometry::Face;
 
@@ -33,6 +43,66 @@ pub struct DefectReport {
     pub replaced: usize,
     /// Replacements undone because the geometry was not valid.
     pub undone: usize,
+    /// Corners off their ideal valence, before.
+    pub boundary_found: usize,
+    /// Their stars replaced.
+    pub boundary_replaced: usize,
+}
+
+/// The ideal number of quads at corner vertex `v` of `p`: from the sum of
+/// its quads' angles there (`star`, its quads).
+fn corner_ideal(p: &QuadPatch, star: &[u32], v: u32) -> u8 {
+    let x = p.pos[v as usize];
+    let mut angle = 0.0;
+    for &q in star {
+        let quad = p.quads[q as usize];
+        let Some(k) = quad.iter().position(|&w| w == v) else {
+            continue;
+        };
+        let a = geometry::vec3::sub(p.pos[quad[(k + 1) % 4] as usize], x);
+        let b = geometry::vec3::sub(p.pos[quad[(k + 3) % 4] as usize], x);
+        let c = geometry::vec3::dot(a, b) / (geometry::vec3::norm(a) * geometry::vec3::norm(b));
+        if c.is_finite() {
+            angle += c.clamp(-1.0, 1.0).acos();
+        }
+    }
+    crate::singularities::ideal_corner_valence(angle) as u8
+}
+
+/// The boundary loop of the quads `star` around boundary vertex `v`, in
+/// the quads' orientation, starting at `v` (which it passes once): the
+/// cavity of a curve or corner vertex. `None` when the star's outer edges
+/// do not form one simple loop through `v`.
+fn boundary_star_loop(quads: &[[u32; 4]], v: u32, star: &[u32]) -> Option<Vec<u32>> {
+    use std::collections::HashMap;
+    let mut count: HashMap<(u32, u32), u32> = HashMap::new();
+    for &q in star {
+        let quad = quads[q as usize];
+        for k in 0..4 {
+            let (a, b) = (quad[k], quad[(k + 1) % 4]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let mut next: HashMap<u32, u32> = HashMap::new();
+    for &q in star {
+        let quad = quads[q as usize];
+        for k in 0..4 {
+            let (a, b) = (quad[k], quad[(k + 1) % 4]);
+            if count[&(a.min(b), a.max(b))] == 1 && next.insert(a, b).is_some() {
+                return None;
+            }
+        }
+    }
+    let mut out = vec![v];
+    let mut cur = *next.get(&v)?;
+    while cur != v {
+        if out.len() > next.len() {
+            return None;
+        }
+        out.push(cur);
+        cur = *next.get(&cur)?;
+    }
+    (out.len() == next.len()).then_some(out)
 }
 
 /// True for an interior vertex of valence `k` that the method removes.
@@ -59,20 +129,46 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
     let mut changed: Vec<u32> = Vec::new();
     let mut at = incidence(p);
     let mut alive = vec![true; p.quads.len()];
-    let candidates: Vec<u32> = (0..p.nodes.len() as u32)
+    // very irregular interior vertices, then corners off the valence their
+    // angle asks for (paper §6.3.2)
+    let mut candidates: Vec<(u32, u8)> = (0..p.nodes.len() as u32)
         .filter(|&v| {
             p.nodes[v as usize].node == NodeRef::Interior && is_defect(at[v as usize].len())
         })
+        .map(|v| (v, 4))
         .collect();
     report.found = candidates.len();
+    for v in 0..p.nodes.len() as u32 {
+        let nd = &p.nodes[v as usize];
+        let ideal = match nd.node {
+            _ if nd.pole.is_some() || at[v as usize].is_empty() => continue,
+            NodeRef::Interior => continue,
+            // curve vertices: tried, and i01o_m1 went from 41 to 51
+            // irregular vertices (the cavities then removed fewer)
+            NodeRef::Curve(..) => continue,
+            NodeRef::Corner(_) => corner_ideal(p, &at[v as usize], v),
+        };
+        if at[v as usize].len() != ideal as usize {
+            candidates.push((v, ideal));
+            report.boundary_found += 1;
+        }
+    }
     let quality =
         |p: &QuadPatch, q: u32| quad_quality(face, &p.nodes, &p.pos, &p.quads[q as usize]);
-    for v in candidates {
+    for (v, ideal_v) in candidates {
         let star = at[v as usize].clone();
-        if !is_defect(star.len()) {
+        let interior = p.nodes[v as usize].node == NodeRef::Interior;
+        if star.len() == ideal_v as usize || (interior && !is_defect(star.len())) {
             continue;
         }
-        let Some(ring) = one_ring(&p.quads, v, &star) else {
+        // the cavity boundary: the ring around an interior vertex; around a
+        // boundary vertex, the loop of the star's outer edges through it
+        let ring = if interior {
+            one_ring(&p.quads, v, &star)
+        } else {
+            boundary_star_loop(&p.quads, v, &star)
+        };
+        let Some(ring) = ring else {
             continue;
         };
         if ring.len() > crate::disk_quads::TABLE_MAX_BOUNDARY {
@@ -88,6 +184,8 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
                     .filter(|&&q| p.quads[q as usize].contains(&w))
                     .count() as u8;
                 let (ideal, allowed) = match p.nodes[w as usize].node {
+                    // the vertex itself moves toward its ideal, never away
+                    _ if w == v => (ideal_v, (total.min(ideal_v), total.max(ideal_v))),
                     NodeRef::Interior => (4, (3, 5)),
                     NodeRef::Curve(..) => (2, (total.min(2), total.max(2))),
                     NodeRef::Corner(_) => (total, (total, total)),
@@ -104,7 +202,11 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
             .zip(&ring)
             .map(|(c, &w)| (c.ideal as i32 - at[w as usize].len() as i32).pow(2) as u32)
             .sum::<u32>()
-            + (4 - star.len() as i32).pow(2) as u32;
+            + if interior {
+                (4 - star.len() as i32).pow(2) as u32
+            } else {
+                0
+            };
         let Some(best) = best_replacement(table(), &cavity) else {
             continue;
         };
@@ -112,6 +214,25 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
             continue;
         }
         let disk = &table()[best.disk];
+        // a corner's fix must not add irregular vertices: Eq. 15 squares the
+        // deviations, so one corner two quads off could become two
+        // irregular vertices one off each
+        if !interior {
+            let b = ring.len();
+            let before = cavity
+                .iter()
+                .zip(&ring)
+                .filter(|(c, &w)| at[w as usize].len() != c.ideal as usize)
+                .count();
+            let mut after = disk.valences()[b..].iter().filter(|&&k| k != 4).count();
+            for (i, &n_in) in disk.boundary_quads.iter().enumerate() {
+                let c = cavity[best.position(i, b)];
+                after += usize::from(n_in + c.outside != c.ideal);
+            }
+            if after > before {
+                continue;
+            }
+        }
         // the enlarged cavity (quads around the ring) and its worst quad, before
         let mut region: Vec<u32> = ring
             .iter()
@@ -221,7 +342,11 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
             .map(|&q| quality(p, q))
             .fold(f64::INFINITY, f64::min);
         if finite && new_worst > 0.0 && new_worst >= KEEP_QUALITY * old_worst.min(1.0) {
-            report.replaced += 1;
+            if interior {
+                report.replaced += 1;
+            } else {
+                report.boundary_replaced += 1;
+            }
             changed.extend_from_slice(&movable);
             continue;
         }
@@ -394,5 +519,94 @@ mod tests {
                 p.nodes.len()
             )
         );
+    }
+
+    /// A 4 × 4 grid on the unit square whose corner (0, 0) has two quads:
+    /// the edge between the first two cells of the bottom row turned so
+    /// that it ends at the corner. Returns the patch and the corner's id.
+    fn corner_with_two_quads() -> (QuadPatch, u32) {
+        let n = 4;
+        let id = |x: usize, y: usize| (y * (n + 1) + x) as u32;
+        let mut p = QuadPatch::default();
+        for y in 0..=n {
+            for x in 0..=n {
+                let on_x = x == 0 || x == n;
+                let on_y = y == 0 || y == n;
+                let node = match (on_x, on_y) {
+                    (true, true) => {
+                        NodeRef::Corner(geometry::CornerId((x / n + 2 * (y / n)) as u32))
+                    }
+                    (false, false) => NodeRef::Interior,
+                    _ => NodeRef::Curve(geometry::CurveId(0), id(x, y)),
+                };
+                let uv = [x as f64 / n as f64, y as f64 / n as f64];
+                p.nodes.push(LocalNode {
+                    uv,
+                    node,
+                    pole: None,
+                });
+                p.pos.push([uv[0], uv[1], 0.0]);
+            }
+        }
+        for y in 0..n {
+            for x in 0..n {
+                if y == 0 && x < 2 {
+                    continue;
+                }
+                p.quads
+                    .push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
+            }
+        }
+        let (a, b, e) = (id(0, 0), id(1, 0), id(2, 0));
+        let (d, c, f) = (id(0, 1), id(1, 1), id(2, 1));
+        p.quads.push([a, b, e, f]);
+        p.quads.push([a, f, c, d]);
+        p.quad_tri = (0..p.quads.len() as u32).collect();
+        (p, a)
+    }
+
+    #[test]
+    fn a_corner_with_too_many_quads_gets_its_ideal_valence_back() {
+        let model = primitives::square(1.0);
+        let face = &model.faces[0];
+        let (mut p, corner) = corner_with_two_quads();
+        let star = incidence(&p)[corner as usize].clone();
+        assert_eq!(star.len(), 2);
+        // the fan's outer loop runs through the corner: a, b, e, f, c, d
+        let ring = boundary_star_loop(&p.quads, corner, &star).unwrap();
+        assert_eq!(ring, vec![0, 1, 2, 7, 6, 5]);
+        assert_eq!(corner_ideal(&p, &star, corner), 1);
+        let quads_before = p.quads.len();
+        let r = remove_defects(face, &mut p);
+        assert_eq!(
+            (r.found, r.boundary_found, r.boundary_replaced),
+            (0, 1, 1),
+            "{r:?}"
+        );
+        let at = incidence(&p);
+        // the corner has one quad, the bottom curve vertex two, every interior vertex four
+        assert_eq!(at[corner as usize].len(), 1);
+        assert_eq!(at[1].len(), 2);
+        for (v, nd) in p.nodes.iter().enumerate() {
+            if nd.node == NodeRef::Interior {
+                assert_eq!(at[v].len(), 4, "vertex {v}");
+            }
+        }
+        assert_eq!(p.quads.len(), quads_before);
+        for q in &p.quads {
+            assert!(
+                quad_quality(face, &p.nodes, &p.pos, q) > 0.0,
+                "quad {q:?} invalid"
+            );
+        }
+    }
+
+    #[test]
+    fn a_star_whose_outer_edges_pinch_has_no_boundary_loop() {
+        // two quads meeting only at vertex 0: the outer edges pass 0 twice
+        let quads = [[0, 1, 2, 3], [0, 4, 5, 6]];
+        assert_eq!(boundary_star_loop(&quads, 0, &[0, 1]), None);
+        // one quad: its own four vertices from 0
+        assert_eq!(boundary_star_loop(&quads, 2, &[0]), Some(vec![2, 3, 0, 1]));
     }
 }

@@ -29,6 +29,7 @@ pub mod cavity;
 pub mod crossfield;
 pub mod curve_chords;
 pub mod curve_mesh;
+pub mod curve_slide;
 pub mod cusps;
 pub mod defects;
 pub mod disk_quads;
