@@ -251,7 +251,7 @@ impl Face {
     /// below [`SINGULAR_RATIO`] `· (|du|² + |dv|²)` (scale-free), or the
     /// derivatives are not finite there.
     pub fn is_singular(&self, uv: [f64; 2]) -> bool {
-        let ratio = singular_ratio(&self.surface.derivs(uv));
+        let ratio = singular_ratio(&self.surface.first_derivs(uv));
         ratio.is_nan() || ratio < SINGULAR_RATIO
     }
 
@@ -261,7 +261,7 @@ impl Face {
     /// point the corner normal depends on `uv` alone, so callers that
     /// evaluate many elements around fixed nodes may keep it per node.
     pub fn regular_normal(&self, uv: [f64; 2]) -> Option<Vec3> {
-        self.regular_normal_from(&self.surface.derivs(uv))
+        self.regular_normal_from(&self.surface.first_derivs(uv))
     }
 
     /// [`Face::regular_normal`] from the derivatives at the point, for
@@ -299,7 +299,7 @@ impl Face {
     pub fn corner_normal(&self, at: CornerUv, centre: [f64; 2]) -> Option<Vec3> {
         let mut p = at.toward(centre);
         if let CornerUv::Point(_) = at {
-            let d = self.surface.derivs(p);
+            let d = self.surface.first_derivs(p);
             if let Some(n) = self.regular_normal_from(&d) {
                 return Some(n);
             }

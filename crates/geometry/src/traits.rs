@@ -30,6 +30,14 @@ pub trait Surface: Send + Sync + std::fmt::Debug {
     fn eval(&self, uv: [f64; 2]) -> Vec3;
     /// S and its first and second derivatives at (u, v).
     fn derivs(&self, uv: [f64; 2]) -> SurfaceDerivs;
+    /// S and its first derivatives at (u, v), for the callers that need no
+    /// more (normals, tangent frames, projections by Gauss–Newton): the
+    /// second derivatives may be left at zero. A surface whose second
+    /// derivatives cost extra (OpenCASCADE's) overrides it; by default the
+    /// same as [`Surface::derivs`].
+    fn first_derivs(&self, uv: [f64; 2]) -> SurfaceDerivs {
+        self.derivs(uv)
+    }
     /// Unit normal `du × dv / |du × dv|` at (u, v), or `None` where the
     /// parametrization is singular (a pole) and no limit normal is known.
     fn normal(&self, uv: [f64; 2]) -> Option<Vec3> {

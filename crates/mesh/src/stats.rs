@@ -547,7 +547,7 @@ pub fn sharp_corners_in_face(model: &Model, fi: usize, below_deg: f64) -> Vec<Sh
                 };
                 let corner = if a.forward { ca.end } else { ca.start };
                 let uv = b.pcurve.eval(t_start);
-                let d = face.surface.derivs(uv);
+                let d = face.surface.first_derivs(uv);
                 let to3d = |w: [f64; 2]| add(scale(d.du, w[0]), scale(d.dv, w[1]));
                 let da = a.pcurve.deriv(t_end);
                 let db = b.pcurve.deriv(t_start);

@@ -299,6 +299,18 @@ impl Surface for OcctSurface {
         }
     }
 
+    fn first_derivs(&self, uv: [f64; 2]) -> SurfaceDerivs {
+        let [point, du, dv] = self.d1(uv).unwrap_or([NAN3; 3]);
+        SurfaceDerivs {
+            point,
+            du,
+            dv,
+            duu: [0.0; 3],
+            duv: [0.0; 3],
+            dvv: [0.0; 3],
+        }
+    }
+
     fn derivs(&self, uv: [f64; 2]) -> SurfaceDerivs {
         let mut o = [f64::NAN; 18];
         // SAFETY: live surface, 18-element output buffer.

@@ -277,3 +277,24 @@ fn normals_are_unit_and_exist_at_poles() {
     }
     assert!(checked >= 3);
 }
+
+/// `first_derivs` (OpenCASCADE's D1) gives the point and first derivatives
+/// of `derivs` (D2) at points inside every face of every model.
+#[test]
+fn first_derivatives_agree_with_the_full_evaluation() {
+    for (name, imp) in imports() {
+        let m = &imp.model;
+        for (f, face) in m.faces.iter().enumerate() {
+            for uv in interior_points(m, f, 9) {
+                let (a, b) = (face.surface.first_derivs(uv), face.surface.derivs(uv));
+                for (x, y) in [(a.point, b.point), (a.du, b.du), (a.dv, b.dv)] {
+                    let scale = 1.0 + y.iter().map(|c| c.abs()).fold(0.0, f64::max);
+                    assert!(
+                        dist(x, y) <= 1e-12 * scale,
+                        "{name} face {f} at {uv:?}: {x:?} against {y:?}"
+                    );
+                }
+            }
+        }
+    }
+}

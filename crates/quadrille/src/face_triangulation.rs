@@ -173,7 +173,7 @@ fn metric_scale(face: &Face) -> [f64; 2] {
                 b.umin + (b.umax - b.umin) * i as f64 / 8.0,
                 b.vmin + (b.vmax - b.vmin) * j as f64 / 8.0,
             ];
-            let d = face.surface.derivs(uv);
+            let d = face.surface.first_derivs(uv);
             let (a, c) = (vec3::norm(d.du), vec3::norm(d.dv));
             if a.is_finite() && c.is_finite() {
                 su += a;

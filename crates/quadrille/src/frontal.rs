@@ -156,7 +156,7 @@ fn in_box(p: Vec3, q: Vec3, frame: &[Vec3; 3], r: f64) -> bool {
 /// The (u, v) step whose image under the surface Jacobian at `uv` is closest
 /// to the 3D vector `w` (least squares), or `None` where the Jacobian is singular.
 pub fn uv_step(face: &Face, uv: [f64; 2], w: Vec3) -> Option<[f64; 2]> {
-    let d = face.surface.derivs(uv);
+    let d = face.surface.first_derivs(uv);
     let (a, b, c) = (
         vec3::dot(d.du, d.du),
         vec3::dot(d.du, d.dv),
@@ -316,7 +316,7 @@ mod tests {
         let model = primitives::cylinder(2.0, 1.0);
         let face = &model.faces[0];
         let uv = [0.3, 0.5];
-        let d = face.surface.derivs(uv);
+        let d = face.surface.first_derivs(uv);
         let w = vec3::add(vec3::scale(d.du, 0.01), vec3::scale(d.dv, -0.02));
         let s = uv_step(face, uv, w).unwrap();
         assert!(

@@ -8,6 +8,8 @@
 //! at least [`MIN_PATTERN_SICN`]; otherwise the caller meshes the face
 //! another way.
 
+use std::collections::HashMap;
+
 use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
@@ -131,6 +133,66 @@ fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, 
     Ok(ring)
 }
 
+/// The interior (u, v) of a refined grid pattern (pattern coordinates
+/// `coords` in the unit square, boundary values in `uv` where `fixed`) by
+/// transfinite interpolation: each grid line blends the boundary nodes at
+/// its two ends. Only the start of [`harmonic_uv`]: from the centroid, the
+/// conjugate gradients of a large grid face take most of the pattern stage
+/// (i01o_m1 at size factor 0.0625). Vertices whose four boundary
+/// neighbours are not found keep their (u, v).
+fn transfinite_uv(coords: &[[f64; 2]], uv: &mut [[f64; 2]], fixed: &[bool]) {
+    let key = |x: f64| (x * 1e9).round() as i64;
+    // boundary values on the four sides, by the coordinate along the side
+    let mut sides: [HashMap<i64, [f64; 2]>; 4] = Default::default();
+    for (v, c) in coords.iter().enumerate() {
+        if !fixed[v] {
+            continue;
+        }
+        for (side, (along, at)) in [
+            (c[0], c[1] == 0.0),
+            (c[0], c[1] == 1.0),
+            (c[1], c[0] == 0.0),
+            (c[1], c[0] == 1.0),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            if at {
+                sides[side].insert(key(along), uv[v]);
+            }
+        }
+    }
+    let [bottom, top, left, right] = &sides;
+    let (Some(p00), Some(p10), Some(p01), Some(p11)) = (
+        bottom.get(&key(0.0)),
+        bottom.get(&key(1.0)),
+        top.get(&key(0.0)),
+        top.get(&key(1.0)),
+    ) else {
+        return;
+    };
+    for (v, &[s, t]) in coords.iter().enumerate() {
+        if fixed[v] {
+            continue;
+        }
+        let (Some(b), Some(tp), Some(l), Some(r)) = (
+            bottom.get(&key(s)),
+            top.get(&key(s)),
+            left.get(&key(t)),
+            right.get(&key(t)),
+        ) else {
+            continue;
+        };
+        for d in 0..2 {
+            uv[v][d] = (1.0 - t) * b[d] + t * tp[d] + (1.0 - s) * l[d] + s * r[d]
+                - ((1.0 - s) * (1.0 - t) * p00[d]
+                    + s * (1.0 - t) * p10[d]
+                    + (1.0 - s) * t * p01[d]
+                    + s * t * p11[d]);
+        }
+    }
+}
+
 /// Solves the uniform-weight Laplace equation for the interior (u, v) of a
 /// quad mesh with fixed boundary values (conjugate gradients, one solve per
 /// coordinate). `fixed[v]` marks boundary vertices.
@@ -186,7 +248,7 @@ pub(crate) fn harmonic_uv(quads: &[[u32; 4]], uv: &mut [[f64; 2]], fixed: &[bool
         let mut r: Vec<f64> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
         let mut p = r.clone();
         let mut rr: f64 = r.iter().map(|x| x * x).sum();
-        let stop = 1e-24 * b.iter().map(|x| x * x).sum::<f64>().max(1e-300);
+        let stop = 1e-16 * b.iter().map(|x| x * x).sum::<f64>().max(1e-300);
         let mut ap = vec![0.0; m];
         for _ in 0..max_iter {
             if rr <= stop {
@@ -293,6 +355,11 @@ pub fn mesh_face_pattern(
             }
         })
         .collect();
+    // a grid starts from its transfinite interpolation, which the harmonic
+    // solve then needs few iterations to correct
+    if pattern.sides() == 4 && pattern.irregular == 0 {
+        transfinite_uv(&refined.coords, &mut uv, &fixed);
+    }
     harmonic_uv(&refined.quads, &mut uv, &fixed);
     for v in 0..nv {
         if !fixed[v] {

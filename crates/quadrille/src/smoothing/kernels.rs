@@ -179,7 +179,7 @@ fn map_to_surface(
     tol: f64,
 ) -> Option<([f64; 2], Vec3, Vec3)> {
     let mut cur = uv;
-    let mut d = face.surface.derivs(cur);
+    let mut d = face.surface.first_derivs(cur);
     for _ in 0..MAP_ITERATIONS {
         let r = vec3::sub(target, d.point);
         let (a, b, c) = (
@@ -201,7 +201,7 @@ fn map_to_surface(
             break;
         }
         cur = [cur[0] + du, cur[1] + dv];
-        d = face.surface.derivs(cur);
+        d = face.surface.first_derivs(cur);
     }
     if !d.point.iter().all(|v| v.is_finite()) {
         return None;
@@ -440,7 +440,7 @@ fn sweep_nodes(
                 if quads_of[i].iter().all(|&q| qv[q as usize] >= ASCENT_GOOD) {
                     continue;
                 }
-                let Some(t1) = vec3::normalize(face.surface.derivs(p.nodes[i].uv).du) else {
+                let Some(t1) = vec3::normalize(face.surface.first_derivs(p.nodes[i].uv).du) else {
                     continue;
                 };
                 let t2 = vec3::cross(n_i, t1);
