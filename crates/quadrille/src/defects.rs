@@ -526,37 +526,8 @@ mod tests {
     /// that it ends at the corner. Returns the patch and the corner's id.
     fn corner_with_two_quads() -> (QuadPatch, u32) {
         let n = 4;
-        let id = |x: usize, y: usize| (y * (n + 1) + x) as u32;
-        let mut p = QuadPatch::default();
-        for y in 0..=n {
-            for x in 0..=n {
-                let on_x = x == 0 || x == n;
-                let on_y = y == 0 || y == n;
-                let node = match (on_x, on_y) {
-                    (true, true) => {
-                        NodeRef::Corner(geometry::CornerId((x / n + 2 * (y / n)) as u32))
-                    }
-                    (false, false) => NodeRef::Interior,
-                    _ => NodeRef::Curve(geometry::CurveId(0), id(x, y)),
-                };
-                let uv = [x as f64 / n as f64, y as f64 / n as f64];
-                p.nodes.push(LocalNode {
-                    uv,
-                    node,
-                    pole: None,
-                });
-                p.pos.push([uv[0], uv[1], 0.0]);
-            }
-        }
-        for y in 0..n {
-            for x in 0..n {
-                if y == 0 && x < 2 {
-                    continue;
-                }
-                p.quads
-                    .push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
-            }
-        }
+        let id = |x: usize, y: usize| crate::test_grid::grid_id(n, x, y);
+        let mut p = crate::test_grid::square_grid(n, |x, y| y == 0 && x < 2);
         let (a, b, e) = (id(0, 0), id(1, 0), id(2, 0));
         let (d, c, f) = (id(0, 1), id(1, 1), id(2, 1));
         p.quads.push([a, b, e, f]);

@@ -49,6 +49,8 @@ pub mod smoothing;
 pub mod sphere_face;
 pub mod split;
 pub mod subdivide;
+#[cfg(test)]
+pub(crate) mod test_grid;
 pub mod unstructured;
 
 pub use pipeline::{

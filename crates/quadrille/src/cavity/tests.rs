@@ -6,35 +6,8 @@ use geometry::{primitives, CornerId, CurveId};
 /// `c` get valence 3, the new edge's ends `d`, `e` valence 5 (two +1/−1
 /// pairs). Returns the patch and `[b, c, d, e]`.
 fn rotated_grid(n: usize, i: usize, j: usize) -> (QuadPatch, [u32; 4]) {
-    let mut p = QuadPatch::default();
-    let id = |x: usize, y: usize| (y * (n + 1) + x) as u32;
-    for y in 0..=n {
-        for x in 0..=n {
-            let on_x = x == 0 || x == n;
-            let on_y = y == 0 || y == n;
-            let node = match (on_x, on_y) {
-                (true, true) => NodeRef::Corner(CornerId((x / n + 2 * (y / n)) as u32)),
-                (false, false) => NodeRef::Interior,
-                _ => NodeRef::Curve(CurveId(0), id(x, y)),
-            };
-            let uv = [x as f64 / n as f64, y as f64 / n as f64];
-            p.nodes.push(LocalNode {
-                uv,
-                node,
-                pole: None,
-            });
-            p.pos.push([uv[0], uv[1], 0.0]);
-        }
-    }
-    for y in 0..n {
-        for x in 0..n {
-            if y == j && (x == i || x == i + 1) {
-                continue;
-            }
-            p.quads
-                .push([id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
-        }
-    }
+    let id = |x: usize, y: usize| crate::test_grid::grid_id(n, x, y);
+    let mut p = crate::test_grid::square_grid(n, |x, y| y == j && (x == i || x == i + 1));
     let (a, b, e) = (id(i, j), id(i + 1, j), id(i + 2, j));
     let (d, c, f) = (id(i, j + 1), id(i + 1, j + 1), id(i + 2, j + 1));
     p.quads.push([d, a, b, e]);
