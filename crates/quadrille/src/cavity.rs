@@ -12,7 +12,9 @@
 //!   boundary with one outside quad (a concave vertex) gets that quad first.
 //!   A quad is never added when it would make a singular vertex interior or
 //!   concave, leave a concave CAD corner (ideal valence ≥ 3) without an
-//!   outside quad, or touch a pole. Each time the cavity has absorbed a new
+//!   outside quad or with three cavity quads, or touch a pole. (A concave
+//!   corner with more quads than its ideal may have three cavity quads: it
+//!   is then a side vertex of the pattern, which gives it two back.) Each time the cavity has absorbed a new
 //!   irregular vertex and is a convex disk (corners: boundary vertices with
 //!   one cavity quad, or a convex CAD corner fully inside), its side counts
 //!   are matched against the target patterns (Eq. 14, [`crate::patterns`]).
@@ -414,6 +416,14 @@ impl<'a> Work<'a> {
         }
     }
 
+    /// True for a concave CAD corner (ideal `ideal` ≥ 3 quads) that has
+    /// more quads than its ideal: a cavity may take three of them and give
+    /// it back two, a side vertex of the pattern (n12o_limit_cycle_genus0's
+    /// 270° corner with 4 quads, which kept a valence-3 vertex beside it).
+    fn sheds_a_quad(&self, v: u32, ideal: u8) -> bool {
+        ideal >= 3 && self.deg(v) > ideal as usize && self.deg(v) >= 4
+    }
+
     fn role(&self, v: u32) -> Role {
         let ni = self.nin(v);
         let no = self.deg(v) - ni;
@@ -433,7 +443,13 @@ impl<'a> Work<'a> {
             }
             Kind::Bound(ideal) => {
                 if no > 0 {
-                    by_count
+                    if ni == 3 && self.sheds_a_quad(v, ideal) {
+                        // a concave CAD corner with a quad too many: a side
+                        // vertex of the pattern (2 quads), one quad fewer
+                        Role::Flat
+                    } else {
+                        by_count
+                    }
                 } else {
                     match ideal {
                         1 => Role::Corner,
@@ -521,7 +537,9 @@ impl<'a> Work<'a> {
                     }
                 }
                 Kind::Bound(ideal) => {
-                    if ideal >= 3 && (no == 0 || ni >= 3) {
+                    if ideal >= 3
+                        && (no == 0 || ni > 3 || (ni == 3 && !self.sheds_a_quad(v, ideal)))
+                    {
                         return true;
                     }
                 }

@@ -350,3 +350,72 @@ fn patterns_are_filtered_by_target() {
     assert!(match_pattern_where(&[10, 4, 8, 6], |p| Target::Grid.keeps(p)).is_none());
     assert!(match_pattern_where(&[10, 4, 8, 6], |p| Target::Rect.keeps(p)).is_some());
 }
+
+/// A fan of `n` quads around a CAD corner at the origin spanning 270° (kites
+/// between radius 1 and 1.4), on the unit square's face: the corner's
+/// angle asks for 3 quads.
+fn concave_corner_fan(n: usize) -> QuadPatch {
+    let mut p = QuadPatch::default();
+    let mut add = |x: f64, y: f64, node: NodeRef| {
+        p.nodes.push(LocalNode {
+            uv: [x, y],
+            node,
+            pole: None,
+        });
+        p.pos.push([x, y, 0.0]);
+        (p.nodes.len() - 1) as u32
+    };
+    let corner = add(0.0, 0.0, NodeRef::Corner(CornerId(0)));
+    let step = 1.5 * std::f64::consts::PI / n as f64;
+    let rim: Vec<u32> = (0..=n)
+        .map(|k| {
+            let a = k as f64 * step;
+            let node = if k == 0 || k == n {
+                NodeRef::Curve(CurveId(0), k as u32)
+            } else {
+                NodeRef::Interior
+            };
+            add(a.cos(), a.sin(), node)
+        })
+        .collect();
+    let outer: Vec<u32> = (0..n)
+        .map(|k| {
+            let a = (k as f64 + 0.5) * step;
+            add(1.4 * a.cos(), 1.4 * a.sin(), NodeRef::Interior)
+        })
+        .collect();
+    for k in 0..n {
+        p.quads.push([corner, rim[k], outer[k], rim[k + 1]]);
+    }
+    p.quad_tri = (0..n as u32).collect();
+    p
+}
+
+#[test]
+fn a_concave_corner_with_a_quad_too_many_may_give_one_back() {
+    let model = primitives::square(1.0);
+    let face = &model.faces[0];
+    // four quads where the 270° corner asks for three
+    let mut p = concave_corner_fan(4);
+    let mut w = Work::new(face, &mut p);
+    assert_eq!(w.kind[0], Kind::Bound(3));
+    assert!(w.sheds_a_quad(0, 3));
+    // three of its quads in a cavity: a side vertex of the pattern (2 quads
+    // come back), and the fourth may not join (no quad left outside)
+    w.stamp += 1;
+    w.mark(&[0, 1]);
+    assert_eq!(w.role(0), Role::Flat);
+    assert!(!w.forbidden(2, None));
+    w.stamp += 1;
+    w.mark(&[0, 1, 2]);
+    assert_eq!(w.role(0), Role::Flat);
+    assert!(w.forbidden(3, None));
+    // with three quads, its ideal, the corner keeps at most two in a cavity
+    let mut p = concave_corner_fan(3);
+    let mut w = Work::new(face, &mut p);
+    assert_eq!(w.kind[0], Kind::Bound(3));
+    assert!(!w.sheds_a_quad(0, 3));
+    w.stamp += 1;
+    w.mark(&[0, 1]);
+    assert!(w.forbidden(2, None));
+}
