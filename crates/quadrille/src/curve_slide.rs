@@ -9,21 +9,28 @@
 //! cube) only a pass over the assembled mesh can move them, because a curve
 //! node's quads lie on several faces (or, on a seam, on both sides of one).
 //!
-//! A node moves in its curve parameter `t`, strictly between its two
-//! neighbours on the curve, by 1D steps that must raise the sum of its quads'
+//! A curve node moves in its curve parameter `t`, strictly between its two
+//! neighbours on the curve; the face nodes within [`FACE_RINGS`] rings of the
+//! curve nodes move with them, by compass steps in their tangent plane mapped
+//! back onto the surface, on the faces whose quads along their curves average
+//! below [`ASCENT_DONE`] (so at fine sizes, where most faces are about square,
+//! the pass stays cheap). Every step must raise the sum of the node's quads'
 //! SICN (measured as the statistics measure it: CAD normals at the corners,
 //! [`mesh::stats::quad_corner_normals`]) and keep each quad above the floor
 //! of [`crate::smoothing::raise_average`] (a quad below 0.5 never gets worse,
 //! a better one keeps 95 % of its SICN). Corners, poles (degenerate curves)
-//! and nodes whose quads are all about square stay where they are.
+//! and nodes whose quads are all about square stay where they are. The face
+//! nodes gain what the curve nodes' moves made room for: on the 25 shared
+//! models (wing out) the average SICN rises by up to 0.005 more than with
+//! the curve nodes alone (i04o_m4 0.8965 → 0.9016).
 
 use std::collections::HashMap;
 
-use geometry::{Model, Vec3};
+use geometry::{vec3, FaceId, Model, Vec3};
 use mesh::quadmesh::{NodeClass, QuadMesh};
 use mesh::quality::quad_sicn;
 
-use crate::smoothing::kernels::{ascent_floor, ASCENT_GOOD};
+use crate::smoothing::kernels::{ascent_floor, ASCENT_DONE, ASCENT_GOOD};
 
 /// First step, as a share of the node's parameter interval (between its two
 /// curve neighbours).
@@ -32,6 +39,8 @@ pub const SLIDE_STEP: f64 = 0.05;
 pub const SLIDE_MIN_STEP: f64 = 0.0005;
 /// A node keeps at least this share of its interval to each curve neighbour.
 pub const SLIDE_MARGIN: f64 = 0.1;
+/// Rings of face nodes around the curve nodes that move with them.
+pub const FACE_RINGS: usize = 2;
 
 /// What [`slide_curve_nodes`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -48,22 +57,38 @@ pub struct SlideReport {
     pub after: f64,
 }
 
-/// A curve node that may slide: its node and the parameters of its two
-/// curve neighbours (`lo < t < hi`).
-struct Slider {
-    node: u32,
-    lo: f64,
-    hi: f64,
+/// A node the pass may move: a curve node (between the parameters of its
+/// two curve neighbours, `lo < t < hi`) or a face node next to one.
+#[derive(Clone, Copy, Debug)]
+enum Mover {
+    Curve { node: u32, lo: f64, hi: f64 },
+    Face { node: u32 },
 }
 
-/// Slides the nodes of `mesh` that lie on CAD curves along their curves, at
-/// most `max_sweeps` Gauss–Seidel sweeps, see the module documentation.
-/// Positions and curve parameters of `mesh` change; its topology does not.
+impl Mover {
+    fn node(&self) -> u32 {
+        match *self {
+            Mover::Curve { node, .. } | Mover::Face { node } => node,
+        }
+    }
+}
+
+/// Slides the nodes of `mesh` that lie on CAD curves along their curves, and
+/// moves the face nodes next to them in their tangent planes, at most
+/// `max_sweeps` Gauss–Seidel sweeps, see the module documentation.
+/// Positions and parameters of `mesh` change; its topology does not.
 /// Sequential, so the result does not depend on the number of threads.
 pub fn slide_curve_nodes(model: &Model, mesh: &mut QuadMesh, max_sweeps: usize) -> SlideReport {
     let mut report = SlideReport::default();
-    let sliders = sliders(model, mesh);
-    if sliders.is_empty() || max_sweeps == 0 {
+    let mut movers: Vec<Mover> = sliders(model, mesh)
+        .into_iter()
+        .map(|s| Mover::Curve {
+            node: s.node,
+            lo: s.lo,
+            hi: s.hi,
+        })
+        .collect();
+    if movers.is_empty() || max_sweeps == 0 {
         return report;
     }
     let mut quads_of: Vec<Vec<u32>> = vec![Vec::new(); mesh.nodes.len()];
@@ -74,81 +99,107 @@ pub fn slide_curve_nodes(model: &Model, mesh: &mut QuadMesh, max_sweeps: usize) 
             }
         }
     }
-    let sliders: Vec<Slider> = sliders
-        .into_iter()
-        .filter(|s| !quads_of[s.node as usize].is_empty())
-        .collect();
-    report.nodes = sliders.len();
-    // the quads around the sliders, with their corner normals and SICN
-    // (indexed by quad; NaN elsewhere)
-    let mut around: Vec<u32> = sliders
-        .iter()
-        .flat_map(|s| quads_of[s.node as usize].iter().copied())
-        .collect();
-    around.sort_unstable();
-    around.dedup();
-    let mut normals: Vec<[Vec3; 4]> = vec![[[0.0; 3]; 4]; mesh.quads.len()];
-    for (&q, n) in around
-        .iter()
-        .zip(mesh::stats::quad_corner_normals_of(mesh, model, &around))
-    {
-        normals[q as usize] = n;
-    }
+    movers.retain(|m| !quads_of[m.node() as usize].is_empty());
     let points = |mesh: &QuadMesh, q: u32| mesh.quads[q as usize].map(|v| mesh.nodes[v as usize]);
+    // corner normals and SICN of the quads around the movers (indexed by
+    // quad; NaN elsewhere), added as movers are
+    let mut normals: Vec<[Vec3; 4]> = vec![[[0.0; 3]; 4]; mesh.quads.len()];
     let mut sicn: Vec<f64> = vec![f64::NAN; mesh.quads.len()];
+    let mut around: Vec<u32> = Vec::new();
+    measure(
+        model,
+        mesh,
+        &quads_of,
+        &movers,
+        &mut normals,
+        &mut sicn,
+        &mut around,
+    );
+    // the face nodes within FACE_RINGS rings of the curve nodes, on faces
+    // whose quads along their curves are not about square already
+    let mut face_sum: HashMap<FaceId, (f64, usize)> = HashMap::new();
     for &q in &around {
-        sicn[q as usize] = quad_sicn(&points(mesh, q), &normals[q as usize]);
+        let e = face_sum.entry(mesh.quad_face[q as usize]).or_default();
+        e.0 += sicn[q as usize];
+        e.1 += 1;
     }
+    let rough = |f: FaceId| {
+        face_sum
+            .get(&f)
+            .is_some_and(|&(s, n)| s / (n as f64) < ASCENT_DONE)
+    };
+    let mut seen = vec![false; mesh.nodes.len()];
+    let mut frontier: Vec<u32> = movers.iter().map(|m| m.node()).collect();
+    let first_face_mover = movers.len();
+    for _ in 0..FACE_RINGS {
+        let mut next = Vec::new();
+        for v in frontier {
+            for &q in &quads_of[v as usize] {
+                for &w in &mesh.quads[q as usize] {
+                    if let NodeClass::Face(f, Some(_)) = mesh.node_class[w as usize] {
+                        if !seen[w as usize] && rough(f) {
+                            seen[w as usize] = true;
+                            movers.push(Mover::Face { node: w });
+                            next.push(w);
+                        }
+                    }
+                }
+            }
+        }
+        frontier = next;
+    }
+    measure(
+        model,
+        mesh,
+        &quads_of,
+        &movers[first_face_mover..],
+        &mut normals,
+        &mut sicn,
+        &mut around,
+    );
+    report.nodes = movers.len();
     let initial = sicn.clone();
     let average =
         |sicn: &[f64]| around.iter().map(|&q| sicn[q as usize]).sum::<f64>() / around.len() as f64;
     report.before = average(&sicn);
-    let mut step = vec![SLIDE_STEP; sliders.len()];
+    let mut step = vec![SLIDE_STEP; movers.len()];
     let mut new_q: Vec<f64> = Vec::with_capacity(8);
+    let d = std::f64::consts::FRAC_1_SQRT_2;
+    let compass = [
+        (1.0, 0.0),
+        (-1.0, 0.0),
+        (0.0, 1.0),
+        (0.0, -1.0),
+        (d, d),
+        (-d, -d),
+        (d, -d),
+        (-d, d),
+    ];
     for _ in 0..max_sweeps {
         report.sweeps += 1;
         let mut active = false;
-        for (k, s) in sliders.iter().enumerate() {
+        for (k, m) in movers.iter().enumerate() {
             if step[k] < SLIDE_MIN_STEP {
                 continue;
             }
-            let v = s.node as usize;
+            let v = m.node() as usize;
             let quads = &quads_of[v];
             if quads.iter().all(|&q| sicn[q as usize] >= ASCENT_GOOD) {
                 continue;
             }
-            let NodeClass::Curve(c, Some(t0)) = mesh.node_class[v] else {
-                continue;
-            };
-            let curve = &model.curves[c.idx()];
-            let Some(geom) = curve.geom.as_ref() else {
-                continue;
-            };
             active = true;
             let sum_before: f64 = quads.iter().map(|&q| sicn[q as usize]).sum();
-            let (old_pos, width) = (mesh.nodes[v], s.hi - s.lo);
-            let (t_min, t_max) = (s.lo + SLIDE_MARGIN * width, s.hi - SLIDE_MARGIN * width);
-            // the node at parameter t: its quads' SICN (in `new_q`), their
-            // sum, whether each stays above its floor, and its corner normals
-            let try_at = |mesh: &mut QuadMesh, t: f64, new_q: &mut Vec<f64>| {
-                if !(t > t_min && t < t_max) {
-                    return None;
-                }
-                let x = geom.eval(t);
-                let mut corner_normals: Vec<(u32, usize, Vec3)> = Vec::with_capacity(quads.len());
-                for &q in quads {
-                    let f = mesh.quad_face[q as usize];
-                    let face = &model.faces[f.idx()];
-                    let uv = face.curve_uses().find(|u| u.curve == c)?.pcurve.eval(t);
-                    let n = face.regular_normal(uv)?;
-                    let at = mesh.quads[q as usize]
-                        .iter()
-                        .position(|&w| w as usize == v)?;
-                    corner_normals.push((q, at, n));
-                }
+            let old_pos = mesh.nodes[v];
+            // the node moved to `x` with normal `n` at each of its quads'
+            // corners: its quads' SICN (in `new_q`), their sum, whether each
+            // stays above its floor
+            let evaluate = |mesh: &mut QuadMesh,
+                            x: Vec3,
+                            corner_normals: &[(u32, usize, Vec3)],
+                            new_q: &mut Vec<f64>| {
                 mesh.nodes[v] = x;
                 new_q.clear();
-                for &(q, at, n) in &corner_normals {
+                for &(q, at, n) in corner_normals {
                     let mut nq = normals[q as usize];
                     nq[at] = n;
                     new_q.push(quad_sicn(&points(mesh, q), &nq));
@@ -159,18 +210,105 @@ pub fn slide_curve_nodes(model: &Model, mesh: &mut QuadMesh, max_sweeps: usize) 
                     .iter()
                     .zip(new_q.iter())
                     .all(|(&q, &val)| val >= ascent_floor(initial[q as usize]));
-                Some((x, sum, floor_ok, corner_normals))
+                (sum, floor_ok)
             };
+            let corner_of = |mesh: &QuadMesh, q: u32| {
+                mesh.quads[q as usize].iter().position(|&w| w as usize == v)
+            };
+            // candidate positions: (position, new class, corner normals)
+            let mut candidates: Vec<(Vec3, NodeClass, Vec<(u32, usize, Vec3)>)> = Vec::new();
+            match *m {
+                Mover::Curve { lo, hi, .. } => {
+                    let NodeClass::Curve(c, Some(t0)) = mesh.node_class[v] else {
+                        continue;
+                    };
+                    let Some(geom) = model.curves[c.idx()].geom.as_ref() else {
+                        continue;
+                    };
+                    let width = hi - lo;
+                    for dir in [1.0, -1.0] {
+                        let t = t0 + dir * step[k] * width;
+                        if !(t > lo + SLIDE_MARGIN * width && t < hi - SLIDE_MARGIN * width) {
+                            continue;
+                        }
+                        let mut cn = Vec::with_capacity(quads.len());
+                        let ok = quads.iter().all(|&q| {
+                            let face = &model.faces[mesh.quad_face[q as usize].idx()];
+                            let n = face
+                                .curve_uses()
+                                .find(|u| u.curve == c)
+                                .and_then(|u| face.regular_normal(u.pcurve.eval(t)));
+                            match (n, corner_of(mesh, q)) {
+                                (Some(n), Some(at)) => {
+                                    cn.push((q, at, n));
+                                    true
+                                }
+                                _ => false,
+                            }
+                        });
+                        if ok {
+                            candidates.push((geom.eval(t), NodeClass::Curve(c, Some(t)), cn));
+                        }
+                    }
+                }
+                Mover::Face { .. } => {
+                    let NodeClass::Face(f, Some(uv)) = mesh.node_class[v] else {
+                        continue;
+                    };
+                    let face = &model.faces[f.idx()];
+                    let edge = quads
+                        .iter()
+                        .filter_map(|&q| corner_of(mesh, q).map(|at| (q, at)))
+                        .map(|(q, at)| {
+                            vec3::dist(
+                                old_pos,
+                                mesh.nodes[mesh.quads[q as usize][(at + 1) % 4] as usize],
+                            )
+                        })
+                        .fold(f64::INFINITY, f64::min);
+                    if !(edge > 0.0 && edge.is_finite()) {
+                        continue;
+                    }
+                    let dd = face.surface.first_derivs(uv);
+                    let (Some(n0), Some(t1)) =
+                        (face.regular_normal_from(&dd), vec3::normalize(dd.du))
+                    else {
+                        continue;
+                    };
+                    let t2 = vec3::cross(n0, t1);
+                    for (a, b) in compass {
+                        let target = vec3::add(
+                            old_pos,
+                            vec3::scale(
+                                vec3::add(vec3::scale(t1, a), vec3::scale(t2, b)),
+                                step[k] * edge,
+                            ),
+                        );
+                        let Some((uv2, x, n)) = crate::smoothing::kernels::map_to_surface(
+                            face,
+                            uv,
+                            target,
+                            1e-9 * edge,
+                        ) else {
+                            continue;
+                        };
+                        let cn: Vec<(u32, usize, Vec3)> = quads
+                            .iter()
+                            .filter_map(|&q| corner_of(mesh, q).map(|at| (q, at, n)))
+                            .collect();
+                        if cn.len() == quads.len() {
+                            candidates.push((x, NodeClass::Face(f, Some(uv2)), cn));
+                        }
+                    }
+                }
+            }
             let mut kept = false;
-            for dir in [1.0, -1.0] {
-                let t = t0 + dir * step[k] * width;
-                let Some((x, sum, floor_ok, corner_normals)) = try_at(mesh, t, &mut new_q) else {
-                    continue;
-                };
+            for (x, class, cn) in candidates {
+                let (sum, floor_ok) = evaluate(mesh, x, &cn, &mut new_q);
                 if sum > sum_before + 1e-12 && floor_ok {
                     mesh.nodes[v] = x;
-                    mesh.node_class[v] = NodeClass::Curve(c, Some(t));
-                    for (&(q, at, n), &val) in corner_normals.iter().zip(&new_q) {
+                    mesh.node_class[v] = class;
+                    for (&(q, at, n), &val) in cn.iter().zip(&new_q) {
                         normals[q as usize][at] = n;
                         sicn[q as usize] = val;
                     }
@@ -190,6 +328,43 @@ pub fn slide_curve_nodes(model: &Model, mesh: &mut QuadMesh, max_sweeps: usize) 
     }
     report.after = average(&sicn);
     report
+}
+
+/// Computes the corner normals and SICN of the quads around `movers` not
+/// measured yet (NaN in `sicn`), and adds them to `around` (kept sorted).
+fn measure(
+    model: &Model,
+    mesh: &QuadMesh,
+    quads_of: &[Vec<u32>],
+    movers: &[Mover],
+    normals: &mut [[Vec3; 4]],
+    sicn: &mut [f64],
+    around: &mut Vec<u32>,
+) {
+    let mut fresh: Vec<u32> = movers
+        .iter()
+        .flat_map(|m| quads_of[m.node() as usize].iter().copied())
+        .filter(|&q| sicn[q as usize].is_nan())
+        .collect();
+    fresh.sort_unstable();
+    fresh.dedup();
+    for (&q, n) in fresh
+        .iter()
+        .zip(mesh::stats::quad_corner_normals_of(mesh, model, &fresh))
+    {
+        normals[q as usize] = n;
+        sicn[q as usize] = quad_sicn(&mesh.quads[q as usize].map(|v| mesh.nodes[v as usize]), &n);
+    }
+    around.extend(fresh);
+    around.sort_unstable();
+}
+
+/// A curve node that may slide: its node and the parameters of its two
+/// curve neighbours (`lo < t < hi`).
+struct Slider {
+    node: u32,
+    lo: f64,
+    hi: f64,
 }
 
 /// The curve nodes of `mesh` that may slide, each with the parameters of its
@@ -257,10 +432,10 @@ mod tests {
     }
 
     #[test]
-    fn a_curve_node_pushed_aside_slides_back_and_stays_on_its_curve() {
+    fn a_curve_node_pushed_aside_slides_back_and_every_node_stays_on_the_cad() {
         let model = primitives::square(1.0);
         let opts = MeshOptions {
-            size: Size::Absolute(0.25),
+            size: Size::Absolute(0.1),
             threads: Some(1),
             ..Default::default()
         };
@@ -283,10 +458,27 @@ mod tests {
             .iter()
             .map(|&(n, _)| mesh.nodes[n as usize])
             .collect();
-        let interior: Vec<Vec3> = (0..mesh.nodes.len())
-            .filter(|&n| mesh.is_face_interior(n))
-            .map(|n| mesh.nodes[n])
+        // the face nodes farther than FACE_RINGS rings from every curve node
+        let mut near: Vec<bool> = (0..mesh.nodes.len())
+            .map(|n| !mesh.is_face_interior(n))
             .collect();
+        for _ in 0..FACE_RINGS {
+            let grow: Vec<u32> = mesh
+                .quads
+                .iter()
+                .filter(|q| q.iter().any(|&w| near[w as usize]))
+                .flatten()
+                .copied()
+                .collect();
+            for w in grow {
+                near[w as usize] = true;
+            }
+        }
+        let far: Vec<(usize, Vec3)> = (0..mesh.nodes.len())
+            .filter(|&n| !near[n])
+            .map(|n| (n, mesh.nodes[n]))
+            .collect();
+        assert!(!far.is_empty());
         let report = slide_curve_nodes(&model, &mut mesh, 20);
         let after = sicn(&model, &mesh);
         let avg = |q: &[f64]| q.iter().sum::<f64>() / q.len() as f64;
@@ -305,13 +497,24 @@ mod tests {
         };
         assert_eq!(c2, c);
         assert!((t2 - t0).abs() < (t1 - t0).abs(), "{t0} {t1} {t2}");
-        // every curve node sits on its curve at its parameter; corners and
-        // face-interior nodes did not move
+        // every curve node sits on its curve at its parameter, every face
+        // node on the surface at its (u, v); corners and the face nodes far
+        // from the curves did not move
         for (n, class) in mesh.node_class.iter().enumerate() {
-            if let NodeClass::Curve(c, Some(t)) = class {
-                let on = model.curves[c.idx()].geom.as_ref().unwrap().eval(*t);
-                assert!(geometry::vec3::dist(on, mesh.nodes[n]) < 1e-12);
+            match class {
+                NodeClass::Curve(c, Some(t)) => {
+                    let on = model.curves[c.idx()].geom.as_ref().unwrap().eval(*t);
+                    assert!(geometry::vec3::dist(on, mesh.nodes[n]) < 1e-12);
+                }
+                NodeClass::Face(f, Some(uv)) => {
+                    let on = model.faces[f.idx()].surface.eval(*uv);
+                    assert!(geometry::vec3::dist(on, mesh.nodes[n]) < 1e-9);
+                }
+                _ => {}
             }
+        }
+        for (n, x) in far {
+            assert_eq!(mesh.nodes[n], x, "node {n} moved");
         }
         let corners_after: Vec<Vec3> = mesh
             .corner_nodes
@@ -319,10 +522,5 @@ mod tests {
             .map(|&(n, _)| mesh.nodes[n as usize])
             .collect();
         assert_eq!(corners, corners_after);
-        let interior_after: Vec<Vec3> = (0..mesh.nodes.len())
-            .filter(|&n| mesh.is_face_interior(n))
-            .map(|n| mesh.nodes[n])
-            .collect();
-        assert_eq!(interior, interior_after);
     }
 }

@@ -172,7 +172,7 @@ pub fn one_ring(quads: &[[u32; 4]], v: u32, star: &[u32]) -> Option<Vec<u32>> {
 /// (Gauss–Newton on the surface's Jacobian, stopped when the step is below
 /// `tol` in 3D), with that point and the oriented normal there; `None` at a
 /// singular point or when the iteration fails.
-fn map_to_surface(
+pub(crate) fn map_to_surface(
     face: &Face,
     uv: [f64; 2],
     target: Vec3,
