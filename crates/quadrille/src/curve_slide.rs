@@ -30,7 +30,7 @@ use geometry::{vec3, FaceId, Model, Vec3};
 use mesh::quadmesh::{NodeClass, QuadMesh};
 use mesh::quality::quad_sicn;
 
-use crate::smoothing::kernels::{ascent_floor, ASCENT_DONE, ASCENT_GOOD};
+use crate::smoothing::kernels::{ascent_floor, ASCENT_DONE, ASCENT_GOOD, COMPASS};
 
 /// First step, as a share of the node's parameter interval (between its two
 /// curve neighbours).
@@ -164,17 +164,6 @@ pub fn slide_curve_nodes(model: &Model, mesh: &mut QuadMesh, max_sweeps: usize) 
     report.before = average(&sicn);
     let mut step = vec![SLIDE_STEP; movers.len()];
     let mut new_q: Vec<f64> = Vec::with_capacity(8);
-    let d = std::f64::consts::FRAC_1_SQRT_2;
-    let compass = [
-        (1.0, 0.0),
-        (-1.0, 0.0),
-        (0.0, 1.0),
-        (0.0, -1.0),
-        (d, d),
-        (-d, -d),
-        (d, -d),
-        (-d, d),
-    ];
     for _ in 0..max_sweeps {
         report.sweeps += 1;
         let mut active = false;
@@ -276,7 +265,7 @@ pub fn slide_curve_nodes(model: &Model, mesh: &mut QuadMesh, max_sweeps: usize) 
                         continue;
                     };
                     let t2 = vec3::cross(n0, t1);
-                    for (a, b) in compass {
+                    for (a, b) in COMPASS {
                         let target = vec3::add(
                             old_pos,
                             vec3::scale(

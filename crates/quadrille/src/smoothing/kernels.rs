@@ -270,6 +270,23 @@ pub const ASCENT_DONE: f64 = 0.97;
 /// nodes near its corners could not make room: s17o 0.979 against 0.986).
 pub const ASCENT_GOOD: f64 = 0.995;
 
+/// The eight compass directions (unit, in a tangent frame) of the steps of
+/// [`raise_average`] at a kink of its objective, and of the face nodes of
+/// [`crate::curve_slide`].
+pub(crate) const COMPASS: [(f64, f64); 8] = {
+    let d = std::f64::consts::FRAC_1_SQRT_2;
+    [
+        (1.0, 0.0),
+        (-1.0, 0.0),
+        (0.0, 1.0),
+        (0.0, -1.0),
+        (d, d),
+        (-d, -d),
+        (d, -d),
+        (-d, d),
+    ]
+};
+
 /// The lowest SICN [`raise_average`] lets a quad take, given its SICN
 /// before the sweeps: a quad below [`ASCENT_SAFE`] never gets worse; a
 /// better one keeps [`ASCENT_KEEP`] of its value and stays above
@@ -497,17 +514,7 @@ fn sweep_nodes(
                 // at a kink of the sum (two corners of a quad tie for its
                 // worst) the gradient misleads: compass steps instead
                 if !kept {
-                    let d = std::f64::consts::FRAC_1_SQRT_2;
-                    for (a, b) in [
-                        (1.0, 0.0),
-                        (-1.0, 0.0),
-                        (0.0, 1.0),
-                        (0.0, -1.0),
-                        (d, d),
-                        (-d, -d),
-                        (d, -d),
-                        (-d, d),
-                    ] {
+                    for (a, b) in COMPASS {
                         let dir = vec3::add(vec3::scale(t1, a), vec3::scale(t2, b));
                         let t = vec3::add(x, vec3::scale(dir, step[f] * edge));
                         let Some((sum, floor_ok)) = place(p, &mut nrm, &mut new_q, t) else {
