@@ -19,12 +19,18 @@
 //! [`mesh::stats::quad_corner_normals`]) and keep each quad above the floor
 //! of [`crate::smoothing::raise_average`] (a quad below 0.5 never gets worse,
 //! a better one keeps 95 % of its SICN). Corners, poles (degenerate curves)
-//! and nodes whose quads are all about square stay where they are. The face
+//! and nodes whose quads are all about square stay where they are. Each
+//! sweep moves the curve nodes first, in order, then the face nodes face by
+//! face in parallel (faces share no quad): the result is the same on any
+//! number of threads, and the serial part of the pass is the curve nodes'
+//! (i13o_s6, unstructured: 0.093 s on one thread, 0.061 s on two). The face
 //! nodes gain what the curve nodes' moves made room for: on the 25 shared
 //! models (wing out) the average SICN rises by up to 0.005 more than with
 //! the curve nodes alone (i04o_m4 0.8965 → 0.9016).
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
+
+use rayon::prelude::*;
 
 use geometry::{vec3, FaceId, Model, Vec3};
 use mesh::quadmesh::{NodeClass, QuadMesh};
@@ -100,7 +106,6 @@ pub fn slide_curve_nodes(model: &Model, mesh: &mut QuadMesh, max_sweeps: usize) 
         }
     }
     movers.retain(|m| !quads_of[m.node() as usize].is_empty());
-    let points = |mesh: &QuadMesh, q: u32| mesh.quads[q as usize].map(|v| mesh.nodes[v as usize]);
     // corner normals and SICN of the quads around the movers (indexed by
     // quad; NaN elsewhere), added as movers are
     let mut normals: Vec<[Vec3; 4]> = vec![[[0.0; 3]; 4]; mesh.quads.len()];
@@ -162,154 +167,97 @@ pub fn slide_curve_nodes(model: &Model, mesh: &mut QuadMesh, max_sweeps: usize) 
     let average =
         |sicn: &[f64]| around.iter().map(|&q| sicn[q as usize]).sum::<f64>() / around.len() as f64;
     report.before = average(&sicn);
+    // the face nodes by face: faces share no quad, so their nodes move in
+    // parallel once the curve nodes have moved (curve nodes first, then
+    // every face, in each sweep: the same result on any number of threads)
+    let curve_count = first_face_mover;
+    let mut by_face: BTreeMap<FaceId, Vec<usize>> = BTreeMap::new();
+    for (k, m) in movers.iter().enumerate().skip(curve_count) {
+        if let NodeClass::Face(f, _) = mesh.node_class[m.node() as usize] {
+            by_face.entry(f).or_default().push(k);
+        }
+    }
+    let groups: Vec<Vec<usize>> = by_face.into_values().collect();
     let mut step = vec![SLIDE_STEP; movers.len()];
-    let mut new_q: Vec<f64> = Vec::with_capacity(8);
+    let fixed = Fixed {
+        model,
+        quads: &mesh.quads,
+        quad_face: &mesh.quad_face,
+        quads_of: &quads_of,
+        initial: &initial,
+    };
     for _ in 0..max_sweeps {
         report.sweeps += 1;
         let mut active = false;
-        for (k, m) in movers.iter().enumerate() {
-            if step[k] < SLIDE_MIN_STEP {
-                continue;
-            }
-            let v = m.node() as usize;
-            let quads = &quads_of[v];
-            if quads.iter().all(|&q| sicn[q as usize] >= ASCENT_GOOD) {
-                continue;
-            }
-            active = true;
-            let sum_before: f64 = quads.iter().map(|&q| sicn[q as usize]).sum();
-            let old_pos = mesh.nodes[v];
-            // the node moved to `x` with normal `n` at each of its quads'
-            // corners: its quads' SICN (in `new_q`), their sum, whether each
-            // stays above its floor
-            let evaluate = |mesh: &mut QuadMesh,
-                            x: Vec3,
-                            corner_normals: &[(u32, usize, Vec3)],
-                            new_q: &mut Vec<f64>| {
-                mesh.nodes[v] = x;
-                new_q.clear();
-                for &(q, at, n) in corner_normals {
-                    let mut nq = normals[q as usize];
-                    nq[at] = n;
-                    new_q.push(quad_sicn(&points(mesh, q), &nq));
-                }
-                mesh.nodes[v] = old_pos;
-                let sum: f64 = new_q.iter().sum();
-                let floor_ok = quads
-                    .iter()
-                    .zip(new_q.iter())
-                    .all(|(&q, &val)| val >= ascent_floor(initial[q as usize]));
-                (sum, floor_ok)
+        {
+            let mut state = Direct {
+                nodes: &mut mesh.nodes,
+                classes: &mut mesh.node_class,
+                normals: &mut normals,
+                sicn: &mut sicn,
             };
-            let corner_of = |mesh: &QuadMesh, q: u32| {
-                mesh.quads[q as usize].iter().position(|&w| w as usize == v)
+            for k in 0..curve_count {
+                let (a, moved) = fixed.step(&movers[k], &mut step[k], &mut state);
+                active |= a;
+                report.moves += usize::from(moved);
+            }
+        }
+        let results: Vec<FaceSweep> = {
+            let base = Base {
+                nodes: &mesh.nodes,
+                classes: &mesh.node_class,
+                normals: &normals,
+                sicn: &sicn,
             };
-            // candidate positions: (position, new class, corner normals)
-            let mut candidates: Vec<(Vec3, NodeClass, Vec<(u32, usize, Vec3)>)> = Vec::new();
-            match *m {
-                Mover::Curve { lo, hi, .. } => {
-                    let NodeClass::Curve(c, Some(t0)) = mesh.node_class[v] else {
-                        continue;
+            groups
+                .par_iter()
+                .map(|g| {
+                    let mut state = OverlayState {
+                        base: &base,
+                        over: Overlay::default(),
                     };
-                    let Some(geom) = model.curves[c.idx()].geom.as_ref() else {
-                        continue;
-                    };
-                    let width = hi - lo;
-                    for dir in [1.0, -1.0] {
-                        let t = t0 + dir * step[k] * width;
-                        if !(t > lo + SLIDE_MARGIN * width && t < hi - SLIDE_MARGIN * width) {
-                            continue;
-                        }
-                        let mut cn = Vec::with_capacity(quads.len());
-                        let ok = quads.iter().all(|&q| {
-                            let face = &model.faces[mesh.quad_face[q as usize].idx()];
-                            let n = face
-                                .curve_uses()
-                                .find(|u| u.curve == c)
-                                .and_then(|u| face.regular_normal(u.pcurve.eval(t)));
-                            match (n, corner_of(mesh, q)) {
-                                (Some(n), Some(at)) => {
-                                    cn.push((q, at, n));
-                                    true
-                                }
-                                _ => false,
-                            }
-                        });
-                        if ok {
-                            candidates.push((geom.eval(t), NodeClass::Curve(c, Some(t)), cn));
-                        }
+                    let (mut active, mut moves) = (false, 0);
+                    let mut steps = Vec::with_capacity(g.len());
+                    for &k in g {
+                        let mut st = step[k];
+                        let (a, moved) = fixed.step(&movers[k], &mut st, &mut state);
+                        active |= a;
+                        moves += usize::from(moved);
+                        steps.push((k, st));
                     }
-                }
-                Mover::Face { .. } => {
-                    let NodeClass::Face(f, Some(uv)) = mesh.node_class[v] else {
-                        continue;
-                    };
-                    let face = &model.faces[f.idx()];
-                    let edge = quads
-                        .iter()
-                        .filter_map(|&q| corner_of(mesh, q).map(|at| (q, at)))
-                        .map(|(q, at)| {
-                            vec3::dist(
-                                old_pos,
-                                mesh.nodes[mesh.quads[q as usize][(at + 1) % 4] as usize],
-                            )
-                        })
-                        .fold(f64::INFINITY, f64::min);
-                    if !(edge > 0.0 && edge.is_finite()) {
-                        continue;
+                    FaceSweep {
+                        over: state.over,
+                        steps,
+                        active,
+                        moves,
                     }
-                    let dd = face.surface.first_derivs(uv);
-                    let (Some(n0), Some(t1)) =
-                        (face.regular_normal_from(&dd), vec3::normalize(dd.du))
-                    else {
-                        continue;
-                    };
-                    let t2 = vec3::cross(n0, t1);
-                    for (a, b) in COMPASS {
-                        let target = vec3::add(
-                            old_pos,
-                            vec3::scale(
-                                vec3::add(vec3::scale(t1, a), vec3::scale(t2, b)),
-                                step[k] * edge,
-                            ),
-                        );
-                        let Some((uv2, x, n)) = crate::smoothing::kernels::map_to_surface(
-                            face,
-                            uv,
-                            target,
-                            1e-9 * edge,
-                        ) else {
-                            continue;
-                        };
-                        let cn: Vec<(u32, usize, Vec3)> = quads
-                            .iter()
-                            .filter_map(|&q| corner_of(mesh, q).map(|at| (q, at, n)))
-                            .collect();
-                        if cn.len() == quads.len() {
-                            candidates.push((x, NodeClass::Face(f, Some(uv2)), cn));
-                        }
-                    }
-                }
+                })
+                .collect()
+        };
+        for FaceSweep {
+            over,
+            steps,
+            active: a,
+            moves,
+        } in results
+        {
+            for (v, x) in over.pos {
+                mesh.nodes[v as usize] = x;
             }
-            let mut kept = false;
-            for (x, class, cn) in candidates {
-                let (sum, floor_ok) = evaluate(mesh, x, &cn, &mut new_q);
-                if sum > sum_before + 1e-12 && floor_ok {
-                    mesh.nodes[v] = x;
-                    mesh.node_class[v] = class;
-                    for (&(q, at, n), &val) in cn.iter().zip(&new_q) {
-                        normals[q as usize][at] = n;
-                        sicn[q as usize] = val;
-                    }
-                    report.moves += 1;
-                    kept = true;
-                    step[k] *= 1.5;
-                    break;
-                }
+            for (v, c) in over.class {
+                mesh.node_class[v as usize] = c;
             }
-            if !kept {
-                step[k] *= 0.25;
+            for (q, n) in over.normals {
+                normals[q as usize] = n;
             }
+            for (q, val) in over.sicn {
+                sicn[q as usize] = val;
+            }
+            for (k, st) in steps {
+                step[k] = st;
+            }
+            active |= a;
+            report.moves += moves;
         }
         if !active {
             break;
@@ -317,6 +265,257 @@ pub fn slide_curve_nodes(model: &Model, mesh: &mut QuadMesh, max_sweeps: usize) 
     }
     report.after = average(&sicn);
     report
+}
+
+/// What the moves read and write: node positions and classes, and the
+/// corner normals and SICN of the quads around the movers.
+trait SlideState {
+    fn pos(&self, v: u32) -> Vec3;
+    fn class(&self, v: u32) -> NodeClass;
+    fn normals(&self, q: u32) -> [Vec3; 4];
+    fn sicn(&self, q: u32) -> f64;
+    fn set(&mut self, v: u32, x: Vec3, class: NodeClass);
+    fn set_quad(&mut self, q: u32, normals: [Vec3; 4], sicn: f64);
+}
+
+/// The state itself (the curve nodes' phase).
+struct Direct<'a> {
+    nodes: &'a mut [Vec3],
+    classes: &'a mut [NodeClass],
+    normals: &'a mut [[Vec3; 4]],
+    sicn: &'a mut [f64],
+}
+
+impl SlideState for Direct<'_> {
+    fn pos(&self, v: u32) -> Vec3 {
+        self.nodes[v as usize]
+    }
+    fn class(&self, v: u32) -> NodeClass {
+        self.classes[v as usize]
+    }
+    fn normals(&self, q: u32) -> [Vec3; 4] {
+        self.normals[q as usize]
+    }
+    fn sicn(&self, q: u32) -> f64 {
+        self.sicn[q as usize]
+    }
+    fn set(&mut self, v: u32, x: Vec3, class: NodeClass) {
+        self.nodes[v as usize] = x;
+        self.classes[v as usize] = class;
+    }
+    fn set_quad(&mut self, q: u32, normals: [Vec3; 4], sicn: f64) {
+        self.normals[q as usize] = normals;
+        self.sicn[q as usize] = sicn;
+    }
+}
+
+/// The state read-only, shared by the faces' parallel phase.
+struct Base<'a> {
+    nodes: &'a [Vec3],
+    classes: &'a [NodeClass],
+    normals: &'a [[Vec3; 4]],
+    sicn: &'a [f64],
+}
+
+/// One face's changes in a sweep, applied after the parallel phase.
+#[derive(Default)]
+struct Overlay {
+    pos: HashMap<u32, Vec3>,
+    class: HashMap<u32, NodeClass>,
+    normals: HashMap<u32, [Vec3; 4]>,
+    sicn: HashMap<u32, f64>,
+}
+
+/// What one face's sweep of the parallel phase gives back.
+struct FaceSweep {
+    over: Overlay,
+    /// The new step size of each of its movers.
+    steps: Vec<(usize, f64)>,
+    active: bool,
+    moves: usize,
+}
+
+/// A face's view: its own changes over the shared state.
+struct OverlayState<'a> {
+    base: &'a Base<'a>,
+    over: Overlay,
+}
+
+impl SlideState for OverlayState<'_> {
+    fn pos(&self, v: u32) -> Vec3 {
+        self.over
+            .pos
+            .get(&v)
+            .copied()
+            .unwrap_or(self.base.nodes[v as usize])
+    }
+    fn class(&self, v: u32) -> NodeClass {
+        self.over
+            .class
+            .get(&v)
+            .copied()
+            .unwrap_or(self.base.classes[v as usize])
+    }
+    fn normals(&self, q: u32) -> [Vec3; 4] {
+        self.over
+            .normals
+            .get(&q)
+            .copied()
+            .unwrap_or(self.base.normals[q as usize])
+    }
+    fn sicn(&self, q: u32) -> f64 {
+        self.over
+            .sicn
+            .get(&q)
+            .copied()
+            .unwrap_or(self.base.sicn[q as usize])
+    }
+    fn set(&mut self, v: u32, x: Vec3, class: NodeClass) {
+        self.over.pos.insert(v, x);
+        self.over.class.insert(v, class);
+    }
+    fn set_quad(&mut self, q: u32, normals: [Vec3; 4], sicn: f64) {
+        self.over.normals.insert(q, normals);
+        self.over.sicn.insert(q, sicn);
+    }
+}
+
+/// What does not change during the pass.
+struct Fixed<'a> {
+    model: &'a Model,
+    quads: &'a [[u32; 4]],
+    quad_face: &'a [FaceId],
+    quads_of: &'a [Vec<u32>],
+    /// The quads' SICN before the pass (their floors).
+    initial: &'a [f64],
+}
+
+impl Fixed<'_> {
+    /// One step of mover `m` with step size `step` (a share of its curve
+    /// interval or of its shortest edge), grown after a kept move and shrunk
+    /// after a refused one. Returns whether the mover was active and whether
+    /// it moved.
+    fn step<S: SlideState>(&self, m: &Mover, step: &mut f64, state: &mut S) -> (bool, bool) {
+        if *step < SLIDE_MIN_STEP {
+            return (false, false);
+        }
+        let v = m.node();
+        let quads = &self.quads_of[v as usize];
+        if quads.iter().all(|&q| state.sicn(q) >= ASCENT_GOOD) {
+            return (false, false);
+        }
+        let sum_before: f64 = quads.iter().map(|&q| state.sicn(q)).sum();
+        let old_pos = state.pos(v);
+        let corner_of = |q: u32| self.quads[q as usize].iter().position(|&w| w == v);
+        // the first candidate that raises the sum and keeps every floor is kept
+        let accept = |x: Vec3, class: NodeClass, cn: &[(u32, usize, Vec3)], state: &mut S| {
+            let mut new_q: Vec<([Vec3; 4], f64)> = Vec::with_capacity(cn.len());
+            for &(q, at, n) in cn {
+                let mut nq = state.normals(q);
+                nq[at] = n;
+                let p = self.quads[q as usize].map(|w| if w == v { x } else { state.pos(w) });
+                new_q.push((nq, quad_sicn(&p, &nq)));
+            }
+            let sum: f64 = new_q.iter().map(|(_, s)| s).sum();
+            let floor_ok = cn
+                .iter()
+                .zip(&new_q)
+                .all(|(&(q, _, _), &(_, val))| val >= ascent_floor(self.initial[q as usize]));
+            if sum > sum_before + 1e-12 && floor_ok {
+                state.set(v, x, class);
+                for (&(q, _, _), &(nq, val)) in cn.iter().zip(&new_q) {
+                    state.set_quad(q, nq, val);
+                }
+                true
+            } else {
+                false
+            }
+        };
+        match *m {
+            Mover::Curve { lo, hi, .. } => {
+                let NodeClass::Curve(c, Some(t0)) = state.class(v) else {
+                    return (true, false);
+                };
+                let Some(geom) = self.model.curves[c.idx()].geom.as_ref() else {
+                    return (true, false);
+                };
+                let width = hi - lo;
+                for dir in [1.0, -1.0] {
+                    let t = t0 + dir * *step * width;
+                    if !(t > lo + SLIDE_MARGIN * width && t < hi - SLIDE_MARGIN * width) {
+                        continue;
+                    }
+                    let mut cn = Vec::with_capacity(quads.len());
+                    let ok = quads.iter().all(|&q| {
+                        let face = &self.model.faces[self.quad_face[q as usize].idx()];
+                        let n = face
+                            .curve_uses()
+                            .find(|u| u.curve == c)
+                            .and_then(|u| face.regular_normal(u.pcurve.eval(t)));
+                        match (n, corner_of(q)) {
+                            (Some(n), Some(at)) => {
+                                cn.push((q, at, n));
+                                true
+                            }
+                            _ => false,
+                        }
+                    });
+                    if ok && accept(geom.eval(t), NodeClass::Curve(c, Some(t)), &cn, state) {
+                        *step *= 1.5;
+                        return (true, true);
+                    }
+                }
+            }
+            Mover::Face { .. } => {
+                let NodeClass::Face(f, Some(uv)) = state.class(v) else {
+                    return (true, false);
+                };
+                let face = &self.model.faces[f.idx()];
+                let edge = quads
+                    .iter()
+                    .filter_map(|&q| corner_of(q).map(|at| (q, at)))
+                    .map(|(q, at)| {
+                        vec3::dist(old_pos, state.pos(self.quads[q as usize][(at + 1) % 4]))
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                if !(edge > 0.0 && edge.is_finite()) {
+                    return (true, false);
+                }
+                let dd = face.surface.first_derivs(uv);
+                let (Some(n0), Some(t1)) = (face.regular_normal_from(&dd), vec3::normalize(dd.du))
+                else {
+                    return (true, false);
+                };
+                let t2 = vec3::cross(n0, t1);
+                for (a, b) in COMPASS {
+                    let target = vec3::add(
+                        old_pos,
+                        vec3::scale(
+                            vec3::add(vec3::scale(t1, a), vec3::scale(t2, b)),
+                            *step * edge,
+                        ),
+                    );
+                    let Some((uv2, x, n)) =
+                        crate::smoothing::kernels::map_to_surface(face, uv, target, 1e-9 * edge)
+                    else {
+                        continue;
+                    };
+                    let cn: Vec<(u32, usize, Vec3)> = quads
+                        .iter()
+                        .filter_map(|&q| corner_of(q).map(|at| (q, at, n)))
+                        .collect();
+                    if cn.len() == quads.len()
+                        && accept(x, NodeClass::Face(f, Some(uv2)), &cn, state)
+                    {
+                        *step *= 1.5;
+                        return (true, true);
+                    }
+                }
+            }
+        }
+        *step *= 0.25;
+        (true, false)
+    }
 }
 
 /// Computes the corner normals and SICN of the quads around `movers` not
