@@ -5,7 +5,7 @@
 //!
 //! Environment: `QR_ORDERS`, `QR_ORDER_BUDGET`, `QR_ORDER_PATIENCE`, `QR_QUAD_RATIO` (0: no quad
 //! target, r > 0: r × input), `QR_DEPTH`, `QR_BUDGET`, `QR_TRANSLATION`,
-//! `QR_PAIR_*` override the options, `QR_PREFER_INTERIOR` sets `prefer_interior`; `QR_VERBOSE` prints per-face reports,
+//! `QR_PAIR_*`, `QR_WIDE_RADIUS`, `QR_WIDE_ORDERS`, `QR_WIDE_MIN` override the options, `QR_PREFER_INTERIOR` sets `prefer_interior`; `QR_VERBOSE` prints per-face reports,
 //! `QR_DIAG` / `QR_DIAG_BEFORE` where the irregular vertices sit after / before,
 //! `QR_INVALID` the quads left outside (5°, 175°), with their angles and corner classes,
 //! `QR_FACES=DIR` one flat (u, v) picture per face, `QR_SIZE_FACTOR` the baseline's size factor.
@@ -98,6 +98,9 @@ fn main() {
             pair_depth: env("QR_PAIR_DEPTH", d.pair_depth),
             pair_beam: env("QR_PAIR_BEAM", d.pair_beam),
             pair_budget: env("QR_PAIR_BUDGET", d.pair_budget),
+            wide_pair_radius: env("QR_WIDE_RADIUS", d.wide_pair_radius),
+            wide_orders: env("QR_WIDE_ORDERS", d.wide_orders),
+            wide_min_irregular: env("QR_WIDE_MIN", d.wide_min_irregular),
             quad_target: match std::env::var("QR_QUAD_RATIO")
                 .ok()
                 .and_then(|v| v.parse::<f64>().ok())

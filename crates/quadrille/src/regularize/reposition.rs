@@ -120,3 +120,137 @@ pub fn repair_rounds(
         .into_iter()
         .all(|q| quad_valid(fq, face, q, w))
 }
+
+/// Compass-search rounds of [`polish_invalid`] at most.
+pub const POLISH_ROUNDS: usize = 60;
+/// [`polish_invalid`] stops refining a vertex's step below this share of its
+/// shortest link (in (u, v)).
+const POLISH_MIN_STEP: f64 = 1e-4;
+
+/// How far inside its bounds quad `q` is, in degrees: the smallest of
+/// `angle − min` and `max − angle` at movable vertices and `max − angle` at
+/// fixed ones (the bounds of [`super::validity::quad_valid`]); negative when
+/// the quad is invalid for `w`. A folded quad (a reflex or crossed corner)
+/// keeps the margin of its angles, which stays continuous as a vertex moves
+/// (so a search can climb out of it), capped at −1; −360 without a normal.
+pub fn quad_margin(fq: &FaceQuads, face: &Face, q: u32, w: AngleWindow) -> f64 {
+    let Some((ang, signs)) = quad_angles(fq, face, q) else {
+        return -360.0;
+    };
+    let vs = fq.quads[q as usize];
+    let fixed_max = AngleWindow::BASE.max_deg.max(w.max_deg);
+    let m = (0..4)
+        .map(|i| {
+            if fq.verts[vs[i] as usize].fixed {
+                fixed_max - ang[i]
+            } else {
+                (ang[i] - w.min_deg).min(w.max_deg - ang[i])
+            }
+        })
+        .fold(f64::INFINITY, f64::min);
+    if signs {
+        m
+    } else {
+        m.min(-1.0)
+    }
+}
+
+/// The last resort for quads still invalid for `w` after the repair loop
+/// (a thin wedge at a cusp, where Algorithm 1's averages pull a vertex
+/// along the wedge and leave 176–180° angles): each movable vertex of those
+/// quads and of their links takes compass steps in (u, v) that raise the
+/// smallest [`quad_margin`] of its own quads, the step halving when no
+/// direction helps. A vertex only moves when its quads' worst margin rises,
+/// so no quad gets worse than the worst around it was. Returns the number of
+/// quads of `fq` invalid for `w` afterwards (journaled moves).
+pub fn polish_invalid(fq: &mut FaceQuads, face: &Face, w: AngleWindow) -> usize {
+    let invalid = |fq: &FaceQuads| -> Vec<u32> {
+        fq.live_quads()
+            .filter(|&q| !quad_valid(fq, face, q, w))
+            .collect()
+    };
+    let bad = invalid(fq);
+    if bad.is_empty() {
+        return 0;
+    }
+    let mut verts: Vec<u32> = bad
+        .iter()
+        .flat_map(|&q| fq.quads[q as usize])
+        .flat_map(|v| std::iter::once(v).chain(fq.links(v)))
+        .filter(|&v| !fq.verts[v as usize].fixed && fq.verts[v as usize].alive)
+        .collect();
+    verts.sort_unstable();
+    verts.dedup();
+    // each vertex's step starts at half its shortest link in (u, v)
+    let mut step: Vec<f64> = verts
+        .iter()
+        .map(|&v| {
+            let x = &fq.verts[v as usize];
+            fq.links(v)
+                .iter()
+                .map(|&l| {
+                    let uv = fq.verts[l as usize].uv_toward(x.uv);
+                    ((uv[0] - x.uv[0]).powi(2) + (uv[1] - x.uv[1]).powi(2)).sqrt()
+                })
+                .filter(|d| *d > 0.0)
+                .fold(f64::INFINITY, f64::min)
+                * 0.5
+        })
+        .collect();
+    let floor: Vec<f64> = step.iter().map(|s| s * 2.0 * POLISH_MIN_STEP).collect();
+    let worst_at = |fq: &FaceQuads, v: u32| -> f64 {
+        fq.verts[v as usize]
+            .fan
+            .iter()
+            .map(|&q| quad_margin(fq, face, q, w))
+            .fold(f64::INFINITY, f64::min)
+    };
+    const D: f64 = std::f64::consts::FRAC_1_SQRT_2;
+    const DIRS: [[f64; 2]; 8] = [
+        [1.0, 0.0],
+        [-1.0, 0.0],
+        [0.0, 1.0],
+        [0.0, -1.0],
+        [D, D],
+        [-D, D],
+        [D, -D],
+        [-D, -D],
+    ];
+    for _ in 0..POLISH_ROUNDS {
+        let mut moved = false;
+        for (k, &v) in verts.iter().enumerate() {
+            if !step[k].is_finite() || step[k] <= floor[k] {
+                continue;
+            }
+            let here = fq.verts[v as usize].uv;
+            let mut best = (worst_at(fq, v), here);
+            for d in DIRS {
+                let uv = [here[0] + step[k] * d[0], here[1] + step[k] * d[1]];
+                if !fq.move_vertex(face, v, uv) {
+                    continue;
+                }
+                let m = worst_at(fq, v);
+                if m > best.0 + 1e-9 {
+                    best = (m, uv);
+                }
+            }
+            fq.move_vertex(face, v, best.1);
+            if best.1 == here {
+                step[k] *= 0.5;
+            } else {
+                moved = true;
+            }
+        }
+        let all_fine = step
+            .iter()
+            .zip(&floor)
+            .all(|(s, f)| s.partial_cmp(f) != Some(std::cmp::Ordering::Greater));
+        if !moved && all_fine {
+            break;
+        }
+        if invalid(fq).is_empty() {
+            break;
+        }
+    }
+    invalid(fq).len()
+}
