@@ -282,9 +282,20 @@ fn ring_side_counts(sides: &[Vec<usize>], counts: &[usize]) -> Vec<u32> {
         .collect()
 }
 
-/// True when a library pattern meshes a face with `sides` under `counts`.
-fn has_pattern(sides: &[Vec<usize>], counts: &[usize]) -> bool {
-    crate::patterns::match_pattern(&ring_side_counts(sides, counts)).is_some()
+/// True when a library pattern meshes a face with `sides` under `counts`;
+/// `known` remembers the answers by side counts.
+fn has_pattern(
+    sides: &[Vec<usize>],
+    counts: &[usize],
+    known: &mut std::collections::HashMap<Vec<u32>, bool>,
+) -> bool {
+    let ring = ring_side_counts(sides, counts);
+    if let Some(&fits) = known.get(&ring) {
+        return fits;
+    }
+    let fits = crate::patterns::match_pattern(&ring).is_some();
+    known.insert(ring, fits);
+    fits
 }
 
 /// Most sides of a face [`balance_for_patterns`] considers (the library's
@@ -319,7 +330,13 @@ pub fn balance_for_patterns(
             }
         }
     }
-    let mut fits: Vec<bool> = faces.iter().map(|s| has_pattern(s, counts)).collect();
+    // the pattern search answers by side counts alone: each asked once
+    // (on i15o_s8 the planning took 30 ms, mostly the same searches again)
+    let mut known = std::collections::HashMap::new();
+    let mut fits: Vec<bool> = faces
+        .iter()
+        .map(|s| has_pattern(s, counts, &mut known))
+        .collect();
     for _ in 0..2 {
         for fi in 0..faces.len() {
             if fits[fi] {
@@ -354,14 +371,16 @@ pub fn balance_for_patterns(
                     touched.dedup();
                     let gained: i64 = touched
                         .iter()
-                        .map(|&f| has_pattern(&faces[f], counts) as i64 - fits[f] as i64)
+                        .map(|&f| {
+                            has_pattern(&faces[f], counts, &mut known) as i64 - fits[f] as i64
+                        })
                         .sum();
                     let deviation: f64 = chord
                         .iter()
                         .map(|&m| (counts[m] as f64 - ideal[m]).abs() / ideal[m].max(0.5))
                         .sum();
                     if gained > 0
-                        && has_pattern(&faces[fi], counts)
+                        && has_pattern(&faces[fi], counts, &mut known)
                         && best.is_none_or(|b| gained > b.0 || (gained == b.0 && deviation < b.1))
                     {
                         best = Some((gained, deviation, c, up));
@@ -376,7 +395,7 @@ pub fn balance_for_patterns(
                 }
                 for &m in &chord {
                     for &f in &faces_of[m] {
-                        fits[f] = has_pattern(&faces[f], counts);
+                        fits[f] = has_pattern(&faces[f], counts, &mut known);
                     }
                 }
             }
@@ -466,10 +485,10 @@ mod tests {
         assert_eq!(sides, vec![vec![0], vec![1], vec![2]]);
         let ideal = [2.2, 2.1, 3.9];
         let mut counts = vec![2, 2, 4];
-        assert!(!has_pattern(&sides, &counts));
+        assert!(!has_pattern(&sides, &counts, &mut Default::default()));
         balance_for_patterns(&m, &ideal, &mut counts, &|c| vec![c], &|_| 1);
         assert_eq!(counts, vec![2, 2, 3]);
-        assert!(has_pattern(&sides, &counts));
+        assert!(has_pattern(&sides, &counts, &mut Default::default()));
         // counts a pattern already accepts stay
         let mut fine = vec![2, 2, 2];
         balance_for_patterns(&m, &ideal, &mut fine, &|c| vec![c], &|_| 1);

@@ -110,11 +110,19 @@ impl CurvePlan {
     }
 }
 
+/// The shortest sample interval [`sample`] still splits: 1e-9 of the
+/// model's diagonal (computed once per call site: the bounding box
+/// evaluates every face, and was 3 % of a whole run when taken per curve).
+fn min_sample_length(model: &Model) -> f64 {
+    1e-9 * model.diagonal().max(1e-300)
+}
+
 /// Samples the curve: uniform in its parameter, then bisected where the
 /// polyline turns by more than [`SAMPLE_TURN`] at a sample or inside an
 /// interval, so that features far smaller than the sample spacing (a rounded
-/// trailing edge) are seen.
-fn sample(model: &Model, c: CurveId) -> (Vec<f64>, Vec<Vec3>) {
+/// trailing edge) are seen; intervals shorter than `min_len` are not split
+/// ([`min_sample_length`]).
+fn sample(model: &Model, c: CurveId, min_len: f64) -> (Vec<f64>, Vec<Vec3>) {
     let ce = &model.curves[c.idx()];
     let (t0, t1) = ce.range;
     // a polyline is sampled at its vertices, where all of its turning
@@ -131,7 +139,6 @@ fn sample(model: &Model, c: CurveId) -> (Vec<f64>, Vec<Vec3>) {
         let pts = ts.iter().map(|&t| ce.eval(model, t)).collect();
         return (ts, pts);
     }
-    let min_len = 1e-9 * model.diagonal().max(1e-300);
     let mut ts: Vec<f64> = (0..=SAMPLES)
         .map(|i| t0 + (t1 - t0) * i as f64 / SAMPLES as f64)
         .collect();
@@ -250,9 +257,10 @@ fn profile(
     h: f64,
     sizes: Option<&[[f64; 2]]>,
     reach: [f64; 2],
+    min_len: f64,
 ) -> Profile {
     let ce = &model.curves[c.idx()];
-    let (mut ts, mut pts) = sample(model, c);
+    let (mut ts, mut pts) = sample(model, c, min_len);
     if let Some(p) = sizes.filter(|p| !p.is_empty()) {
         (ts, pts) = resample_to_sizes(model, c, ts, pts, p, MIN_SPACING_FRACTION * h);
     }
@@ -354,12 +362,13 @@ fn profile(
 
 /// Length of every curve (0 for degenerate curves), measured on a fine polyline.
 pub fn curve_lengths(model: &Model) -> Vec<f64> {
+    let min_len = min_sample_length(model);
     (0..model.curves.len())
         .map(|i| {
             if model.curves[i].degenerate {
                 return 0.0;
             }
-            let (_, pts) = sample(model, CurveId(i as u32));
+            let (_, pts) = sample(model, CurveId(i as u32), min_len);
             pts.windows(2)
                 .map(|w| vec3::dist(w[0], w[1]))
                 .filter(|l| l.is_finite())
@@ -477,6 +486,7 @@ fn plan_curves_with(
     reaches: &[[f64; 2]],
 ) -> CurvePlan {
     use rayon::prelude::*;
+    let min_len = min_sample_length(model);
     let profiles: Vec<Option<Profile>> = (0..model.curves.len())
         .into_par_iter()
         .map(|i| {
@@ -485,7 +495,7 @@ fn plan_curves_with(
             if model.curves[i].degenerate {
                 None
             } else {
-                Some(profile(model, CurveId(i as u32), h, own, reach))
+                Some(profile(model, CurveId(i as u32), h, own, reach, min_len))
             }
         })
         .collect();
