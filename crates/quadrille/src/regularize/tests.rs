@@ -709,25 +709,15 @@ fn visiting_orders_are_seeded_permutations() {
 
 #[test]
 fn more_visiting_orders_never_leave_more_irregular_vertices() {
-    let m = plane(8.0);
-    let face = &m.faces[0];
     let mut results = Vec::new();
     for orders in [1, 2, 8] {
         // (the second, wider search runs only on results above a share,
         // so it is off here: it has its own test below)
-        let opts = RegularizeOptions {
-            redistribute: false,
-            structured_grids: false,
+        let (fq, _) = regularized_split_patch(RegularizeOptions {
             sweep_orders: orders,
             wide_above: f64::INFINITY,
             ..Default::default()
-        };
-        let mut fq = split_patch(8);
-        let orig = fq.clone();
-        let rep = regularize_face(face, FaceId(0), &mut fq, &opts);
-        assert_eq!(rep.irregular.1, fq.irregular_count());
-        assert_eq!(rep.invalid.1, 0);
-        assert_sound(&orig, &fq, face);
+        });
         results.push(fq.irregular_count());
     }
     // the best of several local minima, the first of which is the 1-order result
@@ -740,23 +730,33 @@ fn more_visiting_orders_never_leave_more_irregular_vertices() {
     assert!(results[2] * 5 < start, "{start} → {results:?}");
 }
 
-#[test]
-fn the_wider_pair_search_only_ever_lowers_the_irregular_count() {
+/// The 8 × 8 triangle-split patch regularized with `opts` (no grids, no
+/// Algorithm 2), checked valid and sound.
+fn regularized_split_patch(opts: RegularizeOptions) -> (FaceQuads, FaceReport) {
     let m = plane(8.0);
     let face = &m.faces[0];
+    let opts = RegularizeOptions {
+        redistribute: false,
+        structured_grids: false,
+        ..opts
+    };
+    let mut fq = split_patch(8);
+    let orig = fq.clone();
+    let rep = regularize_face(face, FaceId(0), &mut fq, &opts);
+    assert_eq!(rep.irregular.1, fq.irregular_count());
+    assert_eq!(rep.invalid.1, 0);
+    assert_sound(&orig, &fq, face);
+    (fq, rep)
+}
+
+#[test]
+fn the_wider_pair_search_only_ever_lowers_the_irregular_count() {
     let run = |wide_above: f64| {
-        let opts = RegularizeOptions {
-            redistribute: false,
-            structured_grids: false,
+        let (fq, rep) = regularized_split_patch(RegularizeOptions {
             sweep_orders: 4,
             wide_above,
             ..Default::default()
-        };
-        let mut fq = split_patch(8);
-        let orig = fq.clone();
-        let rep = regularize_face(face, FaceId(0), &mut fq, &opts);
-        assert_eq!(rep.invalid.1, 0);
-        assert_sound(&orig, &fq, face);
+        });
         (fq.irregular_count(), rep.ops)
     };
     let (narrow, narrow_ops) = run(f64::INFINITY);
@@ -1038,21 +1038,12 @@ fn a_pole_on_the_face_boundary_wants_the_valence_of_its_angle() {
 
 #[test]
 fn preferring_interior_regularity_picks_the_order_with_fewest_interior_irregular_vertices() {
-    let m = plane(8.0);
-    let face = &m.faces[0];
     let run = |prefer_interior: bool| {
-        let mut fq = split_patch(8);
-        let orig = fq.clone();
-        let opts = RegularizeOptions {
-            redistribute: false,
-            structured_grids: false,
+        let (fq, _) = regularized_split_patch(RegularizeOptions {
             sweep_orders: 8,
             prefer_interior,
             ..Default::default()
-        };
-        let rep = regularize_face(face, FaceId(0), &mut fq, &opts);
-        assert_eq!(rep.invalid.1, 0);
-        assert_sound(&orig, &fq, face);
+        });
         (fq.irregular_count(), interior_irregular(&fq))
     };
     // both choose among the same 8 results: each is best by its own measure
