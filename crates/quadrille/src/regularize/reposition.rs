@@ -205,17 +205,6 @@ pub fn polish_invalid(fq: &mut FaceQuads, face: &Face, w: AngleWindow) -> usize 
             .map(|&q| quad_margin(fq, face, q, w))
             .fold(f64::INFINITY, f64::min)
     };
-    const D: f64 = std::f64::consts::FRAC_1_SQRT_2;
-    const DIRS: [[f64; 2]; 8] = [
-        [1.0, 0.0],
-        [-1.0, 0.0],
-        [0.0, 1.0],
-        [0.0, -1.0],
-        [D, D],
-        [-D, D],
-        [D, -D],
-        [-D, -D],
-    ];
     for _ in 0..POLISH_ROUNDS {
         let mut moved = false;
         for (k, &v) in verts.iter().enumerate() {
@@ -224,8 +213,8 @@ pub fn polish_invalid(fq: &mut FaceQuads, face: &Face, w: AngleWindow) -> usize 
             }
             let here = fq.verts[v as usize].uv;
             let mut best = (worst_at(fq, v), here);
-            for d in DIRS {
-                let uv = [here[0] + step[k] * d[0], here[1] + step[k] * d[1]];
+            for (a, b) in crate::smoothing::kernels::COMPASS {
+                let uv = [here[0] + step[k] * a, here[1] + step[k] * b];
                 if !fq.move_vertex(face, v, uv) {
                     continue;
                 }

@@ -271,8 +271,9 @@ pub const ASCENT_DONE: f64 = 0.97;
 pub const ASCENT_GOOD: f64 = 0.995;
 
 /// The eight compass directions (unit, in a tangent frame) of the steps of
-/// [`raise_average`] at a kink of its objective, and of the face nodes of
-/// [`crate::curve_slide`].
+/// [`raise_average`] at a kink of its objective, of the face nodes of
+/// [`crate::curve_slide`], and (in (u, v)) of the regular method's last
+/// repair ([`crate::regularize::reposition::polish_invalid`]).
 pub(crate) const COMPASS: [(f64, f64); 8] = {
     let d = std::f64::consts::FRAC_1_SQRT_2;
     [
