@@ -37,6 +37,7 @@ pub mod face_quads;
 pub mod face_triangulation;
 pub mod field_report;
 pub mod frontal;
+pub mod holed_face;
 pub mod pattern_face;
 pub mod patterns;
 pub mod pipeline;

@@ -38,22 +38,36 @@ pub fn folds_at_pole(face: &geometry::Face, seg: [[f64; 2]; 2]) -> bool {
 /// Conjugate-gradient iterations of the harmonic map, at most (times √n).
 const CG_ITERATIONS_PER_ROOT: usize = 40;
 
-/// The boundary of a face as one ring of local nodes with 3D positions, and
-/// the ring positions of its CAD corners with their interior angles.
-struct Ring {
-    nodes: Vec<LocalNode>,
-    pos: Vec<Vec3>,
-    corners: Vec<(usize, f64)>,
+/// One boundary loop of a face as a ring of local nodes with 3D positions,
+/// and the ring positions of its CAD corners with their interior angles.
+pub(crate) struct Ring {
+    /// The loop's nodes in its order.
+    pub(crate) nodes: Vec<LocalNode>,
+    /// Their 3D positions.
+    pub(crate) pos: Vec<Vec3>,
+    /// (ring position, interior angle in radians) of each CAD corner.
+    pub(crate) corners: Vec<(usize, f64)>,
 }
 
-/// The face's single loop as a ring of every curve-mesh point (the odd
-/// midpoints included), with the interior angle at each CAD corner.
+/// The face's single loop as a ring ([`loop_ring`]).
 fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, String> {
     let face = &model.faces[fid.idx()];
     if face.loops.len() != 1 {
         return Err(format!("{} boundary loops", face.loops.len()));
     }
-    let lp = &face.loops[0];
+    loop_ring(model, fid, cms, 0)
+}
+
+/// Loop `li` of the face as a ring of every curve-mesh point (the odd
+/// midpoints included), with the interior angle at each CAD corner.
+pub(crate) fn loop_ring(
+    model: &Model,
+    fid: FaceId,
+    cms: &[CurveMesh],
+    li: usize,
+) -> Result<Ring, String> {
+    let face = &model.faces[fid.idx()];
+    let lp = face.loops.get(li).ok_or("no such loop")?;
     let mut ring = Ring {
         nodes: Vec::new(),
         pos: Vec::new(),
@@ -289,6 +303,10 @@ pub fn mesh_face_pattern(
         return Ok((patch, "cube".into()));
     }
     let face = &model.faces[fid.idx()];
+    if face.loops.len() == 2 {
+        return crate::holed_face::mesh_holed_face(model, fid, cms)
+            .map(|p| (p, crate::holed_face::HOLED_GRID.into()));
+    }
     let ring = boundary_ring(model, fid, cms)?;
     let nb = ring.nodes.len();
     // convex corners (ideal valence 1) are the pattern's corners; flat ones
@@ -361,21 +379,7 @@ pub fn mesh_face_pattern(
         transfinite_uv(&refined.coords, &mut uv, &fixed);
     }
     harmonic_uv(&refined.quads, &mut uv, &fixed);
-    for v in 0..nv {
-        if !fixed[v] {
-            let p = face.surface.eval(uv[v]);
-            if !p.iter().all(|x| x.is_finite()) {
-                return Err("a pattern vertex falls outside the surface".into());
-            }
-            local[v] = nodes.len() as u32;
-            nodes.push(LocalNode {
-                uv: uv[v],
-                node: NodeRef::Interior,
-                pole: None,
-            });
-            pos.push(p);
-        }
-    }
+    place_interior(face, &uv, &fixed, &mut local, &mut nodes, &mut pos)?;
     let quads: Vec<[u32; 4]> = refined
         .quads
         .iter()
@@ -468,7 +472,51 @@ fn mesh_disk_o_grid(face: &geometry::Face, ring: &Ring) -> Result<QuadPatch, Str
         .map(|v| if v < nb { ring.nodes[v].uv } else { centroid })
         .collect();
     harmonic_uv(&quads, &mut uv, &fixed);
-    // counter-clockwise in (u, v), then about the oriented normal
+    if needs_reversal(face, &quads, &uv) {
+        for q in &mut quads {
+            q.reverse();
+        }
+    }
+    let mut nodes = ring.nodes.clone();
+    let mut pos = ring.pos.clone();
+    let mut local: Vec<u32> = (0..nv as u32).collect();
+    place_interior(face, &uv, &fixed, &mut local, &mut nodes, &mut pos)?;
+    smooth_and_check(face, nodes, pos, quads, O_GRID)
+}
+
+/// Puts every vertex of a pattern that is not `fixed` on the surface at its
+/// `uv`, appending it to `nodes` and `pos` and recording its local id in
+/// `local`; an error when one falls outside the surface.
+pub(crate) fn place_interior(
+    face: &geometry::Face,
+    uv: &[[f64; 2]],
+    fixed: &[bool],
+    local: &mut [u32],
+    nodes: &mut Vec<LocalNode>,
+    pos: &mut Vec<Vec3>,
+) -> Result<(), String> {
+    for v in 0..uv.len() {
+        if fixed[v] {
+            continue;
+        }
+        let p = face.surface.eval(uv[v]);
+        if !p.iter().all(|x| x.is_finite()) {
+            return Err("a pattern vertex falls outside the surface".into());
+        }
+        local[v] = nodes.len() as u32;
+        nodes.push(LocalNode {
+            uv: uv[v],
+            node: NodeRef::Interior,
+            pole: None,
+        });
+        pos.push(p);
+    }
+    Ok(())
+}
+
+/// Whether `quads`, with their vertices at `uv`, must be reversed to run
+/// counter-clockwise in (u, v) and then about the face's oriented normal.
+pub(crate) fn needs_reversal(face: &geometry::Face, quads: &[[u32; 4]], uv: &[[f64; 2]]) -> bool {
     let area: f64 = quads
         .iter()
         .map(|q| {
@@ -476,26 +524,7 @@ fn mesh_disk_o_grid(face: &geometry::Face, ring: &Ring) -> Result<QuadPatch, Str
             (p[2][0] - p[0][0]) * (p[3][1] - p[1][1]) - (p[2][1] - p[0][1]) * (p[3][0] - p[1][0])
         })
         .sum();
-    if (area < 0.0) != face.reversed {
-        for q in &mut quads {
-            q.reverse();
-        }
-    }
-    let mut nodes = ring.nodes.clone();
-    let mut pos = ring.pos.clone();
-    for &w in &uv[nb..] {
-        let p = face.surface.eval(w);
-        if !p.iter().all(|x| x.is_finite()) {
-            return Err("an O-grid vertex falls outside the surface".into());
-        }
-        nodes.push(LocalNode {
-            uv: w,
-            node: NodeRef::Interior,
-            pole: None,
-        });
-        pos.push(p);
-    }
-    smooth_and_check(face, nodes, pos, quads, O_GRID)
+    (area < 0.0) != face.reversed
 }
 
 /// A patch from a pattern's quads (counter-clockwise about the face normal)
@@ -532,7 +561,7 @@ pub fn smooth_and_check(
 }
 
 /// The mean (u, v) of `nodes` (the start of a harmonic fill inside a ring).
-fn uv_centroid(nodes: &[LocalNode]) -> [f64; 2] {
+pub(crate) fn uv_centroid(nodes: &[LocalNode]) -> [f64; 2] {
     let s = nodes
         .iter()
         .fold([0.0, 0.0], |s, n| [s[0] + n.uv[0], s[1] + n.uv[1]]);

@@ -10,7 +10,8 @@ use std::path::PathBuf;
 use geometry::FaceId;
 use quadrille::curve_mesh::{discretize_all, plan_curves};
 use quadrille::face_triangulation::NodeRef;
-use quadrille::pattern_face::{mesh_face_pattern, MIN_PATTERN_SICN};
+use quadrille::holed_face::HOLED_GRID;
+use quadrille::pattern_face::{mesh_face_pattern, MIN_PATTERN_SICN, O_GRID};
 use quadrille::patterns::library;
 use quadrille::split::quad_quality;
 
@@ -47,20 +48,28 @@ fn check_model(name: &str) -> (usize, usize) {
                 *edges.entry((a, b)).or_default() += 1;
             }
         }
-        let want = library()
-            .iter()
-            .find(|p| p.name == pattern)
-            .unwrap()
-            .irregular;
+        // a holed grid has none (its hole's corners sit on the inner loop);
+        // an O-grid the four corners of its middle grid
+        let want = match pattern.as_str() {
+            HOLED_GRID => 0,
+            O_GRID => 4,
+            _ => {
+                library()
+                    .iter()
+                    .find(|p| p.name == pattern)
+                    .unwrap()
+                    .irregular
+            }
+        };
         let irregular = (0..patch.nodes.len())
             .filter(|&i| patch.nodes[i].node == NodeRef::Interior && val[i] != 4)
             .count();
         assert_eq!(irregular, want, "{name} face {} ({pattern})", f + 1);
-        // Euler characteristic 1 over the used nodes
+        // Euler characteristic over the used nodes: 1 for a disk, one less per hole
         let used = val.iter().filter(|&&v| v > 0).count();
         assert_eq!(
             used as i64 - edges.len() as i64 + patch.quads.len() as i64,
-            1,
+            2 - face.loops.len() as i64,
             "{name} face {}",
             f + 1
         );
@@ -79,9 +88,10 @@ fn check_model(name: &str) -> (usize, usize) {
             );
         }
         // (a pole counts once: it is the end of the curve before it and the start of the one after)
-        let expected: usize = face.loops[0]
-            .uses
+        let expected: usize = face
+            .loops
             .iter()
+            .flat_map(|l| &l.uses)
             .map(|u| {
                 if m.curves[u.curve.idx()].degenerate {
                     0
@@ -98,6 +108,45 @@ fn check_model(name: &str) -> (usize, usize) {
         );
     }
     (by_pattern, m.faces.len())
+}
+
+#[test]
+fn a_plate_with_one_round_hole_is_a_holed_grid() {
+    // s11o_cube_cyl: the cube's top is a square around the cylinder's circle
+    assert_eq!(check_model("s11o_cube_cyl.stp"), (8, 8));
+    let m = model("s11o_cube_cyl.stp");
+    let cms = discretize_all(&m, &plan_curves(&m, quadrille::default_size(&m)));
+    let plate = (0..m.faces.len())
+        .find(|&f| m.faces[f].loops.len() == 2)
+        .expect("the plate face");
+    let (patch, pattern) = mesh_face_pattern(&m, FaceId(plate as u32), &cms).expect("a pattern");
+    assert_eq!(pattern, HOLED_GRID);
+    // on the hole: four nodes on three quads, the others on two
+    let mut val = vec![0usize; patch.nodes.len()];
+    for q in &patch.quads {
+        for &v in q {
+            val[v as usize] += 1;
+        }
+    }
+    let hole_curve = m.faces[plate]
+        .loops
+        .iter()
+        .find(|l| l.uses.len() == 1)
+        .expect("the hole")
+        .uses[0]
+        .curve;
+    let on_hole: Vec<usize> = (0..patch.nodes.len())
+        .filter(|&i| match patch.nodes[i].node {
+            NodeRef::Curve(c, _) => c == hole_curve,
+            NodeRef::Corner(k) => m.curves[hole_curve.idx()].start == k,
+            NodeRef::Interior => false,
+        })
+        .collect();
+    assert_eq!(on_hole.iter().filter(|&&i| val[i] == 3).count(), 4);
+    assert_eq!(
+        on_hole.iter().filter(|&&i| val[i] == 2).count(),
+        on_hole.len() - 4
+    );
 }
 
 #[test]
