@@ -35,14 +35,22 @@ impl UnionFind {
 }
 
 /// The curves of each 4-sided face taken as opposite pairs: faces with one
-/// loop of exactly four uses, none of them a degenerate curve.
+/// loop of exactly four uses, none of them a degenerate curve, and faces
+/// with such a loop around a hole bounded by one closed curve (the
+/// [`crate::holed_face`] grid needs equal opposite sides too).
 pub fn opposite_pairs(model: &Model) -> Vec<[usize; 2]> {
     let mut pairs = Vec::new();
     for f in &model.faces {
-        if f.loops.len() != 1 || f.loops[0].uses.len() != 4 {
+        let outer = match f.loops.as_slice() {
+            [lp] => lp,
+            [a, b] if a.uses.len() == 4 && b.uses.len() == 1 => a,
+            [a, b] if b.uses.len() == 4 && a.uses.len() == 1 => b,
+            _ => continue,
+        };
+        if outer.uses.len() != 4 {
             continue;
         }
-        let c: Vec<usize> = f.loops[0].uses.iter().map(|u| u.curve.idx()).collect();
+        let c: Vec<usize> = outer.uses.iter().map(|u| u.curve.idx()).collect();
         if c.iter().any(|&i| model.curves[i].degenerate) {
             continue;
         }

@@ -121,6 +121,18 @@ fn a_plate_with_one_round_hole_is_a_holed_grid() {
         .expect("the plate face");
     let (patch, pattern) = mesh_face_pattern(&m, FaceId(plate as u32), &cms).expect("a pattern");
     assert_eq!(pattern, HOLED_GRID);
+    // the curve planning takes the plate's opposite sides as chords
+    let outer: Vec<usize> = m.faces[plate]
+        .loops
+        .iter()
+        .find(|l| l.uses.len() == 4)
+        .expect("the outer loop")
+        .uses
+        .iter()
+        .map(|u| u.curve.idx())
+        .collect();
+    let pairs = quadrille::curve_chords::opposite_pairs(&m);
+    assert!(pairs.contains(&[outer[0], outer[2]]) && pairs.contains(&[outer[1], outer[3]]));
     // on the hole: four nodes on three quads, the others on two
     let mut val = vec![0usize; patch.nodes.len()];
     for q in &patch.quads {
