@@ -15,13 +15,19 @@ fn stages(args: &MeshArgs) -> Result<quadrille::Stages> {
         (args.no_patterns, "--no-patterns"),
         (args.no_defects, "--no-defects"),
         (args.no_cavities, "--no-cavities"),
+        (args.no_regular_pass, "--no-regular-pass"),
     ]
     .iter()
     .filter(|(on, _)| *on)
     .map(|(_, name)| *name)
     .collect();
     match args.method {
-        Method::QuasiStructured => Ok(quadrille::Stages { patterns: !args.no_patterns, defects: !args.no_defects, cavities: !args.no_cavities }),
+        Method::QuasiStructured => Ok(quadrille::Stages {
+            patterns: !args.no_patterns,
+            defects: !args.no_defects,
+            cavities: !args.no_cavities,
+            regular_pass: !args.no_regular_pass,
+        }),
         _ if !off.is_empty() => bail!(
             "{} only applies to --method quasi-structured (the default); --method {} has no such step",
             off.join(", "),
@@ -227,7 +233,15 @@ fn topology_summary(
     } else {
         "cavities off".to_string()
     };
-    format!("{patterns}; {defects}; {cavities}")
+    let (tried, kept, removed) = report.regular_pass;
+    let regular = if stages.regular_pass {
+        format!(
+            "regular pass: kept on {kept} of {tried} faces, {removed} irregular vertices removed"
+        )
+    } else {
+        "regular pass off".to_string()
+    };
+    format!("{patterns}; {defects}; {cavities}; {regular}")
 }
 
 /// The `--timings` report: one line per stage (seconds), then the same as one
@@ -236,7 +250,7 @@ fn topology_summary(
 fn timings_text(t: &quadrille::StageTimes, threads: usize, cli: [f64; 4]) -> String {
     let [load, mesh, regularize, write] = cli;
     let s = |d: std::time::Duration| d.as_secs_f64();
-    let rows: [(&str, &str, f64); 16] = [
+    let rows: [(&str, &str, f64); 17] = [
         ("load", "load", load),
         ("fields", "cross fields and size map", s(t.fields)),
         ("curves", "curve planning and discretization", s(t.curves)),
@@ -250,6 +264,7 @@ fn timings_text(t: &quadrille::StageTimes, threads: usize, cli: [f64; 4]) -> Str
         ("smoothing", "  smoothing", s(t.smoothing)),
         ("defects", "  defects", s(t.defects)),
         ("cavities", "  cavities", s(t.cavities)),
+        ("regular_pass", "  regular pass", s(t.regular_pass)),
         ("fallback", "  fallback (baseline)", s(t.fallback)),
         ("assembly", "assembly", s(t.assembly)),
         ("curve_slide", "curve nodes slid", s(t.curve_slide)),
@@ -297,6 +312,7 @@ mod tests {
             "smoothing",
             "defects",
             "cavities",
+            "regular pass",
             "fallback",
             "assembly",
             "writing",

@@ -141,6 +141,9 @@ pub struct MeshArgs {
     /// quasi-structured: no cavity remeshing around unneeded irregular vertices.
     #[arg(long)]
     no_cavities: bool,
+    /// quasi-structured: no last pass of the regular method's swaps, collapses and splits on what the cavities left.
+    #[arg(long)]
+    no_regular_pass: bool,
     /// Print the time of each stage on stderr (a table, then one `timings:` JSON line).
     #[arg(long)]
     timings: bool,
@@ -152,7 +155,8 @@ pub enum Method {
     /// The default: cross field and size map; simple faces meshed by a pattern;
     /// the others by frontal points along the cross field, recombination and
     /// subdivision; then very irregular vertices and cavities remeshed
-    /// (--no-patterns, --no-defects, --no-cavities switch steps off).
+    /// (--no-patterns, --no-defects, --no-cavities, --no-regular-pass switch
+    /// steps off).
     QuasiStructured,
     /// The quasi-structured method without its topology steps (no patterns,
     /// no defect removal, no cavity remeshing).

@@ -141,8 +141,23 @@ fn each_no_switch_turns_its_step_off() {
 
     let no_cavities = topology_line(&mesh(&model, &out, &["--no-cavities"]));
     assert!(
-        no_cavities.ends_with("cavities off") && !no_cavities.contains("remeshed"),
+        no_cavities.contains("; cavities off;") && !no_cavities.contains("remeshed"),
         "{no_cavities}"
+    );
+    assert!(
+        no_cavities.contains("regular pass: kept on"),
+        "{no_cavities}"
+    );
+
+    let no_regular = topology_line(&mesh(&model, &out, &["--no-regular-pass"]));
+    assert!(
+        no_regular.ends_with("regular pass off") && no_regular.contains("cavities:"),
+        "{no_regular}"
+    );
+    assert_eq!(
+        no_regular.split("; regular pass").next(),
+        all.split("; regular pass").next(),
+        "the steps before the pass do the same: {no_regular}\n{all}"
     );
     // the other steps report what they did with everything on
     assert_eq!(

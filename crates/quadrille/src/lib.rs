@@ -42,6 +42,7 @@ pub mod pattern_face;
 pub mod patterns;
 pub mod pipeline;
 pub mod recombine;
+pub mod regular_pass;
 pub mod regularize;
 pub mod scaling;
 pub mod singularities;

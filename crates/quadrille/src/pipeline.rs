@@ -247,6 +247,9 @@ pub struct Stages {
     pub defects: bool,
     /// Cavity remeshing ([`crate::cavity`], §6.2).
     pub cavities: bool,
+    /// The regular method's operations on what the cavities left
+    /// ([`crate::regular_pass`]), faces not meshed by a pattern.
+    pub regular_pass: bool,
 }
 
 impl Stages {
@@ -255,12 +258,14 @@ impl Stages {
         patterns: true,
         defects: true,
         cavities: true,
+        regular_pass: true,
     };
     /// No stage: the unstructured mesh of §5 alone.
     pub const NONE: Stages = Stages {
         patterns: false,
         defects: false,
         cavities: false,
+        regular_pass: false,
     };
 }
 
@@ -296,6 +301,8 @@ pub struct StageTimes {
     pub defects: Duration,
     /// Cavity remeshing (sum over faces).
     pub cavities: Duration,
+    /// The regular method's operations after the cavities (sum over faces).
+    pub regular_pass: Duration,
     /// Baseline meshing: the faces that fell back to it, or every face of
     /// [`MeshMethod::Baseline`] (sum over faces).
     pub fallback: Duration,
@@ -324,6 +331,7 @@ impl StageTimes {
         self.smoothing += o.smoothing;
         self.defects += o.defects;
         self.cavities += o.cavities;
+        self.regular_pass += o.regular_pass;
         self.fallback += o.fallback;
     }
 }
@@ -342,6 +350,9 @@ pub struct MeshReport {
     pub defects: crate::defects::DefectReport,
     /// Cavity remeshing ([`crate::cavity`]), summed over the faces it ran on.
     pub cavities: crate::cavity::CavityReport,
+    /// The regular pass ([`crate::regular_pass`]): faces tried, faces whose
+    /// result was kept, irregular face-interior vertices it removed.
+    pub regular_pass: (usize, usize, usize),
     /// Time of each stage (not part of equality; see [`StageTimes`]).
     pub times: StageTimes,
     /// Sliver curves meshed as points (shorter than [`SLIVER_LENGTH`] of the
@@ -500,6 +511,9 @@ fn run_unstructured(
     let patterns: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());
     let defects: std::sync::Mutex<BTreeMap<u32, (DefectReport, CavityReport)>> =
         std::sync::Mutex::new(BTreeMap::new());
+    let regular: std::sync::Mutex<BTreeMap<u32, crate::regular_pass::RegularPassReport>> =
+        std::sync::Mutex::new(BTreeMap::new());
+    let pass_opts = crate::regular_pass::RegularPassOptions::default();
     let mesh_one_face =
         |fid: FaceId, cms: &[CurveMesh], ft: &mut StageTimes| -> Result<QuadPatch, FaceFailure> {
             // a simple face is meshed by a pattern first (paper §6.1.2)
@@ -601,6 +615,32 @@ fn run_unstructured(
         let mut r = mesh_one_face(fid, cms, &mut ft);
         // last, the face's average quality (square quads, sizes free)
         if let Ok(p) = &mut r {
+            // the regular method's operations on what the cavities left
+            let by_pattern = patterns
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .contains_key(&fid.0);
+            if stages.regular_pass && !by_pattern {
+                let t = Instant::now();
+                let rep = crate::regular_pass::reduce_irregular(
+                    &model.faces[fid.idx()],
+                    fid,
+                    p,
+                    &crate::smoothing::sharp_corners_of(model, fid),
+                    &pass_opts,
+                );
+                if debug_enabled() {
+                    eprintln!("face {}: regular pass {rep:?}", fid.0 + 1);
+                }
+                if rep.tried {
+                    regular
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .insert(fid.0, rep);
+                }
+                ft.regular_pass += t.elapsed();
+            }
+            // last, the face's average quality (square quads, sizes free)
             let t = Instant::now();
             let rep = crate::smoothing::raise_average(&model.faces[fid.idx()], p, ASCENT_SWEEPS);
             if debug_enabled() {
@@ -677,6 +717,18 @@ fn run_unstructured(
         boundary_replaced: a.boundary_replaced + r.boundary_replaced,
     });
     let cavities = kept().fold(CavityReport::default(), |a, (_, (_, c))| a.add(c));
+    let rp = regular.into_inner().unwrap_or_else(|e| e.into_inner());
+    let regular_pass =
+        rp.iter()
+            .filter(|(f, _)| !fb.contains_key(f))
+            .fold((0, 0, 0), |a, (_, r)| {
+                let removed = if r.kept {
+                    r.irregular.0 - r.irregular.1
+                } else {
+                    0
+                };
+                (a.0 + 1, a.1 + r.kept as usize, a.2 + removed)
+            });
     Ok((
         mesh,
         MeshReport {
@@ -684,6 +736,7 @@ fn run_unstructured(
             patterns: pt.into_iter().map(|(f, n)| (FaceId(f), n)).collect(),
             defects: total,
             cavities,
+            regular_pass,
             times,
             slivers: Vec::new(),
         },
@@ -1146,6 +1199,8 @@ mod tests {
         let (_, none) =
             mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages::NONE).unwrap();
         assert_eq!(none.defects, crate::defects::DefectReport::default());
+        assert_eq!(none.regular_pass, (0, 0, 0));
+        assert_eq!(none.times.regular_pass, Duration::ZERO);
         // with patterns, the sphere is a cube: one pattern, no cavity
         let (_, cube) =
             mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages::ALL).unwrap();

@@ -664,7 +664,7 @@ fn interior_irregular(fq: &FaceQuads) -> usize {
 /// visiting quads and vertices in `order` ([`driver::Regularizer::order`]),
 /// steering the quad count toward `target` (0: off). Returns the
 /// invalid quads before, the operation counts and the invalid quads after.
-fn topological_phase(
+pub(crate) fn topological_phase(
     face: &Face,
     fq: &mut FaceQuads,
     opts: &RegularizeOptions,
