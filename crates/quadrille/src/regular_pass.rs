@@ -11,9 +11,9 @@
 //!
 //! This pass converts a face's patch, after the cavities and before the
 //! last average ascent, to [`FaceQuads`]; runs the regular method's
-//! operation loop on it (one visiting order, small search budgets, no quad
-//! count target and no redistribution: the quasi-structured mesh's spacing
-//! is already right); converts it back and smooths it with the §5.3
+//! operation loop on it (one visiting order, single operations, the pair
+//! search and translations with small budgets, no quad count target and no
+//! redistribution: the quasi-structured mesh's spacing is already right); converts it back and smooths it with the §5.3
 //! kernels. The result is kept only when it has fewer irregular
 //! face-interior vertices, no more irregular boundary vertices, a worst SICN
 //! at or above the method's bar (or the input's, if lower) and an average
@@ -72,7 +72,7 @@ impl Default for RegularPassOptions {
         RegularPassOptions {
             attempts: vec![Attempt {
                 order: 0,
-                max_sequence: 3,
+                max_sequence: 1,
             }],
             pair_radius: 2,
             pair_budget: 100,
@@ -90,7 +90,9 @@ impl Default for RegularPassOptions {
 pub struct Attempt {
     /// Visiting order ([`crate::regularize::driver::visiting_order`]).
     pub order: u32,
-    /// Longest sequence of operations tried at a vertex.
+    /// Longest sequence of operations tried at a vertex by the operation
+    /// search (the pair search has its own depth). On the 25 CAD models
+    /// (wing out) 1 removes as many irregular vertices as 3 in 60 % of the time.
     pub max_sequence: usize,
 }
 
