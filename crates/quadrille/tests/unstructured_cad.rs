@@ -382,3 +382,42 @@ fn the_regular_pass_removes_irregular_vertices_of_i11o_without_inverting_a_quad(
         b.avg_sicn
     );
 }
+
+#[test]
+fn the_concave_corners_of_n12o_get_three_quads_on_their_caps() {
+    // n12o_limit_cycle_genus0: each cap has a 270° corner (where the fin
+    // meets the cylinder) and a 90° one; with the 270° corner at 3 quads and
+    // the 90° at 1, each cap needs exactly 4 valence-3 vertices, the fewest
+    // its index allows. The cavities left the 270° corners at 4 quads with a
+    // fifth valence-3 vertex beside them; the regular pass cancels the two.
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/cad/n12o_limit_cycle_genus0.stp");
+    let model = occt::load(&path).expect("n12o loads");
+    let (mesh, report) =
+        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::Unstructured).expect("meshes");
+    assert!(report.regular_pass.2 >= 2, "{:?}", report.regular_pass);
+    let mut quads_at = vec![0usize; mesh.nodes.len()];
+    for q in &mesh.quads {
+        for &v in q {
+            quads_at[v as usize] += 1;
+        }
+    }
+    let interior_irregular = (0..mesh.nodes.len())
+        .filter(|&i| matches!(mesh.node_class[i], mesh::NodeClass::Face(..)) && quads_at[i] != 4)
+        .count();
+    assert_eq!(interior_irregular, 8);
+    // the two corners at (-10, 0, z): 3 quads on the cap, 1 on the fin's
+    // plane, 1 on the cylinder
+    let concave: Vec<usize> = (0..mesh.nodes.len())
+        .filter(|&i| {
+            matches!(mesh.node_class[i], mesh::NodeClass::Corner(_))
+                && (mesh.nodes[i][0] + 10.0).abs() < 1e-6
+                && mesh.nodes[i][1].abs() < 1e-6
+        })
+        .collect();
+    assert_eq!(concave.len(), 2);
+    for c in concave {
+        assert_eq!(quads_at[c], 5, "corner at {:?}", mesh.nodes[c]);
+    }
+    assert_eq!(common::check(&model, &mesh).inverted, 0);
+}
