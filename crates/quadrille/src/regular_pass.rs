@@ -18,7 +18,9 @@
 //! face-interior vertices, no more irregular boundary vertices, a worst SICN
 //! at or above the method's bar (or the input's, if lower) and an average
 //! SICN at most [`RegularPassOptions::average_loss`] below the input's.
-//! Otherwise the patch is left exactly as it was.
+//! Otherwise the patch is left exactly as it was. A face still above 5 %
+//! irregular after a kept result gets a second round from it, with a
+//! larger pair search budget.
 //!
 //! Boundary vertices (curve nodes with other than two quads) count in the
 //! operations' score, so a valence-3 vertex can cancel against a curve node
