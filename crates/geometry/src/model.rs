@@ -296,11 +296,31 @@ impl Face {
     /// along the parameter whose derivative vanishes there (its pole segment
     /// is not known). Falls back to the normal at `centre`; `None` when that
     /// is undefined too.
+    ///
+    /// At a [`CornerUv::Curve`] corner (a node on a CAD curve of the face)
+    /// whose normal makes more than 90° ([`FOLD_COS`]) with the normal at
+    /// `centre`, the surface folds back between the curve and the element's
+    /// centre over less than the element's width (a rounded trailing edge a
+    /// fraction of the quad size thick): the element does not resolve that
+    /// bend, the curve is a crease at its scale, and the corner's normal is
+    /// the one at `centre`, the surface as seen from the element's side. On
+    /// a surface that does not fold within an element this changes nothing,
+    /// and an element inverted against a smooth surface stays inverted (its
+    /// corner and centre normals agree).
     pub fn corner_normal(&self, at: CornerUv, centre: [f64; 2]) -> Option<Vec3> {
         let mut p = at.toward(centre);
-        if let CornerUv::Point(_) = at {
+        if let CornerUv::Point(_) | CornerUv::Curve(_) = at {
             let d = self.surface.first_derivs(p);
             if let Some(n) = self.regular_normal_from(&d) {
+                if let CornerUv::Curve(_) = at {
+                    // a bend narrower than the element at its boundary: the
+                    // element sees the surface from its own side
+                    if let Some(nc) = self.normal(centre) {
+                        if vec3::dot(n, nc) < FOLD_COS {
+                            return Some(nc);
+                        }
+                    }
+                }
                 return Some(n);
             }
             let (uu, vv) = (vec3::dot(d.du, d.du), vec3::dot(d.dv, d.dv));
@@ -333,6 +353,11 @@ fn singular_ratio(d: &SurfaceDerivs) -> f64 {
 /// Samples of [`Face::pole_normal_spread`] along a pole segment.
 pub const POLE_SPREAD_SAMPLES: usize = 9;
 
+/// Cosine of the angle between the normal at a [`CornerUv::Curve`] corner
+/// and at its element's centre beyond which [`Face::corner_normal`] takes the
+/// centre's (0: more than 90°, the surface folds back inside the element).
+pub const FOLD_COS: f64 = 0.0;
+
 /// Fraction of the way from a singular element corner toward the element's
 /// (u, v) centre at which [`Face::corner_normal`] takes its limit normal.
 pub const POLE_OFFSET: f64 = 1e-3;
@@ -343,6 +368,10 @@ pub const POLE_OFFSET: f64 = 1e-3;
 pub enum CornerUv {
     /// A point of the parameter plane.
     Point([f64; 2]),
+    /// A point of the parameter plane on a CAD curve bounding the face (a
+    /// curve or corner node): like [`CornerUv::Point`], except where the
+    /// surface folds back inside the element ([`Face::corner_normal`]).
+    Curve([f64; 2]),
     /// A pole: the corner lies on a degenerate curve of the face (a sphere
     /// pole, a cone apex), whose whole (u, v) segment maps to that 3D point.
     Pole([[f64; 2]; 2]),
@@ -353,7 +382,7 @@ impl CornerUv {
     /// the pole's segment nearest to `other`.
     pub fn toward(self, other: [f64; 2]) -> [f64; 2] {
         match self {
-            CornerUv::Point(p) => p,
+            CornerUv::Point(p) | CornerUv::Curve(p) => p,
             CornerUv::Pole([p, q]) => {
                 let d = [q[0] - p[0], q[1] - p[1]];
                 let dd = d[0] * d[0] + d[1] * d[1];
@@ -543,6 +572,27 @@ mod tests {
     fn cone_normal(u: f64) -> Vec3 {
         let s = std::f64::consts::FRAC_1_SQRT_2;
         [s * u.cos(), s * u.sin(), -s]
+    }
+
+    #[test]
+    fn a_curve_corner_takes_the_centre_normal_only_where_the_surface_folds_back() {
+        let m = crate::primitives::sphere(1.0);
+        let f = &m.faces[0];
+        let at = [0.0, 0.0];
+        let n = f.normal(at).unwrap();
+        assert!(vec3::dist(vec3::scale(n, n[0].signum()), [1.0, 0.0, 0.0]) < 1e-9);
+        // the element's centre on the far side of the sphere: the normals are
+        // opposite, the surface turns by 180° between corner and centre
+        let far = [std::f64::consts::PI, 0.0];
+        let nf = f.normal(far).unwrap();
+        assert!(vec3::dot(n, nf) < -0.999);
+        assert_eq!(f.corner_normal(CornerUv::Curve(at), far), Some(nf));
+        // an interior point keeps its own normal, whatever the element
+        assert_eq!(f.corner_normal(CornerUv::Point(at), far), Some(n));
+        // a centre 60° away: no fold, the corner's own normal
+        let near = [std::f64::consts::FRAC_PI_3, 0.0];
+        assert!(vec3::dot(n, f.normal(near).unwrap()) > 0.49);
+        assert_eq!(f.corner_normal(CornerUv::Curve(at), near), Some(n));
     }
 
     #[test]

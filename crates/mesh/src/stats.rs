@@ -463,7 +463,13 @@ impl<'a> CadNormals<'a> {
         let mut out = [None; 4];
         for k in 0..4 {
             let n = if poles[k].is_empty() {
-                uvs[k].and_then(|uv| face.corner_normal(CornerUv::Point(uv), unwrap(centre, uv)))
+                uvs[k].and_then(|uv| {
+                    let at = match self.mesh.node_class.get(q[k] as usize) {
+                        Some(NodeClass::Curve(..) | NodeClass::Corner(_)) => CornerUv::Curve(uv),
+                        _ => CornerUv::Point(uv),
+                    };
+                    face.corner_normal(at, unwrap(centre, uv))
+                })
             } else {
                 // the segment nearest the centre, the centre in its period
                 poles[k]

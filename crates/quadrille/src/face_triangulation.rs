@@ -37,7 +37,7 @@ const CHORD_RATIO: f64 = 0.14;
 const NORMAL_COS: f64 = 0.3;
 /// ...unless they are smaller than this fraction of the target size (or than
 /// the surface's [`geometry::Surface::resolution`]).
-const MIN_CURVATURE_SIZE: f64 = 1e-3;
+const MIN_CURVATURE_SIZE: f64 = 0.1;
 /// Refinement rounds before giving up.
 const MAX_ROUNDS: usize = 200;
 /// Normal turn (radians) between two points of a normal layer.
@@ -73,6 +73,16 @@ pub struct LocalNode {
 }
 
 impl LocalNode {
+    /// Where the node lies for [`geometry::Face::corner_normal`]: a pole, a
+    /// point on a CAD curve (curve and corner nodes), or an interior point.
+    pub fn corner_uv(&self) -> geometry::CornerUv {
+        match (self.pole, self.node) {
+            (Some(seg), _) => geometry::CornerUv::Pole(seg),
+            (None, NodeRef::Interior) => geometry::CornerUv::Point(self.uv),
+            (None, _) => geometry::CornerUv::Curve(self.uv),
+        }
+    }
+
     /// The node's (u, v) as seen from `other`: itself, except for a pole, which
     /// is the point of its degenerate segment nearest to `other`.
     pub fn uv_toward(&self, other: [f64; 2]) -> [f64; 2] {

@@ -129,11 +129,7 @@ pub fn split_triangles(
 /// (u, v) centre. One rule with the mesh statistics: [`Face::corner_normal`].
 pub fn node_normal(face: &Face, nodes: &[LocalNode], q: &[u32; 4], k: usize) -> Option<Vec3> {
     let n = &nodes[q[k] as usize];
-    let at = match n.pole {
-        Some(seg) => CornerUv::Pole(seg),
-        None => CornerUv::Point(n.uv),
-    };
-    face.corner_normal(at, quad_uv_centre(nodes, q))
+    face.corner_normal(n.corner_uv(), quad_uv_centre(nodes, q))
 }
 
 /// (u, v) centre of a quad (poles ignored unless all nodes are poles).
@@ -247,7 +243,9 @@ impl NodeNormals {
         let mut known = [None; 4];
         for (k, slot) in known.iter_mut().enumerate() {
             let j = q[k] as usize;
-            if nodes[j].pole.is_some() {
+            // poles, and curve nodes (where the surface may fold inside the
+            // quad): the normal depends on the quad
+            if !matches!(nodes[j].corner_uv(), CornerUv::Point(_)) {
                 continue;
             }
             if let NodeNormal::Unknown = self.at[j] {

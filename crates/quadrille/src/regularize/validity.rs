@@ -136,9 +136,10 @@ pub fn inverted_count(fq: &FaceQuads, face: &Face) -> usize {
                 vec3::normalize(cross(sub(p[2], p[0]), sub(p[3], p[1]))).unwrap_or([0.0, 0.0, 1.0]);
             let n = fq.quads[q as usize].map(|v| {
                 let x = &fq.verts[v as usize];
-                let at = match x.pole {
-                    Some(seg) => geometry::CornerUv::Pole(seg),
-                    None => geometry::CornerUv::Point(x.uv),
+                let at = match (x.pole, &x.class) {
+                    (Some(seg), _) => geometry::CornerUv::Pole(seg),
+                    (None, mesh::NodeClass::Face(..)) => geometry::CornerUv::Point(x.uv),
+                    (None, _) => geometry::CornerUv::Curve(x.uv),
                 };
                 face.corner_normal(at, c).unwrap_or(own)
             });

@@ -366,8 +366,8 @@ fn sweep_nodes(
             let v = v as usize;
             if !known[v] {
                 known[v] = true;
-                if p.nodes[v].pole.is_none() {
-                    nrm[v] = face.regular_normal(p.nodes[v].uv);
+                if let geometry::CornerUv::Point(uv) = p.nodes[v].corner_uv() {
+                    nrm[v] = face.regular_normal(uv);
                 }
             }
         }

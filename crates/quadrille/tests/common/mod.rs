@@ -73,6 +73,31 @@ fn node_normal(model: &Model, mesh: &QuadMesh, f: FaceId, n: usize) -> Option<Ve
         .find_map(|uv| face.normal(uv))
 }
 
+/// CAD normal of face `f` at the (u, v) centre of quad `q`: the mean of its
+/// corners' (u, v), each corner's candidate (a seam node has two) taken
+/// nearest to a face-interior corner's (u, v), or to the first candidate.
+fn centre_normal(model: &Model, mesh: &QuadMesh, f: FaceId, q: &[u32; 4]) -> Option<Vec3> {
+    let face = &model.faces[f.idx()];
+    let cands: Vec<Vec<[f64; 2]>> = q
+        .iter()
+        .map(|&v| node_uvs(model, mesh, f, v as usize))
+        .collect();
+    let hint = q
+        .iter()
+        .find_map(|&v| match mesh.node_class[v as usize] {
+            NodeClass::Face(ff, Some(uv)) if ff == f => Some(uv),
+            _ => None,
+        })
+        .or_else(|| cands.iter().flatten().next().copied())?;
+    let d2 = |a: [f64; 2]| (a[0] - hint[0]).powi(2) + (a[1] - hint[1]).powi(2);
+    let mut sum = [0.0, 0.0];
+    for c in &cands {
+        let uv = c.iter().copied().min_by(|a, b| d2(*a).total_cmp(&d2(*b)))?;
+        sum = [sum[0] + 0.25 * uv[0], sum[1] + 0.25 * uv[1]];
+    }
+    face.normal(sum)
+}
+
 /// Measures `mesh` against `model`.
 pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
     let diagonal = model.diagonal();
@@ -98,7 +123,26 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
                 *n = Some(mean);
             }
         }
-        let n = ns.map(|n| n.unwrap_or(mean));
+        let mut n = ns.map(|n| n.unwrap_or(mean));
+        // a corner on a CAD curve whose normal is more than 90° from the
+        // surface's at the quad's centre: the surface folds back inside the
+        // quad (a trailing edge rounded far below the quad size), and the
+        // quad is measured against the surface on its own side
+        let on_curve = |k: usize| {
+            matches!(
+                mesh.node_class[q[k] as usize],
+                NodeClass::Curve(..) | NodeClass::Corner(_)
+            )
+        };
+        if (0..4).any(on_curve) {
+            if let Some(nc) = centre_normal(model, mesh, f, q) {
+                for k in (0..4).filter(|&k| on_curve(k)) {
+                    if vec3::dot(n[k], nc) < 0.0 {
+                        n[k] = nc;
+                    }
+                }
+            }
+        }
         let s = corner_sicn(&p, &n)
             .into_iter()
             .fold(f64::INFINITY, f64::min);
