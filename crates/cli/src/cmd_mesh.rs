@@ -137,7 +137,11 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let t_improve = t2.elapsed().as_secs_f64();
 
     let t3 = Instant::now();
-    let sicn = mesh::stats::quad_sicn_values(&m, Some(&model));
+    // the quality summary and the VTU's cell data (a whole-mesh pass with the
+    // CAD normals: not computed when nothing shows it)
+    let sicn = (format == "vtu" || !args.quiet)
+        .then(|| mesh::stats::quad_sicn_values(&m, Some(&model)))
+        .unwrap_or_default();
     match format.as_str() {
         "msh" => {
             let enc = if args.binary {

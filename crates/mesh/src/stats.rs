@@ -160,24 +160,11 @@ pub struct MeshStats {
 /// normal is undefined), else one normal per quad: the mean unit normal of the
 /// same-face quads sharing a node with it (see `mesh_corner_normals`).
 pub fn quad_corner_normals(mesh: &QuadMesh, model: Option<&Model>) -> Vec<[Vec3; 4]> {
-    let mesh_normals = mesh_corner_normals(mesh);
     match model {
-        None => mesh_normals,
+        None => mesh_corner_normals(mesh),
         Some(model) => {
-            let mut cad = CadNormals::new(mesh, model);
-            mesh.quads
-                .iter()
-                .enumerate()
-                .map(|(qi, q)| {
-                    let mut out = mesh_normals[qi];
-                    for (k, n) in cad.quad_normals(qi, q).into_iter().enumerate() {
-                        if let Some(n) = n {
-                            out[k] = n;
-                        }
-                    }
-                    out
-                })
-                .collect()
+            let all: Vec<u32> = (0..mesh.quads.len() as u32).collect();
+            quad_corner_normals_of(mesh, model, &all)
         }
     }
 }

@@ -249,6 +249,18 @@ struct Work<'a> {
     /// Per quad and edge, the quad across ([`Work::across`]): [`NBR_UNKNOWN`]
     /// until asked, [`NBR_NONE`] on the face boundary.
     nbr: Vec<[std::cell::Cell<u32>; 4]>,
+    /// The ball the current growth has reached: its centre (the seed), the
+    /// largest distance from it to a vertex of a quad added, and the longest
+    /// edge of those quads.
+    reach: (Vec3, f64, f64),
+    /// Balls of the replacements kept so far (every vertex of the new quads
+    /// and of the quads smoothed around them), in order.
+    kept_balls: Vec<(Vec3, f64)>,
+    /// Seeds whose last attempt at a step found nothing to keep: the number
+    /// of kept replacements then, and the ball the attempt depended on. A
+    /// later pass tries them again only if a replacement since has reached
+    /// that ball (otherwise they would fail the same way).
+    failed: HashMap<(u32, usize), (usize, Vec3, f64)>,
 }
 
 impl<'a> Work<'a> {
@@ -315,6 +327,9 @@ impl<'a> Work<'a> {
             bclock: 0,
             vseen: Vec::new(),
             nbr: (0..p.quads.len()).map(|_| unknown_neighbours()).collect(),
+            reach: ([0.0; 3], 0.0, 0.0),
+            kept_balls: Vec::new(),
+            failed: HashMap::new(),
             p,
         }
     }
@@ -554,6 +569,13 @@ impl<'a> Work<'a> {
         self.order.push(q);
         self.units += 1;
         let quad = self.p.quads[q as usize];
+        for k in 0..4 {
+            let x = self.p.pos[quad[k] as usize];
+            let r = vec3::dist(x, self.reach.0);
+            let e = vec3::dist(x, self.p.pos[quad[(k + 1) % 4] as usize]);
+            self.reach.1 = self.reach.1.max(r);
+            self.reach.2 = self.reach.2.max(e);
+        }
         for &v in &quad {
             let e = &mut self.nin[v as usize];
             if e.0 != stamp {
@@ -777,6 +799,7 @@ impl<'a> Work<'a> {
         self.stamp += 1;
         self.order.clear();
         self.absorbed = false;
+        self.reach = (self.p.pos[seed as usize], 0.0, 0.0);
         let allow = seed_may_be_interior.then_some(seed);
         let cap = if minimal {
             MAX_MINIMAL_QUADS
@@ -1141,6 +1164,13 @@ impl<'a> Work<'a> {
         }
         if accept {
             self.undone.clear();
+            let centre = self.p.pos[ring[0] as usize];
+            let radius = region_new
+                .iter()
+                .flat_map(|&q| self.p.quads[q as usize])
+                .map(|v| vec3::dist(self.p.pos[v as usize], centre))
+                .fold(0.0, f64::max);
+            self.kept_balls.push((centre, radius));
             return Some((first_new..first_new + fresh).collect());
         }
         // undo, exactly
@@ -1275,9 +1305,10 @@ impl<'a> Work<'a> {
                 report.capped = true;
                 return;
             }
-            if !self.irregular(seed) || self.singular[seed as usize] {
+            if !self.irregular(seed) || self.singular[seed as usize] || self.unchanged(seed, step) {
                 continue;
             }
+            let mut kept = false;
             for cand in self.grow(seed, target, minimal, false) {
                 if cand.quads.iter().any(|&q| !self.alive[q as usize]) {
                     continue;
@@ -1287,10 +1318,49 @@ impl<'a> Work<'a> {
                 self.mark(&cand.quads);
                 if self.replace(&cand, keep, report).is_some() {
                     report.replaced[step] += 1;
+                    kept = true;
                     break;
                 }
             }
+            self.remember(seed, step, kept);
         }
+    }
+
+    /// Margin of a failed attempt's ball, in its longest edges: the growth
+    /// rules look at the quads next to the cavity, the smoothing of a
+    /// replacement at two rings around it.
+    const BALL_MARGIN_EDGES: f64 = 3.0;
+
+    /// The key of `failed` for an attempt at `seed` in `step`: steps 1 and 3
+    /// grow the same maximal cavities with the same rules, so a seed that
+    /// failed one fails the other until something changes near it.
+    fn attempt_key(seed: u32, step: usize) -> (u32, usize) {
+        (seed, if step == 2 { 0 } else { step })
+    }
+
+    /// Records the attempt just made at `seed` in `step` (see `failed`).
+    fn remember(&mut self, seed: u32, step: usize, kept: bool) {
+        let key = Self::attempt_key(seed, step);
+        if kept {
+            self.failed.remove(&key);
+        } else {
+            let (centre, r, e) = self.reach;
+            let ball = (centre, r + Self::BALL_MARGIN_EDGES * e);
+            self.failed
+                .insert(key, (self.kept_balls.len(), ball.0, ball.1));
+        }
+    }
+
+    /// True when `seed` failed at `step` before and no replacement kept
+    /// since has reached the ball that attempt depended on: trying again
+    /// would grow the same cavities and fail the same way.
+    fn unchanged(&self, seed: u32, step: usize) -> bool {
+        let Some(&(since, centre, radius)) = self.failed.get(&Self::attempt_key(seed, step)) else {
+            return false;
+        };
+        self.kept_balls[since..]
+            .iter()
+            .all(|&(c, r)| vec3::dist(c, centre) > r + radius)
     }
 
     /// Step 2: minimal triangle / pentagon cavities around singular vertices.
@@ -1308,6 +1378,10 @@ impl<'a> Work<'a> {
                 5 => 5,
                 _ => continue,
             };
+            if self.unchanged(seed, 1) {
+                continue;
+            }
+            let mut kept = false;
             for cand in self.grow(seed, Target::Star(n), true, true) {
                 self.stamp += 1;
                 self.mark(&cand.quads);
@@ -1318,9 +1392,11 @@ impl<'a> Work<'a> {
                         self.singular[c as usize] = true;
                     }
                     report.replaced[1] += 1;
+                    kept = true;
                     break;
                 }
             }
+            self.remember(seed, 1, kept);
         }
     }
 
@@ -1399,6 +1475,8 @@ pub fn remesh_cavities(
     if !report.capped {
         let late = w.match_singularities(singularities, LATE_MATCH_RADIUS, &mut used);
         if late > 0 {
+            // the seeds' roles changed: every seed may be tried again
+            w.failed.clear();
             report.singular += late;
             passes(&mut w, &mut report, opts.max_passes);
         }

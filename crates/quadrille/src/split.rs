@@ -11,7 +11,7 @@
 use std::collections::HashMap;
 
 use geometry::vec3::{self, Vec3};
-use geometry::{CornerUv, Face};
+use geometry::Face;
 use mesh::quality::corner_sicn;
 
 use crate::face_triangulation::{centroid_uv, edge_mid_uv, BoundaryMid, LocalNode, NodeRef};
@@ -190,13 +190,53 @@ pub fn quad_quality_with(
         .fold(f64::INFINITY, f64::min)
 }
 
+/// Cosine of the largest angle between a curve node's normal and the
+/// normals at a quad's face-interior corners for which
+/// [`keep_unfolded_curve_normals`] keeps the node's own normal (60°).
+const UNFOLDED_COS: f64 = 0.5;
+
+/// Corner normals known per node (`known[k]`: the CAD normal at corner
+/// `k`'s (u, v), `None` where unknown) made safe for [`quad_quality_with`]:
+/// a curve or corner node's normal depends on the quad where the surface
+/// folds back inside it ([`Face::corner_normal`]), so it is kept only when
+/// the quad has a face-interior corner and every such corner's normal is
+/// within 60° of it (the surface does not fold there); otherwise it is
+/// dropped and evaluated for the quad. This spares the centre's normal on
+/// the quads along every curve; the mesh statistics, which judge the
+/// assembled mesh, apply the full rule.
+pub fn keep_unfolded_curve_normals(
+    nodes: &[LocalNode],
+    q: &[u32; 4],
+    known: &mut [Option<Vec3>; 4],
+) {
+    let on_curve = |k: usize| nodes[q[k] as usize].node != NodeRef::Interior;
+    if !(0..4).any(on_curve) {
+        return;
+    }
+    let interior: Vec<Vec3> = (0..4)
+        .filter(|&k| !on_curve(k))
+        .filter_map(|k| known[k])
+        .collect();
+    for k in (0..4).filter(|&k| on_curve(k)) {
+        if let Some(n) = known[k] {
+            let unfolded =
+                !interior.is_empty() && interior.iter().all(|&m| vec3::dot(n, m) >= UNFOLDED_COS);
+            if !unfolded {
+                known[k] = None;
+            }
+        }
+    }
+}
+
 /// Corner normals of a patch's nodes kept between quality evaluations, so
 /// that smoothing, which measures the quads around one moving node again and
 /// again, evaluates the CAD once per node and move instead of at every corner
 /// of every measured quad. At an ordinary point the corner normal depends on
 /// the node's (u, v) alone ([`Face::regular_normal`]); poles and singular
-/// points are evaluated per quad, as [`node_normal`] does. Results are
-/// bit-identical to [`quad_quality`]. Whoever moves a node calls
+/// points are evaluated per quad, as [`node_normal`] does, and so are
+/// curve nodes where the surface may fold inside the quad
+/// ([`keep_unfolded_curve_normals`]). Results are bit-identical to
+/// [`quad_quality`] wherever it does not fold. Whoever moves a node calls
 /// [`NodeNormals::forget`] for it.
 pub struct NodeNormals {
     at: Vec<NodeNormal>,
@@ -243,9 +283,8 @@ impl NodeNormals {
         let mut known = [None; 4];
         for (k, slot) in known.iter_mut().enumerate() {
             let j = q[k] as usize;
-            // poles, and curve nodes (where the surface may fold inside the
-            // quad): the normal depends on the quad
-            if !matches!(nodes[j].corner_uv(), CornerUv::Point(_)) {
+            // poles: the normal depends on the quad
+            if nodes[j].pole.is_some() {
                 continue;
             }
             if let NodeNormal::Unknown = self.at[j] {
@@ -258,6 +297,7 @@ impl NodeNormals {
                 *slot = Some(n);
             }
         }
+        keep_unfolded_curve_normals(nodes, q, &mut known);
         quad_quality_with(face, nodes, pos, q, &known)
     }
 }
