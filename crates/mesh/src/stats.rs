@@ -141,6 +141,11 @@ pub struct MeshStats {
     pub non_manifold_edges: usize,
     /// True when the CAD normal was used for quality (a Model was given).
     pub cad_normals: bool,
+    /// Quad corners on a CAD curve where the surface folds back by more than
+    /// 90° before the quad's centre (a bend the quad does not resolve, such
+    /// as a trailing edge rounded far below the quad size), measured with the
+    /// centre's normal ([`geometry::Face::corner_normal`]); 0 without CAD.
+    pub fold_corners: usize,
     /// Node-to-CAD distance (only with a Model).
     pub cad_distance: Option<CadDistance>,
     /// CAD corners below [`SHARP_CORNER_DEG`] in some face (only with a Model).
@@ -173,6 +178,17 @@ pub fn quad_corner_normals(mesh: &QuadMesh, model: Option<&Model>) -> Vec<[Vec3;
 /// callers that work on a few quads of a large mesh: the CAD normals of
 /// those quads, the mesh-based fallback computed only when one is missing.
 pub fn quad_corner_normals_of(mesh: &QuadMesh, model: &Model, quads: &[u32]) -> Vec<[Vec3; 4]> {
+    corner_normals_and_folds(mesh, model, quads).0
+}
+
+/// [`quad_corner_normals_of`], and the number of corners measured with
+/// their quad's centre normal because the surface folds back inside the
+/// quad (see [`geometry::Face::corner_normal`]).
+fn corner_normals_and_folds(
+    mesh: &QuadMesh,
+    model: &Model,
+    quads: &[u32],
+) -> (Vec<[Vec3; 4]>, usize) {
     let mut cad = CadNormals::new(mesh, model);
     let found: Vec<[Option<Vec3>; 4]> = quads
         .iter()
@@ -185,7 +201,7 @@ pub fn quad_corner_normals_of(mesh: &QuadMesh, model: &Model, quads: &[u32]) -> 
         .iter()
         .any(|n| n.iter().any(Option::is_none))
         .then(|| mesh_corner_normals(mesh));
-    quads
+    let normals = quads
         .iter()
         .zip(found)
         .map(|(&qi, n)| {
@@ -195,7 +211,8 @@ pub fn quad_corner_normals_of(mesh: &QuadMesh, model: &Model, quads: &[u32]) -> 
                 .unwrap_or([[0.0, 0.0, 1.0]; 4]);
             [0, 1, 2, 3].map(|k| n[k].unwrap_or(base[k]))
         })
-        .collect()
+        .collect();
+    (normals, cad.folds)
 }
 
 /// SICN of every quad (minimum over its corners), with the normals of
@@ -292,6 +309,9 @@ struct CadNormals<'a> {
     /// The model's bounding-box diagonal (scale of the projection tolerance).
     diagonal: f64,
     projected: HashMap<(u32, FaceId), Option<[f64; 2]>>,
+    /// Corners on a CAD curve measured with their quad's centre normal
+    /// because the surface folds back inside the quad ([`Face::corner_normal`]).
+    folds: usize,
 }
 
 impl<'a> CadNormals<'a> {
@@ -301,6 +321,7 @@ impl<'a> CadNormals<'a> {
             model,
             diagonal: model.diagonal(),
             projected: HashMap::new(),
+            folds: 0,
         }
     }
 
@@ -451,11 +472,21 @@ impl<'a> CadNormals<'a> {
         for k in 0..4 {
             let n = if poles[k].is_empty() {
                 uvs[k].and_then(|uv| {
-                    let at = match self.mesh.node_class.get(q[k] as usize) {
-                        Some(NodeClass::Curve(..) | NodeClass::Corner(_)) => CornerUv::Curve(uv),
-                        _ => CornerUv::Point(uv),
-                    };
-                    face.corner_normal(at, unwrap(centre, uv))
+                    let on_curve = matches!(
+                        self.mesh.node_class.get(q[k] as usize),
+                        Some(NodeClass::Curve(..) | NodeClass::Corner(_))
+                    );
+                    if !on_curve {
+                        return face.corner_normal(CornerUv::Point(uv), unwrap(centre, uv));
+                    }
+                    let n = face.corner_normal(CornerUv::Curve(uv), unwrap(centre, uv));
+                    let own = face.corner_normal(CornerUv::Point(uv), unwrap(centre, uv));
+                    if let (Some(a), Some(b)) = (n, own) {
+                        if vec3::dot(a, b) < 1.0 - 1e-12 {
+                            self.folds += 1;
+                        }
+                    }
+                    n
                 })
             } else {
                 // the segment nearest the centre, the centre in its period
@@ -752,7 +783,15 @@ impl MeshStats {
             }
         }
 
-        let normals = quad_corner_normals(mesh, model);
+        let normals = match model {
+            Some(model) => {
+                let all: Vec<u32> = (0..mesh.quads.len() as u32).collect();
+                let (normals, folds) = corner_normals_and_folds(mesh, model, &all);
+                s.fold_corners = folds;
+                normals
+            }
+            None => mesh_corner_normals(mesh),
+        };
         let mut sicn = Vec::with_capacity(mesh.quads.len());
         let mut sj = Vec::with_capacity(mesh.quads.len());
         for (q, n) in mesh.quads.iter().zip(&normals) {
@@ -924,6 +963,13 @@ impl fmt::Display for MeshStats {
             ),
         )?;
         row(f, "inverted quads", self.inverted_quads.to_string())?;
+        if self.fold_corners > 0 {
+            row(
+                f,
+                "corners on a fold (centre normal)",
+                self.fold_corners.to_string(),
+            )?;
+        }
         row(f, "open edges", self.open_edges.to_string())?;
         row(f, "non-manifold edges", self.non_manifold_edges.to_string())?;
         if let Some(d) = &self.cad_distance {
