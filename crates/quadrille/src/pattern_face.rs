@@ -212,17 +212,25 @@ fn transfinite_uv(coords: &[[f64; 2]], uv: &mut [[f64; 2]], fixed: &[bool]) {
 /// coordinate). `fixed[v]` marks boundary vertices.
 pub(crate) fn harmonic_uv(quads: &[[u32; 4]], uv: &mut [[f64; 2]], fixed: &[bool]) {
     let n = uv.len();
-    let mut nbrs: Vec<Vec<u32>> = vec![Vec::new(); n];
+    // the edges as sorted (vertex, neighbour) pairs: each vertex's
+    // neighbours in increasing order, without a list per vertex
+    let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(8 * quads.len());
     for q in quads {
         for k in 0..4 {
-            nbrs[q[k] as usize].push(q[(k + 1) % 4]);
-            nbrs[q[k] as usize].push(q[(k + 3) % 4]);
+            pairs.push((q[k], q[(k + 1) % 4]));
+            pairs.push((q[k], q[(k + 3) % 4]));
         }
     }
-    for l in &mut nbrs {
-        l.sort_unstable();
-        l.dedup();
+    pairs.sort_unstable();
+    pairs.dedup();
+    let mut first = vec![0usize; n + 1];
+    for &(v, _) in &pairs {
+        first[v as usize + 1] += 1;
     }
+    for v in 0..n {
+        first[v + 1] += first[v];
+    }
+    let nbrs = |v: usize| pairs[first[v]..first[v + 1]].iter().map(|&(_, w)| w);
     let free: Vec<usize> = (0..n).filter(|&v| !fixed[v]).collect();
     let mut slot = vec![usize::MAX; n];
     for (i, &v) in free.iter().enumerate() {
@@ -232,14 +240,28 @@ pub(crate) fn harmonic_uv(quads: &[[u32; 4]], uv: &mut [[f64; 2]], fixed: &[bool
     if m == 0 {
         return;
     }
+    // each free vertex's degree and its free neighbours' slots, in order
+    let degree: Vec<f64> = free
+        .iter()
+        .map(|&v| (first[v + 1] - first[v]) as f64)
+        .collect();
+    let mut free_first = Vec::with_capacity(m + 1);
+    let mut free_nbrs: Vec<usize> = Vec::new();
+    free_first.push(0);
+    for &v in &free {
+        free_nbrs.extend(
+            nbrs(v)
+                .map(|w| slot[w as usize])
+                .filter(|&s| s != usize::MAX),
+        );
+        free_first.push(free_nbrs.len());
+    }
     // A x = b: deg(v) x_v − Σ_{free nbrs} x_w = Σ_{fixed nbrs} uv_w
     let apply = |x: &[f64], out: &mut [f64]| {
-        for (i, &v) in free.iter().enumerate() {
-            let mut s = nbrs[v].len() as f64 * x[i];
-            for &w in &nbrs[v] {
-                if slot[w as usize] != usize::MAX {
-                    s -= x[slot[w as usize]];
-                }
+        for i in 0..m {
+            let mut s = degree[i] * x[i];
+            for &j in &free_nbrs[free_first[i]..free_first[i + 1]] {
+                s -= x[j];
             }
             out[i] = s;
         }
@@ -249,10 +271,9 @@ pub(crate) fn harmonic_uv(quads: &[[u32; 4]], uv: &mut [[f64; 2]], fixed: &[bool
         let b: Vec<f64> = free
             .iter()
             .map(|&v| {
-                nbrs[v]
-                    .iter()
-                    .filter(|&&w| fixed[w as usize])
-                    .map(|&w| uv[w as usize][c])
+                nbrs(v)
+                    .filter(|&w| fixed[w as usize])
+                    .map(|w| uv[w as usize][c])
                     .sum()
             })
             .collect();
