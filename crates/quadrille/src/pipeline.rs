@@ -645,10 +645,12 @@ fn run_unstructured(
             let rep = crate::smoothing::raise_average(&model.faces[fid.idx()], p, ASCENT_SWEEPS);
             if debug_enabled() {
                 eprintln!(
-                    "face {}: average SICN {:?} → {:?}",
+                    "face {}: average SICN {:?} → {:?} sweeps {} moves {}",
                     fid.0 + 1,
                     rep.before,
-                    rep.after
+                    rep.after,
+                    rep.sweeps,
+                    rep.moves
                 );
             }
             ft.smoothing += t.elapsed();
