@@ -46,11 +46,16 @@ pub const BACKGROUND_REFINE: f64 = 6.0;
 /// diagonal) divided by this: the fields are smooth, and a background that
 /// follows a fine quad size costs time that grows much faster than the
 /// output (at `--size-factor 0.0625`, 96 % of the run went to fields on a
-/// background of diagonal / 2304). Diagonal / 288 (16 × the old default of
-/// 1/18) rather than / 576: on i01o_m1 at size factors 0.125 and 0.0625
-/// the fields take 0.7 s instead of 5 s, and the meshes are as good or
-/// better (BENCHMARKS.md, "Background size").
-pub const MAX_BACKGROUND_DIVISIONS: f64 = 12.0;
+/// background of diagonal / 2304). Diagonal / 288 rather than / 576 took
+/// the fields on i01o_m1 at size factors 0.125 and 0.0625 from 5 s to 0.7 s
+/// with meshes as good or better (BENCHMARKS.md, "Background size").
+/// Diagonal / 216 (the background of size factor 0.67) rather than / 288:
+/// at 0.0625 the fields take 0.4 s instead of 0.8 s, the run about 10 %
+/// less, with 0.173 % irregular vertices instead of 0.163 % and an average
+/// SICN 0.001 lower; at 0.125, 0.301 % instead of 0.354 % and 0.003 lower
+/// (BENCHMARKS.md, session of 2026-12-02, sixth). At the default size and
+/// coarser the bound is not reached.
+pub const MAX_BACKGROUND_DIVISIONS: f64 = 9.0;
 
 /// Options of [`model_fields`].
 #[derive(Clone)]
@@ -433,7 +438,8 @@ mod tests {
         )
         .unwrap();
         assert!((f.background_size - 0.5 / BACKGROUND_REFINE).abs() < 1e-12);
-        // a quad size 16 × finer than the default: the background stops at default / 32
+        // a quad size 16 × finer than the default: the background stops at
+        // default / MAX_BACKGROUND_DIVISIONS
         let f = model_fields(
             &model,
             &FieldOptions {
