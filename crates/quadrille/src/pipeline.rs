@@ -94,14 +94,17 @@ pub struct MeshOptions {
     pub quads_per_turn: f64,
 }
 
-/// Default of [`MeshOptions::quads_per_turn`]: four quads across a 90°
-/// fillet. Without it a fillet narrower than the target size was one quad
-/// wide (s12o_cube_rounded_1: 600 quads, its 12 fillets one quad across;
-/// with it 2 400 quads, four across, average SICN 0.956 → 0.981). On the 26
-/// shared models, 12 / 16 / 20 give an irregular-share ratio to Gmsh of
-/// 0.998 / 0.925 / 0.928 (1.097 without) and 20, 20, 18 models with fewer
-/// irregular vertices than Gmsh (BENCHMARKS.md, "Curvature").
-pub const DEFAULT_QUADS_PER_TURN: f64 = 16.0;
+/// Default of [`MeshOptions::quads_per_turn`]: five quads across a 90°
+/// fillet (18° of turn per quad). Without it a fillet narrower than the
+/// target size was one quad wide (s12o_cube_rounded_1: 600 quads, its 12
+/// fillets one quad across, average SICN 0.956). 16 (four across) left
+/// s13o_cube_rounded_2 at 864 quads and average SICN 0.984 against Gmsh
+/// quadqs's 0.986 at 1536: a quad bent over 22.5° has SICN at most
+/// cos 11.25° = 0.981. With 20 it has Gmsh's 1536 quads and 0.987; over
+/// the 26 shared models the quad count goes from 0.95 to 1.03 of Gmsh's
+/// and the irregular-share ratio from 0.620 to 0.587 (BENCHMARKS.md,
+/// "Five quads per 90° of turn").
+pub const DEFAULT_QUADS_PER_TURN: f64 = 20.0;
 
 impl Default for MeshOptions {
     fn default() -> Self {
