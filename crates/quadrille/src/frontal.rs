@@ -85,6 +85,9 @@ struct PointGrid {
     cell: [f64; LEVELS],
     cells: Vec<HashMap<[i64; 3], Vec<u32>>>,
     pts: Vec<Vec3>,
+    /// The surface normal at each inserted point; `None` for the boundary
+    /// nodes and edge midpoints, which block from either side.
+    normals: Vec<Option<Vec3>>,
 }
 
 impl PointGrid {
@@ -97,6 +100,7 @@ impl PointGrid {
             cell: c,
             cells: vec![HashMap::new(); LEVELS],
             pts: Vec::new(),
+            normals: Vec::new(),
         }
     }
 
@@ -104,18 +108,29 @@ impl PointGrid {
         p.map(|c| (c / self.cell[level]).floor().clamp(-1e15, 1e15) as i64)
     }
 
-    fn add(&mut self, p: Vec3) {
+    fn add(&mut self, p: Vec3, normal: Option<Vec3>) {
         let id = self.pts.len() as u32;
         for level in 0..LEVELS {
             let k = self.key(level, p);
             self.cells[level].entry(k).or_default().push(id);
         }
         self.pts.push(p);
+        self.normals.push(normal);
     }
 
-    /// True when some point lies within the box `|F·(p − q)|∞ < r`, `F` the
-    /// orthonormal frame `frame`.
-    fn any_in_box(&self, p: Vec3, frame: &[Vec3; 3], r: f64) -> bool {
+    /// True when point `q` blocks a proposal at `p` with surface normal
+    /// `normal`: it lies within the box `|F·(p − q)|∞ < r` and is not an
+    /// inserted point whose surface faces the other way (more than 90° from
+    /// `normal`): a point on the far side of a thin shell, such as the
+    /// other skin of a wing, is near in 3D but far along the surface.
+    fn blocks(&self, q: u32, p: Vec3, normal: Vec3, frame: &[Vec3; 3], r: f64) -> bool {
+        in_box(p, self.pts[q as usize], frame, r)
+            && self.normals[q as usize].is_none_or(|n| vec3::dot(n, normal) >= 0.0)
+    }
+
+    /// True when some point blocks a proposal at `p` (see [`Self::blocks`]),
+    /// `F` the orthonormal frame `frame`.
+    fn any_in_box(&self, p: Vec3, normal: Vec3, frame: &[Vec3; 3], r: f64) -> bool {
         // the box lies in the ball of radius r·√3
         let reach = r * 3f64.sqrt();
         for level in 0..LEVELS {
@@ -126,16 +141,13 @@ impl PointGrid {
             }
             if (0..3).any(|k| hi[k] - lo[k] + 1 > MAX_CELLS_PER_AXIS) {
                 // larger than every level: scan all points
-                return self.pts.iter().any(|&q| in_box(p, q, frame, r));
+                return (0..self.pts.len() as u32).any(|q| self.blocks(q, p, normal, frame, r));
             }
             for i in lo[0]..=hi[0] {
                 for j in lo[1]..=hi[1] {
                     for k in lo[2]..=hi[2] {
                         if let Some(list) = self.cells[level].get(&[i, j, k]) {
-                            if list
-                                .iter()
-                                .any(|&q| in_box(p, self.pts[q as usize], frame, r))
-                            {
+                            if list.iter().any(|&q| self.blocks(q, p, normal, frame, r)) {
                                 return true;
                             }
                         }
@@ -194,7 +206,7 @@ pub fn insert_frontal_points(
     let mut grid = PointGrid::new(min_r);
     let mut queue: VecDeque<u32> = VecDeque::new();
     for (i, p) in ft.pos.iter().enumerate() {
-        grid.add(*p);
+        grid.add(*p, None);
         queue.push_back(i as u32);
     }
     // the midpoints of boundary edges block too: no point lands on (or right
@@ -203,7 +215,7 @@ pub fn insert_frontal_points(
         ft.boundary_mid.iter().map(|(k, m)| (k, m.pos)).collect();
     mids.sort_by_key(|m| *m.0);
     for (_, p) in mids {
-        grid.add(p);
+        grid.add(p, None);
     }
     while let Some(i) = queue.pop_front() {
         if stats.inserted >= opts.max_points {
@@ -239,15 +251,13 @@ pub fn insert_frontal_points(
                 }
             }
             // never on a singular point of the surface (an apex, a pole)
-            if p.iter().any(|c| !c.is_finite())
-                || face.surface.normal(uv).is_none()
-                || face.is_singular(uv)
-            {
-                continue;
-            }
+            let normal = match face.surface.normal(uv) {
+                Some(n) if p.iter().all(|c| c.is_finite()) && !face.is_singular(uv) => n,
+                _ => continue,
+            };
             let sp = bg.sample(p).map_or(sx.size, |s| s.size);
             let r = opts.kappa * opts.factor * sp;
-            if grid.any_in_box(p, &frame, r) {
+            if grid.any_in_box(p, normal, &frame, r) {
                 stats.too_close += 1;
                 continue;
             }
@@ -255,7 +265,7 @@ pub fn insert_frontal_points(
                 stats.outside += 1;
                 continue;
             }
-            grid.add(p);
+            grid.add(p, Some(normal));
             stats.inserted += 1;
             queue.push_back((ft.nodes.len() - 1) as u32);
         }
@@ -323,5 +333,28 @@ mod tests {
             (s[0] - 0.01).abs() < 1e-12 && (s[1] + 0.02).abs() < 1e-12,
             "{s:?}"
         );
+    }
+
+    #[test]
+    fn a_point_on_the_far_skin_of_a_thin_shell_does_not_block() {
+        // two skins 0.01 apart facing away from each other (a wing near its
+        // trailing edge); the exclusion box is 0.2 wide
+        let mut grid = PointGrid::new(0.05);
+        let up = [0.0, 0.0, 1.0];
+        let down = [0.0, 0.0, -1.0];
+        let frame = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], up];
+        grid.add([0.0, 0.0, -0.01], Some(down));
+        let p = [0.02, 0.0, 0.0];
+        assert!(!grid.any_in_box(p, up, &frame, 0.2));
+        // the same point on this skin blocks
+        grid.add([0.0, 0.05, -0.001], Some(up));
+        assert!(grid.any_in_box(p, up, &frame, 0.2));
+        // a boundary node (no normal) blocks either skin
+        let mut boundary = PointGrid::new(0.05);
+        boundary.add([0.0, 0.0, -0.01], None);
+        assert!(boundary.any_in_box(p, up, &frame, 0.2));
+        assert!(boundary.any_in_box(p, down, &frame, 0.2));
+        // and nothing blocks from outside the box
+        assert!(!boundary.any_in_box([0.5, 0.0, 0.0], up, &frame, 0.2));
     }
 }

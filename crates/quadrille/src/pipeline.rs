@@ -509,6 +509,10 @@ fn run_unstructured(
     if !stages.cavities {
         uopts.cavity = None;
     }
+    if stages == Stages::NONE {
+        // the §5 mesh is the output: its interior follows the curves' spacing
+        uopts.gradation = crate::unstructured::PLAIN_GRADATION;
+    }
     let face_times: std::sync::Mutex<StageTimes> = std::sync::Mutex::new(StageTimes::default());
     let fallback: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());
     let patterns: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());

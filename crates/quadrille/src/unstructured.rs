@@ -43,10 +43,22 @@ const UNTANGLE_BELOW: f64 = 0.1;
 const UNTANGLE_PASSES: usize = 4;
 /// A face with more nodes to untangle than this is beyond local repair.
 const UNTANGLE_MAX_NODES: usize = 5000;
-/// Size growth away from the boundary edges: off. (0.25 and 0.6 were tried
-/// on the bundled models: more quads and more fallbacks at 0.25, no gain at
-/// 0.6, with the curve meshes at the uniform target size.)
+/// Size growth away from the boundary edges in the first stage of the
+/// quasi-structured method: off. (0.25 and 0.6 were tried on the bundled
+/// models: more quads and more fallbacks at 0.25, no gain at 0.6, with the
+/// curve meshes at the uniform target size; with today's curve meshes 0.15
+/// leaves 713 irregular vertices on the 25 models instead of 682.)
 const GRADATION: f64 = f64::INFINITY;
+/// Size growth away from the boundary edges for the plain unstructured
+/// method ([`crate::pipeline::Stages::NONE`]), whose mesh is final: half
+/// the curves' own grading ([`crate::curve_mesh::GRADING`], on the coarse
+/// spacing), so the interior continues the spacing of curves refined at
+/// tight bends. On wing_surface, whose airfoils are spaced by their leading
+/// and trailing edges at a fifth of the size map, the front met the curves
+/// with fans of slivers: average SICN 0.717 with an ungraded size, 0.918
+/// with this (BENCHMARKS.md, "A graded size for the plain unstructured
+/// method").
+pub const PLAIN_GRADATION: f64 = 0.15;
 /// Longest augmenting path of the recombination.
 const AUGMENT_PATH: usize = 9;
 /// Passes of the snapping repair.
