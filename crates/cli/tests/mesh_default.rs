@@ -55,6 +55,16 @@ fn number_after(line: &str, prefix: &str) -> usize {
         .unwrap_or_else(|_| panic!("no number after `{prefix}` in `{line}`"))
 }
 
+/// Meshes `model` quietly into `out` with `args`, which must succeed, and
+/// returns `quadrille stats --cad --json` of the mesh.
+fn mesh_stats(model: &Path, out: &Path, args: &[&str]) -> String {
+    let mut all = vec!["--quiet"];
+    all.extend_from_slice(args);
+    let r = mesh(model, out, &all);
+    assert!(r.status.success(), "{}", stderr(&r));
+    stats_json(out, model)
+}
+
 /// A value of `quadrille stats --json`.
 fn stat(json: &str, key: &str) -> f64 {
     let at = json
@@ -269,14 +279,11 @@ fn fillets_get_four_quads_across_by_default() {
     // 90° fillet
     let dir = tempfile::tempdir().unwrap();
     let model = cad("s12o_cube_rounded_1.stp");
+    let out = dir.path().join("m.msh");
     let counts = |extra: &[&str]| {
-        let out = dir.path().join("m.msh");
-        let mut args = vec!["--quiet", "--size-factor", EIGHTEENTH_OF_THE_DIAGONAL];
+        let mut args = vec!["--size-factor", EIGHTEENTH_OF_THE_DIAGONAL];
         args.extend_from_slice(extra);
-        let r = mesh(&model, &out, &args);
-        assert!(r.status.success(), "{}", stderr(&r));
-        let s = quadrille(&["stats", out.to_str().unwrap(), "--json"]);
-        let json = String::from_utf8_lossy(&s.stdout).to_string();
+        let json = mesh_stats(&model, &out, &args);
         (stat(&json, "quads"), stat(&json, "irregular_nodes"))
     };
     let (fine, fine_irregular) = counts(&[]);
@@ -303,13 +310,9 @@ fn fillet_quads_bend_little_enough_to_match_gmsh_quality() {
     // five (the default, 18° each) lifts it above.
     let dir = tempfile::tempdir().unwrap();
     let model = cad("s13o_cube_rounded_2.stp");
+    let out = dir.path().join("m.msh");
     let average = |extra: &[&str]| {
-        let out = dir.path().join("m.msh");
-        let mut args = vec!["--quiet"];
-        args.extend_from_slice(extra);
-        let r = mesh(&model, &out, &args);
-        assert!(r.status.success(), "{}", stderr(&r));
-        let json = stats_json(&out, &model);
+        let json = mesh_stats(&model, &out, extra);
         assert_eq!(stat(&json, "irregular_nodes"), 8.0, "{json}");
         stat(&json, "avg")
     };
