@@ -16,7 +16,7 @@
 //!   moved along it toward the point it is combined with ([`LocalNode::uv_toward`]).
 //!   Triangles with two nodes on the same pole are degenerate and dropped.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use geometry::vec3::{self, Vec3};
 use geometry::{CornerId, CurveId, Face, FaceId, Model};
@@ -682,11 +682,21 @@ impl<'a> FaceTriangulation<'a> {
     /// long in 3D, follows the surface (chord deviation of interior edges) and
     /// has the orientation of the face normal.
     pub fn refine(&mut self) -> Result<(), FaceFailure> {
+        // triangles found fine in an earlier round: `assess` depends on the
+        // triangle's nodes alone, so one that survived unchanged stays fine
+        let mut settled: HashSet<[u32; 3]> = HashSet::new();
         for round in 0..MAX_ROUNDS {
             let mut cands: Vec<(f64, [f64; 2], [f64; 2], f64)> = Vec::new();
             for t in self.inside_triangles() {
-                if let Some(c) = self.assess(t) {
-                    cands.push(c);
+                let key = rotated_to_least(t);
+                if settled.contains(&key) {
+                    continue;
+                }
+                match self.assess(t) {
+                    Some(c) => cands.push(c),
+                    None => {
+                        settled.insert(key);
+                    }
                 }
             }
             if cands.is_empty() {
@@ -838,6 +848,13 @@ pub fn edge_mid_uv(a: &LocalNode, b: &LocalNode) -> [f64; 2] {
     let ua = a.uv_toward(b.uv);
     let ub = b.uv_toward(ua);
     [0.5 * (ua[0] + ub[0]), 0.5 * (ua[1] + ub[1])]
+}
+
+/// Triangle `t` rotated so that its least node comes first (same
+/// orientation): one key for the triangle however the triangulation lists it.
+fn rotated_to_least(t: [u32; 3]) -> [u32; 3] {
+    let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+    [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
 }
 
 /// (u, v) centroid of a triangle of local nodes (poles moved toward the others).
@@ -1051,5 +1068,15 @@ mod tests {
         };
         assert_eq!(edge_mid_uv(&n, &m), [3.0, 0.5]);
         assert!(n.same_pole(&n) && !n.same_pole(&m));
+    }
+
+    #[test]
+    fn a_triangle_has_one_key_in_any_rotation_and_keeps_its_orientation() {
+        let key = rotated_to_least([7, 2, 5]);
+        assert_eq!(key, [2, 5, 7]);
+        assert_eq!(rotated_to_least([5, 7, 2]), key);
+        assert_eq!(rotated_to_least([2, 5, 7]), key);
+        // the other orientation is another triangle
+        assert_eq!(rotated_to_least([7, 5, 2]), [2, 7, 5]);
     }
 }
