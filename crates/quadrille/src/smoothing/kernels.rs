@@ -103,7 +103,7 @@ pub fn winslow_point(ring: &[Vec3; 8]) -> Option<Vec3> {
 /// degenerate.
 pub fn angle_based_point(x: Vec3, n: Vec3, ring: &[Vec3]) -> Option<Vec3> {
     let m = ring.len();
-    if m < 4 || !m.is_multiple_of(2) {
+    if m < 4 || m % 2 != 0 {
         return None;
     }
     let tangent = |v: Vec3| vec3::sub(v, vec3::scale(n, vec3::dot(v, n)));
