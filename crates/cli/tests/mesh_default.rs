@@ -323,6 +323,21 @@ fn fillet_quads_bend_little_enough_to_match_gmsh_quality() {
 }
 
 #[test]
+fn a_coarse_size_keeps_curved_faces_resolved() {
+    // i03o_m3 at four times the default size: with the size map's floor at
+    // half the target, its fillets and bosses got one or two quads across,
+    // a quad of SICN 0.000 and an average of 0.525; the floor now stays at
+    // the default size, so curved faces keep that resolution
+    let dir = tempfile::tempdir().unwrap();
+    let model = cad("i03o_m3.step");
+    let out = dir.path().join("m.msh");
+    let json = mesh_stats(&model, &out, &["--size-factor", "4"]);
+    assert_eq!(stat(&json, "inverted_quads"), 0.0, "{json}");
+    assert!(stat(&json, "min_sicn_excluding_sharp") >= 0.1, "{json}");
+    assert!(stat(&json, "avg") > 0.7, "{json}");
+}
+
+#[test]
 fn the_quads_of_a_sphere_are_squared_up() {
     // s17o_sphere: a cube projected onto the sphere, 8 valence-3 vertices;
     // smoothed toward evenly spaced nodes its average SICN was 0.948; the

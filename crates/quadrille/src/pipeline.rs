@@ -67,6 +67,20 @@ const SMOOTHING_SWEEPS: usize = 4;
 const SIZE_MAP_MIN: f64 = 0.5;
 /// See [`SIZE_MAP_MIN`].
 const SIZE_MAP_MAX: f64 = 2.0;
+/// At coarse sizes the size map's floor is at most this multiple of the
+/// default size: curved faces and small features keep a resolution a
+/// coarse target would take away. With the floor at half the target, at
+/// `--size-factor 4` a 90° fillet was one or two quads wide and i03o_m3 had
+/// a quad of SICN 0.000 and an average of 0.525 (Gmsh: 0.727); with this,
+/// 0.153 and 0.730 (BENCHMARKS.md, "Coarse sizes"). At size factors up to
+/// 2 (the floor is then half the target) nothing changes.
+const COARSE_FLOOR: f64 = 1.0;
+
+/// The size map's lower bound for target size `h` ([`SIZE_MAP_MIN`] of it,
+/// at most [`COARSE_FLOOR`] default sizes).
+fn size_map_floor(model: &Model, h: f64) -> f64 {
+    (SIZE_MAP_MIN * h).min(COARSE_FLOOR * default_size(model))
+}
 
 /// Target mesh size.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -509,7 +523,7 @@ fn run_unstructured(
     // the size map, bounded so that faces, curves and the baseline fallback agree
     let t = Instant::now();
     let sizing = crate::size_map::SizeMapOptions {
-        min_size: Some(SIZE_MAP_MIN * h),
+        min_size: Some(size_map_floor(model, h)),
         max_size: Some(SIZE_MAP_MAX * h),
         quads_per_turn: (opts.quads_per_turn > 0.0).then_some(opts.quads_per_turn),
         ..Default::default()
@@ -1151,6 +1165,16 @@ mod tests {
         assert_eq!(resolve_size(&m, Size::Absolute(0.3)).unwrap(), 0.3);
         assert!(resolve_size(&m, Size::Absolute(-1.0)).is_err());
         assert!(resolve_size(&m, Size::Factor(f64::INFINITY)).is_err());
+    }
+
+    #[test]
+    fn the_size_floor_is_half_the_target_up_to_the_default_size() {
+        let m = primitives::square(1.0);
+        let d = default_size(&m);
+        assert_eq!(size_map_floor(&m, d), SIZE_MAP_MIN * d);
+        assert_eq!(size_map_floor(&m, 0.25 * d), SIZE_MAP_MIN * 0.25 * d);
+        assert_eq!(size_map_floor(&m, 2.0 * d), COARSE_FLOOR * d);
+        assert_eq!(size_map_floor(&m, 8.0 * d), COARSE_FLOOR * d);
     }
 
     #[test]
