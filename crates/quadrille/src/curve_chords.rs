@@ -290,6 +290,25 @@ fn ring_side_counts(sides: &[Vec<usize>], counts: &[usize]) -> Vec<u32> {
         .collect()
 }
 
+/// Answers the pattern searches of the side counts `rings` not in `known`
+/// yet, in parallel, and stores them (the same answers [`has_pattern`] would
+/// find one by one).
+fn learn_patterns(
+    rings: impl Iterator<Item = Vec<u32>>,
+    known: &mut std::collections::HashMap<Vec<u32>, bool>,
+) {
+    use rayon::prelude::*;
+    let mut fresh: Vec<Vec<u32>> = rings.filter(|r| !known.contains_key(r)).collect();
+    fresh.sort_unstable();
+    fresh.dedup();
+    let found: Vec<bool> = fresh
+        .par_iter()
+        .with_max_len(1)
+        .map(|r| crate::patterns::match_pattern(r).is_some())
+        .collect();
+    known.extend(fresh.into_iter().zip(found));
+}
+
 /// True when a library pattern meshes a face with `sides` under `counts`;
 /// `known` remembers the answers by side counts.
 fn has_pattern(
@@ -341,6 +360,10 @@ pub fn balance_for_patterns(
     // the pattern search answers by side counts alone: each asked once
     // (on i15o_s8 the planning took 30 ms, mostly the same searches again)
     let mut known = std::collections::HashMap::new();
+    learn_patterns(
+        faces.iter().map(|s| ring_side_counts(s, counts)),
+        &mut known,
+    );
     let mut fits: Vec<bool> = faces
         .iter()
         .map(|s| has_pattern(s, counts, &mut known))
@@ -353,6 +376,32 @@ pub fn balance_for_patterns(
             let mut curves: Vec<usize> = faces[fi].iter().flatten().copied().collect();
             curves.sort_unstable();
             curves.dedup();
+            // the searches the candidates below will ask, answered first in parallel
+            let mut asked: Vec<Vec<u32>> = Vec::new();
+            let mut trial = counts.to_vec();
+            for &c in &curves {
+                let chord = members(c);
+                for up in [true, false] {
+                    if !up && chord.iter().any(|&m| counts[m] <= min_count(m)) {
+                        continue;
+                    }
+                    for &m in &chord {
+                        trial[m] = if up { counts[m] + 1 } else { counts[m] - 1 };
+                    }
+                    asked.push(ring_side_counts(&faces[fi], &trial));
+                    for &m in &chord {
+                        asked.extend(
+                            faces_of[m]
+                                .iter()
+                                .map(|&f| ring_side_counts(&faces[f], &trial)),
+                        );
+                    }
+                    for &m in &chord {
+                        trial[m] = counts[m];
+                    }
+                }
+            }
+            learn_patterns(asked.into_iter(), &mut known);
             // (faces gained, deviation from the ideal, curve, step)
             let mut best: Option<(i64, f64, usize, bool)> = None;
             for &c in &curves {

@@ -177,7 +177,10 @@ pub fn slide_curve_nodes(model: &Model, mesh: &mut QuadMesh, max_sweeps: usize) 
             by_face.entry(f).or_default().push(k);
         }
     }
-    let groups: Vec<Vec<usize>> = by_face.into_values().collect();
+    // largest first, one face per task: the threads stay busy to the end of
+    // each sweep (faces write disjoint quads, so the order changes nothing)
+    let mut groups: Vec<Vec<usize>> = by_face.into_values().collect();
+    groups.sort_by_key(|g| std::cmp::Reverse(g.len()));
     let mut step = vec![SLIDE_STEP; movers.len()];
     let fixed = Fixed {
         model,
@@ -211,6 +214,7 @@ pub fn slide_curve_nodes(model: &Model, mesh: &mut QuadMesh, max_sweeps: usize) 
             };
             groups
                 .par_iter()
+                .with_max_len(1)
                 .map(|g| {
                     let mut state = OverlayState {
                         base: &base,

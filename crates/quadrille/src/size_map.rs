@@ -336,6 +336,7 @@ fn corner_clusters(model: &Model, tol: f64) -> Vec<usize> {
 /// curves' polylines `cms`. Only curves bounding a face count; corners and
 /// curves in contact (within [`CONTACT_TOLERANCE`] × diagonal) are adjacent.
 pub fn feature_sizes(model: &Model, cms: &[CurveMesh], graph: &BackgroundGraph) -> Vec<f64> {
+    use rayon::prelude::*;
     let nc = model.curves.len();
     // curves on no face (free wires, often copies of face curves) neither get
     // nor give a feature size
@@ -447,6 +448,7 @@ pub fn feature_sizes(model: &Model, cms: &[CurveMesh], graph: &BackgroundGraph) 
             .fold(cap, f64::min)
     };
     (0..graph.len())
+        .into_par_iter()
         .map(|v| {
             let own: Vec<usize> = match graph.refs[v] {
                 NodeRef::Interior => return f64::INFINITY,
