@@ -139,9 +139,11 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let t3 = Instant::now();
     // the quality summary and the VTU's cell data (a whole-mesh pass with the
     // CAD normals: not computed when nothing shows it)
-    let sicn = (format == "vtu" || !args.quiet)
-        .then(|| mesh::stats::quad_sicn_values(&m, Some(&model)))
-        .unwrap_or_default();
+    let sicn = if format == "vtu" || !args.quiet {
+        mesh::stats::quad_sicn_values(&m, Some(&model))
+    } else {
+        Default::default()
+    };
     match format.as_str() {
         "msh" => {
             let enc = if args.binary {

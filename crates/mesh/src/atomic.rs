@@ -47,7 +47,7 @@ mod tests {
         let target = dir.join("x.txt");
         let r: Result<(), io::Error> = write_atomically(&target, |w| {
             w.write_all(b"half")?;
-            Err(io::Error::new(io::ErrorKind::Other, "boom"))
+            Err(io::Error::other("boom"))
         });
         assert!(r.is_err());
         assert!(!target.exists());

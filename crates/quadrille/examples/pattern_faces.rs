@@ -64,7 +64,7 @@ fn main() {
                 }
                 Err(e) => {
                     // the reason without its numbers (`n` for a count)
-                    let cut = e.find(|c: char| c == '[' || c == '(').unwrap_or(e.len());
+                    let cut = e.find(['[', '(']).unwrap_or(e.len());
                     let cut = e.find("SICN").map_or(cut, |i| i + 4).min(cut);
                     let key: String = e[..cut]
                         .split_whitespace()

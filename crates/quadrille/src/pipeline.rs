@@ -33,7 +33,7 @@ pub const DEFAULT_DIVISIONS: f64 = 24.0;
 /// for 4.5 % more time in all. 40 sweeps with nodes counted as done only
 /// when their quads are all 0.995 ([`crate::smoothing::kernels::ASCENT_GOOD`])
 /// instead of 10 and 0.98: s17o 0.979 → 0.986 (Gmsh 0.9856), the others
-/// + 0.0000 to 0.0009, time within noise (BENCHMARKS.md, "Raising the
+/// up by 0.0000 to 0.0009, time within noise (BENCHMARKS.md, "Raising the
 /// average SICN").
 const ASCENT_SWEEPS: usize = 40;
 
@@ -1180,7 +1180,7 @@ mod tests {
     #[test]
     fn only_the_plain_unstructured_method_has_the_coarse_background() {
         assert_eq!(background_refine(Stages::NONE), PLAIN_BACKGROUND_REFINE);
-        assert!(PLAIN_BACKGROUND_REFINE < crate::field_report::BACKGROUND_REFINE);
+        const { assert!(PLAIN_BACKGROUND_REFINE < crate::field_report::BACKGROUND_REFINE) };
         assert_eq!(
             background_refine(Stages::ALL),
             crate::field_report::BACKGROUND_REFINE

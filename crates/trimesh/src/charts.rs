@@ -387,10 +387,21 @@ impl LocalIndex {
     }
 }
 
-/// An `f64` ordered for the heap (no NaN reaches it: distances).
-#[derive(Clone, Copy, PartialEq, PartialOrd)]
+/// An `f64` ordered for the heap by `total_cmp` (no NaN reaches it:
+/// distances); equality and both orders agree.
+#[derive(Clone, Copy)]
 struct Ordered(f64);
+impl PartialEq for Ordered {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other).is_eq()
+    }
+}
 impl Eq for Ordered {}
+impl PartialOrd for Ordered {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
 impl Ord for Ordered {
     fn cmp(&self, other: &Self) -> std::cmp::Ordering {
         self.0.total_cmp(&other.0)

@@ -223,12 +223,7 @@ impl Adjacency {
     pub fn new(nverts: usize, topo: &Topology) -> Self {
         let all = vec![true; topo.edges.len()];
         let ve = VertexEdges::new(nverts, topo, &all);
-        let nbrs = ve
-            .edges
-            .iter()
-            .enumerate()
-            .map(|(_, &e)| (0u32, e))
-            .collect::<Vec<_>>();
+        let nbrs = ve.edges.iter().map(|&e| (0u32, e)).collect::<Vec<_>>();
         let mut a = Adjacency {
             offsets: ve.offsets,
             nbrs,
@@ -293,7 +288,7 @@ pub fn shortest_path(
             }
             let nd = d + vec3::dist(points[v as usize], points[w as usize]);
             if is_target(w) {
-                if best.map_or(true, |b| nd < b.0) {
+                if best.is_none_or(|b| nd < b.0) {
                     best = Some((nd, v, w, e));
                 }
                 continue;
@@ -301,7 +296,7 @@ pub fn shortest_path(
             if !free(w) {
                 continue;
             }
-            if dist.get(&w).map_or(true, |&old| nd < old) {
+            if dist.get(&w).is_none_or(|&old| nd < old) {
                 dist.insert(w, nd);
                 prev.insert(w, (v, e));
                 heap.push((key(nd), w));

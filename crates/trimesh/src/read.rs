@@ -493,7 +493,7 @@ fn read_ply(data: &[u8]) -> Result<Soup, String> {
                         None => values.push(vec![read(p.scalar)?]),
                         Some(c) => {
                             let n = read(c)?;
-                            if !(n >= 0.0 && n < 1e6) {
+                            if !(0.0..1e6).contains(&n) {
                                 return Err(format!(
                                     "element `{}` record {}: bad list length {n}",
                                     el.name,
@@ -541,7 +541,7 @@ fn read_ply(data: &[u8]) -> Result<Soup, String> {
                         None => values.push(vec![next()?]),
                         Some(_) => {
                             let n = next()?;
-                            if !(n >= 0.0 && n < 1e6) {
+                            if !(0.0..1e6).contains(&n) {
                                 return Err(format!("line {ln}: bad list length {n}"));
                             }
                             let mut v = Vec::new();

@@ -177,7 +177,7 @@ impl Grid {
             let mut f = |list: &[u32]| {
                 for &t in list {
                     let d = dist(t);
-                    if best.map_or(true, |b| d < b.1) {
+                    if best.is_none_or(|b| d < b.1) {
                         best = Some((t, d));
                     }
                 }
@@ -603,7 +603,7 @@ impl Curve for PolyCurve {
             };
             let q = vec3::lerp(a, b, s);
             let dist = vec3::dist(p, q);
-            if best.map_or(true, |b| dist < b.0) {
+            if best.is_none_or(|b| dist < b.0) {
                 best = Some((dist, self.t[i] + s * (self.t[i + 1] - self.t[i]), q));
             }
         }

@@ -860,7 +860,7 @@ impl<'a> Regularizer<'a> {
                             .collect();
                         group.sort_unstable();
                         let h = self.hops_to_irregular(&group, &group, RADIUS);
-                        if h < dist && best.as_ref().map_or(true, |b| h < b.0) {
+                        if h < dist && best.as_ref().is_none_or(|b| h < b.0) {
                             best = Some((h, op, group));
                         }
                     }

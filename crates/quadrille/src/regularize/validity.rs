@@ -115,7 +115,7 @@ pub fn worst_movable_vertex(fq: &FaceQuads, face: &Face, q: u32, w: AngleWindow)
         }
         // distance outside the window; the largest angle first, as in the paper
         let bad = (ang[i] - w.max_deg).max(w.min_deg - ang[i]) + ang[i] * 1e-6;
-        if best.map_or(true, |b| bad > b.0) {
+        if best.is_none_or(|b| bad > b.0) {
             best = Some((bad, vs[i]));
         }
     }
