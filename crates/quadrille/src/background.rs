@@ -33,6 +33,17 @@ pub struct Sample {
     pub distance: f64,
 }
 
+/// Per background vertex, how the spacing along each cross branch differs
+/// from the size: `log_ratio[v] = [ln r₁, ln r₂]` for the branch along
+/// `dir[v]` and the one across it ([`Background::sample_directional`]).
+#[derive(Clone, Debug, Default)]
+pub struct DirectionalRatios {
+    /// A reference branch direction at each vertex.
+    pub dir: Vec<Vec3>,
+    /// Log of the spacing ratio along `dir` and across it.
+    pub log_ratio: Vec<[f64; 2]>,
+}
+
 /// Why a background cannot be built.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum BackgroundError {
@@ -262,6 +273,12 @@ impl<'a> Background<'a> {
     /// The cross, normal and size at (the point of the background closest to) `p`.
     pub fn sample(&self, p: Vec3) -> Option<Sample> {
         let (t, bary, distance) = self.locate(p)?;
+        Some(self.sample_in(t, bary, distance))
+    }
+
+    /// The sample at barycentric coordinates `bary` of triangle `t`, found
+    /// at `distance` from the query point.
+    fn sample_in(&self, t: usize, bary: [f64; 3], distance: f64) -> Sample {
         let topo = &self.field.topology;
         let tri = topo.triangles[t];
         let size = (0..3)
@@ -276,12 +293,41 @@ impl<'a> Background<'a> {
                 let x = topo.edge_dir[topo.tri_edges[t][0] as usize];
                 [x, vec3::cross(topo.normals[t], x)]
             });
-        Some(Sample {
+        Sample {
             cross,
             normal: vec3::cross(cross[0], cross[1]),
             size,
             distance,
-        })
+        }
+    }
+
+    /// [`Self::sample`], and the sizes along its two cross branches: the
+    /// size times the ratios `ratios` holds per background vertex (each
+    /// vertex's pair matched to the branches by its reference direction).
+    pub fn sample_directional(
+        &self,
+        p: Vec3,
+        ratios: &DirectionalRatios,
+    ) -> Option<(Sample, [f64; 2])> {
+        let (t, bary, distance) = self.locate(p)?;
+        let s = self.sample_in(t, bary, distance);
+        let tri = self.field.topology.triangles[t];
+        let mut log = [0.0; 2];
+        for k in 0..3 {
+            let v = tri[k] as usize;
+            let (Some(d), Some(r)) = (ratios.dir.get(v), ratios.log_ratio.get(v)) else {
+                return Some((s, [s.size; 2]));
+            };
+            let along_first = vec3::dot(*d, s.cross[0]).abs() >= vec3::dot(*d, s.cross[1]).abs();
+            let (a, b) = if along_first {
+                (r[0], r[1])
+            } else {
+                (r[1], r[0])
+            };
+            log[0] += bary[k] * a;
+            log[1] += bary[k] * b;
+        }
+        Some((s, [s.size * log[0].exp(), s.size * log[1].exp()]))
     }
 
     /// Alignment of a polygon with the cross field (spec §7.3): at the

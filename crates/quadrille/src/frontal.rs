@@ -16,6 +16,11 @@
 //! - it is not a singular point of the surface, and it falls strictly inside the face's constrained triangulation in (u, v)
 //!   ([`FaceTriangulation::try_insert`], the Delaunay kernel).
 //!
+//! With [`insert_frontal_points_directional`] the step and the box have a
+//! length of their own along each branch (the plain unstructured method:
+//! the spacing of the boundary edges running along that branch, see
+//! [`crate::unstructured::boundary_spacing_ratios`]).
+//!
 //! Kept points go to the end of the queue; insertion stops when the queue is
 //! empty. Neighbour queries use a 3D hash grid, so points on both sides of a
 //! seam see each other. Everything is sequential per face: the result only
@@ -26,7 +31,7 @@ use std::collections::{HashMap, VecDeque};
 use geometry::vec3::{self, Vec3};
 use geometry::Face;
 
-use crate::background::Background;
+use crate::background::{Background, DirectionalRatios};
 use crate::face_triangulation::FaceTriangulation;
 
 /// Default too-close factor κ (spec §7.2 suggests 0.7). 0.65: on the 26
@@ -123,16 +128,16 @@ impl PointGrid {
     /// inserted point whose surface faces the other way (more than 90° from
     /// `normal`): a point on the far side of a thin shell, such as the
     /// other skin of a wing, is near in 3D but far along the surface.
-    fn blocks(&self, q: u32, p: Vec3, normal: Vec3, frame: &[Vec3; 3], r: f64) -> bool {
+    fn blocks(&self, q: u32, p: Vec3, normal: Vec3, frame: &[Vec3; 3], r: [f64; 3]) -> bool {
         in_box(p, self.pts[q as usize], frame, r)
             && self.normals[q as usize].is_none_or(|n| vec3::dot(n, normal) >= 0.0)
     }
 
     /// True when some point blocks a proposal at `p` (see [`Self::blocks`]),
     /// `F` the orthonormal frame `frame`.
-    fn any_in_box(&self, p: Vec3, normal: Vec3, frame: &[Vec3; 3], r: f64) -> bool {
-        // the box lies in the ball of radius r·√3
-        let reach = r * 3f64.sqrt();
+    fn any_in_box(&self, p: Vec3, normal: Vec3, frame: &[Vec3; 3], r: [f64; 3]) -> bool {
+        // the box lies in the ball of radius |r|
+        let reach = vec3::norm(r);
         for level in 0..LEVELS {
             let lo = self.key(level, vec3::sub(p, [reach; 3]));
             let hi = self.key(level, vec3::add(p, [reach; 3]));
@@ -160,9 +165,9 @@ impl PointGrid {
     }
 }
 
-fn in_box(p: Vec3, q: Vec3, frame: &[Vec3; 3], r: f64) -> bool {
+fn in_box(p: Vec3, q: Vec3, frame: &[Vec3; 3], r: [f64; 3]) -> bool {
     let d = vec3::sub(p, q);
-    frame.iter().all(|f| vec3::dot(d, *f).abs() < r)
+    (0..3).all(|k| vec3::dot(d, frame[k]).abs() < r[k])
 }
 
 /// The (u, v) step whose image under the surface Jacobian at `uv` is closest
@@ -192,12 +197,32 @@ pub fn insert_frontal_points(
     bg: &Background<'_>,
     opts: &FrontalOptions,
 ) -> FrontalStats {
+    insert_frontal_points_directional(ft, face, bg, opts, None)
+}
+
+/// [`insert_frontal_points`] with a spacing of its own along each cross
+/// branch where `ratios` is given ([`Background::sample_directional`]): the
+/// steps along `±d₁` and `±d₂` and the exclusion box's half-widths follow
+/// them.
+pub fn insert_frontal_points_directional(
+    ft: &mut FaceTriangulation<'_>,
+    face: &Face,
+    bg: &Background<'_>,
+    opts: &FrontalOptions,
+    ratios: Option<&DirectionalRatios>,
+) -> FrontalStats {
+    let sample = |p: Vec3| -> Option<(crate::background::Sample, [f64; 2])> {
+        match ratios {
+            Some(r) => bg.sample_directional(p, r),
+            None => bg.sample(p).map(|s| (s, [s.size; 2])),
+        }
+    };
     let mut stats = FrontalStats::default();
     // grid cell: the smallest exclusion radius seen on the boundary
     let mut min_r = f64::INFINITY;
     for p in &ft.pos {
-        if let Some(s) = bg.sample(*p) {
-            min_r = min_r.min(opts.kappa * opts.factor * s.size);
+        if let Some((_, sp)) = sample(*p) {
+            min_r = min_r.min(opts.kappa * opts.factor * sp[0].min(sp[1]));
         }
     }
     if !(min_r.is_finite() && min_r > 0.0) {
@@ -226,16 +251,18 @@ pub fn insert_frontal_points(
             continue;
         }
         let x = ft.pos[i as usize];
-        let Some(sx) = bg.sample(x) else { continue };
-        let len = opts.factor * sx.size;
+        let Some((sx, spacing)) = sample(x) else {
+            continue;
+        };
         let frame = [sx.cross[0], sx.cross[1], sx.normal];
         let dirs = [
-            sx.cross[0],
-            sx.cross[1],
-            vec3::scale(sx.cross[0], -1.0),
-            vec3::scale(sx.cross[1], -1.0),
+            (sx.cross[0], spacing[0]),
+            (sx.cross[1], spacing[1]),
+            (vec3::scale(sx.cross[0], -1.0), spacing[0]),
+            (vec3::scale(sx.cross[1], -1.0), spacing[1]),
         ];
-        for d in dirs {
+        for (d, s_along) in dirs {
+            let len = opts.factor * s_along;
             let Some(step) = uv_step(face, node.uv, vec3::scale(d, len)) else {
                 continue;
             };
@@ -255,13 +282,17 @@ pub fn insert_frontal_points(
                 Some(n) if p.iter().all(|c| c.is_finite()) && !face.is_singular(uv) => n,
                 _ => continue,
             };
-            let sp = bg.sample(p).map_or(sx.size, |s| s.size);
-            let r = opts.kappa * opts.factor * sp;
+            let sp = sample(p).map_or(spacing, |s| s.1);
+            let r = [
+                opts.kappa * opts.factor * sp[0],
+                opts.kappa * opts.factor * sp[1],
+                opts.kappa * opts.factor * sp[0].max(sp[1]),
+            ];
             if grid.any_in_box(p, normal, &frame, r) {
                 stats.too_close += 1;
                 continue;
             }
-            if !ft.try_insert(uv, 0.1 * r) {
+            if !ft.try_insert(uv, 0.1 * r[0].min(r[1])) {
                 stats.outside += 1;
                 continue;
             }
@@ -345,16 +376,16 @@ mod tests {
         let frame = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], up];
         grid.add([0.0, 0.0, -0.01], Some(down));
         let p = [0.02, 0.0, 0.0];
-        assert!(!grid.any_in_box(p, up, &frame, 0.2));
+        assert!(!grid.any_in_box(p, up, &frame, [0.2; 3]));
         // the same point on this skin blocks
         grid.add([0.0, 0.05, -0.001], Some(up));
-        assert!(grid.any_in_box(p, up, &frame, 0.2));
+        assert!(grid.any_in_box(p, up, &frame, [0.2; 3]));
         // a boundary node (no normal) blocks either skin
         let mut boundary = PointGrid::new(0.05);
         boundary.add([0.0, 0.0, -0.01], None);
-        assert!(boundary.any_in_box(p, up, &frame, 0.2));
-        assert!(boundary.any_in_box(p, down, &frame, 0.2));
+        assert!(boundary.any_in_box(p, up, &frame, [0.2; 3]));
+        assert!(boundary.any_in_box(p, down, &frame, [0.2; 3]));
         // and nothing blocks from outside the box
-        assert!(!boundary.any_in_box([0.5, 0.0, 0.0], up, &frame, 0.2));
+        assert!(!boundary.any_in_box([0.5, 0.0, 0.0], up, &frame, [0.2; 3]));
     }
 }
