@@ -307,9 +307,6 @@ pub fn insert_frontal_points_directional(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::curve_mesh::{discretize_all, plan_curves};
-    use crate::field_report::{model_fields, FieldOptions};
-    use crate::pipeline::Size;
     use geometry::{primitives, FaceId};
 
     #[test]
@@ -317,18 +314,10 @@ mod tests {
         // unit square, final size 0.05: coarse spacing 0.1, a 10 × 10 grid of cells
         let h = 0.05;
         let model = primitives::square(1.0);
-        let fields = model_fields(
-            &model,
-            &FieldOptions {
-                size: Size::Absolute(h),
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let (fields, cms) = crate::test_grid::fields_and_curves(&model, h);
         let ff = fields.faces[0].outcome.as_ref().unwrap();
         let size = ff.size.as_ref().unwrap();
         let bg = Background::new(&ff.field, size).unwrap();
-        let cms = discretize_all(&model, &plan_curves(&model, h));
         let mut ft = FaceTriangulation::new(&model, FaceId(0), &cms, 2.0 * h).unwrap();
         let nb = ft.nodes.len();
         assert_eq!(nb, 40);

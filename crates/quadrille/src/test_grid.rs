@@ -1,8 +1,13 @@
 //! Test support: the `n × n` grid on the unit square model's face
 //! (`geometry::primitives::square(1.0)`: z = 0, uv = xy), shared by the
-//! unit tests of the topology stages that edit a grid by hand.
+//! unit tests of the topology stages that edit a grid by hand; and a
+//! model's fields and curve meshes at one size, shared by the tests of the
+//! unstructured stages.
 
-use geometry::{CornerId, CurveId};
+use geometry::{CornerId, CurveId, Model};
+
+use crate::curve_mesh::{discretize_all, plan_curves, CurveMesh};
+use crate::field_report::{model_fields, FieldOptions, ModelFields};
 
 use crate::face_triangulation::{LocalNode, NodeRef};
 use crate::split::QuadPatch;
@@ -45,4 +50,19 @@ pub fn square_grid(n: usize, skip: impl Fn(usize, usize) -> bool) -> QuadPatch {
         }
     }
     p
+}
+
+/// The fields of `model` at the absolute size `h` and its curve meshes for
+/// that size (coarse points at `2h`).
+pub fn fields_and_curves(model: &Model, h: f64) -> (ModelFields, Vec<CurveMesh>) {
+    let fields = model_fields(
+        model,
+        &FieldOptions {
+            size: crate::pipeline::Size::Absolute(h),
+            ..Default::default()
+        },
+    )
+    .expect("fields");
+    let cms = discretize_all(model, &plan_curves(model, h));
+    (fields, cms)
 }

@@ -434,21 +434,10 @@ pub fn invalid_quads(face: &geometry::Face, p: &QuadPatch) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::curve_mesh::{discretize_all, plan_curves};
-    use crate::field_report::{model_fields, FieldOptions};
-    use crate::pipeline::Size;
     use geometry::primitives;
 
     fn run(model: &Model, h: f64) -> Vec<(QuadPatch, FaceReport)> {
-        let fields = model_fields(
-            model,
-            &FieldOptions {
-                size: Size::Absolute(h),
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        let cms = discretize_all(model, &plan_curves(model, h));
+        let (fields, cms) = crate::test_grid::fields_and_curves(model, h);
         (0..model.faces.len())
             .map(|f| {
                 let ff = fields.faces[f].outcome.as_ref().unwrap();
@@ -472,16 +461,8 @@ mod tests {
     fn square_with_rounded_sides() -> (Model, Vec<CurveMesh>, CrossField, Vec<f64>) {
         let h = 0.05;
         let model = primitives::square(1.0);
-        let fields = model_fields(
-            &model,
-            &FieldOptions {
-                size: Size::Absolute(h),
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let (fields, cms) = crate::test_grid::fields_and_curves(&model, h);
         let field = fields.faces[0].outcome.as_ref().unwrap().field.clone();
-        let cms = discretize_all(&model, &plan_curves(&model, h));
         let size = vec![0.06; field.topology.positions.len()];
         (model, cms, field, size)
     }
@@ -595,16 +576,8 @@ mod tests {
     fn boundary_grading_limits_the_size() {
         let h = 0.05;
         let m = primitives::square(1.0);
-        let fields = model_fields(
-            &m,
-            &FieldOptions {
-                size: Size::Absolute(h),
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let (fields, cms) = crate::test_grid::fields_and_curves(&m, h);
         let ff = fields.faces[0].outcome.as_ref().unwrap();
-        let cms = discretize_all(&m, &plan_curves(&m, h));
         let ft = FaceTriangulation::new(&m, FaceId(0), &cms, 2.0 * h).unwrap();
         let n = ff.field.topology.positions.len();
         let big = vec![1.0; n];
@@ -626,15 +599,7 @@ mod tests {
     fn cavity_remeshing_keeps_faces_valid_and_never_adds_irregular_vertices() {
         let m = primitives::sphere(1.0);
         let h = 0.125;
-        let fields = model_fields(
-            &m,
-            &FieldOptions {
-                size: Size::Absolute(h),
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        let cms = discretize_all(&m, &plan_curves(&m, h));
+        let (fields, cms) = crate::test_grid::fields_and_curves(&m, h);
         let ff = fields.faces[0].outcome.as_ref().unwrap();
         let size = ff.size.clone().unwrap();
         let (p, _) = mesh_face_unstructured(
@@ -715,7 +680,7 @@ mod tests {
         }
         let m = primitives::square(1.0);
         let bad = MeshOptions {
-            size: Size::Absolute(-1.0),
+            size: crate::pipeline::Size::Absolute(-1.0),
             ..Default::default()
         };
         assert!(mesh_model_with(&m, &bad, MeshMethod::Unstructured).is_err());
