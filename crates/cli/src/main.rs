@@ -158,8 +158,10 @@ pub enum Method {
     /// (--no-patterns, --no-defects, --no-cavities, --no-regular-pass switch
     /// steps off).
     QuasiStructured,
-    /// The quasi-structured method without its topology steps (no patterns,
-    /// no defect removal, no cavity remeshing).
+    /// Frontal points along the cross field, recombination and subdivision
+    /// (paper §5): the quasi-structured method without its topology steps
+    /// (no patterns, defect removal, cavity remeshing or regular pass), its
+    /// front keeping the spacing of the curves along each direction.
     Unstructured,
     /// Triangulate each face in uv and split every triangle into three quads
     /// (always valid, about half the vertices irregular).
