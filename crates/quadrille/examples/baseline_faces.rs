@@ -5,8 +5,8 @@
 use std::time::Instant;
 
 use geometry::FaceId;
+use quadrille::baseline::mesh_face;
 use quadrille::curve_mesh::{discretize_all, plan_curves};
-use quadrille::pipeline::mesh_face;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();

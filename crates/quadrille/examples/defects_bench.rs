@@ -9,10 +9,10 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use geometry::FaceId;
+use quadrille::baseline::mesh_face;
 use quadrille::curve_mesh::{discretize_all, plan_curves};
 use quadrille::defects::remove_defects;
 use quadrille::face_triangulation::NodeRef;
-use quadrille::pipeline::mesh_face;
 use quadrille::split::{quad_quality, QuadPatch};
 
 /// (interior vertices, irregular ones, defects) of a patch.

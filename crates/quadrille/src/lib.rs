@@ -25,6 +25,7 @@
 //!   whose topology is then improved by [`defects`] and [`cavity`].
 
 pub mod background;
+pub mod baseline;
 pub mod cavity;
 pub mod crossfield;
 pub mod curve_chords;

@@ -1,6 +1,7 @@
-//! The baseline all-quad pipeline: curve meshes → per-face triangulation in
-//! (u, v) → triangle split into quads on the CAD → smoothing → one global
-//! [`QuadMesh`].
+//! The driver of every method: curve meshes → each face meshed (the
+//! baseline, [`crate::baseline`]; the unstructured and quasi-structured
+//! methods, falling back on the baseline face by face) → one global
+//! [`QuadMesh`] → curve nodes slid along their curves.
 //!
 //! Faces are meshed in parallel (rayon) and assembled in face order, so the
 //! output is bit-identical for any thread count. When a face's boundary
@@ -17,10 +18,10 @@ use geometry::{CornerId, CurveId, FaceId, Model, ModelError};
 use mesh::{NodeClass, QuadMesh};
 use rayon::prelude::*;
 
+use crate::baseline::mesh_face;
 use crate::curve_mesh::{discretize_all, plan_curves, CurveMesh, CurvePlan};
-use crate::face_triangulation::{FaceFailure, FaceTriangulation, NodeRef};
-use crate::smoothing::{smooth, untangle};
-use crate::split::{quad_quality, split_triangles, QuadPatch};
+use crate::face_triangulation::{FaceFailure, NodeRef};
+use crate::split::QuadPatch;
 
 /// The default final edge length is the bounding-box diagonal divided by this.
 /// 24: on the 26 shared models Quadrille then makes as many quads as Gmsh at
@@ -50,17 +51,6 @@ const PLAIN_BACKGROUND_REFINE: f64 = 4.0;
 const CURVE_SLIDE_SWEEPS: usize = 10;
 /// Rounds of "refine the curves around failed faces and mesh them again".
 const CURVE_ROUNDS: usize = 6;
-/// A face with more bad quads than this (or than 5 % of its quads) fails at
-/// once instead of asking for finer curves.
-const MAX_REFINABLE_BAD: usize = 16;
-/// Quads with a SICN below this get their interior nodes optimized.
-const UNTANGLE_BELOW: f64 = 0.1;
-/// Passes of that optimization.
-const UNTANGLE_PASSES: usize = 4;
-/// A face with more nodes to untangle than this is beyond local repair.
-const UNTANGLE_MAX_NODES: usize = 5000;
-/// Smoothing sweeps per face.
-const SMOOTHING_SWEEPS: usize = 4;
 /// The unstructured method bounds the size map to these multiples of the
 /// target size, for faces and curves alike (the baseline fallback meshes at
 /// the target size and copes with curves at most twice finer).
@@ -895,183 +885,6 @@ fn run(
         pending = again.into_iter().collect();
     }
     Ok((cms, results))
-}
-
-/// Meshes one face against the given curve meshes; `target` is the triangle
-/// size. When quads stay invalid, it tries once more with normal layers
-/// ([`FaceTriangulation::insert_normal_layers`]) before asking for finer
-/// curves. When quads stay invalid all over the face, it asks for all of the
-/// face's curves finer (the caller's rounds are capped): at a size larger
-/// than a curved face (i04o_m4 at size factor 4: a quarter torus of tube
-/// radius 1 against triangles of 13) the boundary had a few segments, the
-/// refinement crowded nodes onto a boundary curve and 7 266 of 63 588 quads
-/// folded, at any triangle size; with finer curves the face meshes.
-pub fn mesh_face(
-    model: &Model,
-    fid: FaceId,
-    cms: &[CurveMesh],
-    target: f64,
-) -> Result<QuadPatch, FaceFailure> {
-    match mesh_face_at(model, fid, cms, target) {
-        Err(FaceFailure::Fatal(reason)) => {
-            let curves: BTreeSet<CurveId> = model.faces[fid.idx()]
-                .curve_uses()
-                .map(|u| u.curve)
-                .filter(|c| !model.curves[c.idx()].degenerate)
-                .collect();
-            if curves.is_empty() {
-                Err(FaceFailure::Fatal(reason))
-            } else {
-                Err(FaceFailure::RefineCurves(
-                    curves.into_iter().collect(),
-                    reason,
-                ))
-            }
-        }
-        r => r,
-    }
-}
-
-/// [`mesh_face`] at one triangle size.
-fn mesh_face_at(
-    model: &Model,
-    fid: FaceId,
-    cms: &[CurveMesh],
-    target: f64,
-) -> Result<QuadPatch, FaceFailure> {
-    let face = &model.faces[fid.idx()];
-    let mut attempt = mesh_face_once(model, fid, cms, target, false)?;
-    if attempt.2.is_empty() {
-        return Ok(attempt.0);
-    }
-    if let Ok(second) = mesh_face_once(model, fid, cms, target, true) {
-        if second.2.len() < attempt.2.len() {
-            attempt = second;
-        }
-    }
-    let (patch, ft_tris, bad, ft_mid) = (attempt.0, attempt.1, attempt.2, attempt.3);
-    if bad.is_empty() {
-        return Ok(patch);
-    }
-    let tris = ft_tris;
-    // quads that stay invalid: refine the curves around them
-    let mut curves = BTreeSet::new();
-    for &t in &bad {
-        let tri = tris[t as usize];
-        for (&(a, b), bm) in &ft_mid {
-            if tri.contains(&a) || tri.contains(&b) {
-                curves.insert(bm.curve);
-            }
-        }
-    }
-    if debug_enabled() {
-        for (qi, q) in patch.quads.iter().enumerate() {
-            if bad.contains(&patch.quad_tri[qi]) {
-                eprintln!(
-                    "face {} quad {qi} sicn {:.3}",
-                    fid.0,
-                    quad_quality(face, &patch.nodes, &patch.pos, q)
-                );
-                for &i in q {
-                    let n = &patch.nodes[i as usize];
-                    eprintln!(
-                        "   {i}: uv {:?} {:?} pole {} pos {:?} n {:?}",
-                        n.uv,
-                        n.node,
-                        n.pole.is_some(),
-                        patch.pos[i as usize],
-                        face.normal(n.uv)
-                    );
-                }
-            }
-        }
-    }
-    let reason = format!("{} quads stay inverted", bad.len());
-    // finer curves repair a few quads at the boundary; when many fold, the
-    // face's map is at fault and every round would only cost more time
-    if bad.len() > MAX_REFINABLE_BAD.max(patch.quads.len() / 20) {
-        return Err(FaceFailure::Fatal(format!(
-            "{reason} of {} (the face's (u, v) map is too distorted for its size)",
-            patch.quads.len()
-        )));
-    }
-    if curves.is_empty() {
-        return Err(FaceFailure::Fatal(format!("{reason} inside the face")));
-    }
-    Err(FaceFailure::RefineCurves(
-        curves.into_iter().collect(),
-        reason,
-    ))
-}
-
-type Attempt = (
-    QuadPatch,
-    Vec<[u32; 3]>,
-    Vec<u32>,
-    std::collections::HashMap<(u32, u32), crate::face_triangulation::BoundaryMid>,
-);
-
-/// One meshing attempt: the patch, its triangles, the triangles with invalid
-/// quads, and the boundary midpoints.
-fn mesh_face_once(
-    model: &Model,
-    fid: FaceId,
-    cms: &[CurveMesh],
-    target: f64,
-    layers: bool,
-) -> Result<Attempt, FaceFailure> {
-    let face = &model.faces[fid.idx()];
-    let mut ft = FaceTriangulation::new(model, fid, cms, target)?;
-    if layers {
-        ft.insert_normal_layers();
-    }
-    ft.refine()?;
-    let tris = ft.triangles();
-    if tris.is_empty() {
-        return Err(FaceFailure::RefineCurves(
-            ft.curves.clone(),
-            "the triangulation is empty".into(),
-        ));
-    }
-    let missing = ft.missing_boundary_edges(&tris);
-    if !missing.is_empty() {
-        return Err(FaceFailure::RefineCurves(
-            missing,
-            "boundary edges left out of the triangulation".into(),
-        ));
-    }
-    let mut patch = split_triangles(face, &ft.nodes, &ft.pos, &tris, &ft.boundary_mid);
-    smooth(face, &mut patch, SMOOTHING_SWEEPS);
-    untangle(
-        face,
-        &mut patch,
-        UNTANGLE_BELOW,
-        UNTANGLE_PASSES,
-        UNTANGLE_MAX_NODES,
-        &crate::smoothing::sharp_corners_of(model, fid),
-    );
-    let bad = bad_triangles(face, &patch);
-    Ok((patch, tris, bad, ft.boundary_mid))
-}
-
-/// Source triangles of the quads that are invalid (SICN ≤ 0, or two corners on one node).
-fn bad_triangles(face: &geometry::Face, p: &QuadPatch) -> Vec<u32> {
-    let mut bad = BTreeSet::new();
-    for (qi, q) in p.quads.iter().enumerate() {
-        let mut dup = false;
-        for i in 0..4 {
-            for j in i + 1..4 {
-                let (a, b) = (&p.nodes[q[i] as usize], &p.nodes[q[j] as usize]);
-                if q[i] == q[j] || (a.node != NodeRef::Interior && a.node == b.node) {
-                    dup = true;
-                }
-            }
-        }
-        if dup || !(quad_quality(face, &p.nodes, &p.pos, q) > 0.0) {
-            bad.insert(p.quad_tri[qi]);
-        }
-    }
-    bad.into_iter().collect()
 }
 
 /// Builds the global mesh: corners (but the ones in `merged`, which no curve

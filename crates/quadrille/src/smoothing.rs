@@ -224,6 +224,29 @@ pub fn lift_poor_quads(face: &Face, p: &mut QuadPatch, threshold: f64, sharp: &[
     false
 }
 
+/// SICN below which [`smooth_then_untangle`] untangles a quad's nodes.
+pub const UNTANGLE_BELOW: f64 = 0.1;
+/// Passes of that untangling.
+pub const UNTANGLE_PASSES: usize = 4;
+/// A face with more nodes to untangle than this is beyond local repair.
+pub const UNTANGLE_MAX_NODES: usize = 5000;
+
+/// The first smoothing of a face mesher's fresh patch `p` of face `fid`:
+/// `sweeps` sweeps of [`smooth`], then [`untangle`] of the quads below
+/// [`UNTANGLE_BELOW`], the model's sharp corners weighted.
+pub fn smooth_then_untangle(model: &Model, fid: FaceId, p: &mut QuadPatch, sweeps: usize) {
+    let face = &model.faces[fid.idx()];
+    smooth(face, p, sweeps);
+    untangle(
+        face,
+        p,
+        UNTANGLE_BELOW,
+        UNTANGLE_PASSES,
+        UNTANGLE_MAX_NODES,
+        &sharp_corners_of(model, fid),
+    );
+}
+
 /// Moves face-interior nodes of quads whose SICN is below `threshold` (and
 /// their interior neighbours) by a compass search in (u, v) that maximizes the
 /// worst SICN of the quads around each node: it untangles inverted quads that

@@ -29,6 +29,20 @@ pub struct QuadPatch {
     pub quad_tri: Vec<u32>,
 }
 
+impl QuadPatch {
+    /// True when quad `q` has two corners on one mesh node: the same local
+    /// node twice, or two local nodes of one CAD corner or curve node (a
+    /// pole's instances, a seam's two sides).
+    pub fn repeats_a_node(&self, q: &[u32; 4]) -> bool {
+        (0..4).any(|i| {
+            (i + 1..4).any(|j| {
+                let (a, b) = (&self.nodes[q[i] as usize], &self.nodes[q[j] as usize]);
+                q[i] == q[j] || (a.node != NodeRef::Interior && a.node == b.node)
+            })
+        })
+    }
+}
+
 /// Splits `tris` (counter-clockwise in (u, v), on `nodes` with 3D positions
 /// `pos`) into quads. `boundary_mid` gives the midpoint of boundary edges,
 /// keyed by the sorted local pair.

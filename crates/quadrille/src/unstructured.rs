@@ -27,7 +27,7 @@ use crate::face_triangulation::{FaceTriangulation, NodeRef};
 use crate::frontal::{insert_frontal_points_directional, FrontalOptions, FrontalStats};
 use crate::pipeline::StageTimes;
 use crate::recombine::{recombine, MIN_SICN};
-use crate::smoothing::{optimize, smooth, untangle, OptimizeOptions};
+use crate::smoothing::{optimize, smooth_then_untangle, OptimizeOptions};
 use crate::split::{quad_quality, QuadPatch};
 use crate::subdivide::{snap_repair, subdivide};
 use std::time::Instant;
@@ -37,12 +37,6 @@ const SMOOTHING_SWEEPS: usize = 12;
 /// Sweeps of the Winslow / angle-based smoothing that ends the face (20:
 /// within 0.002 of the average SICN of 30 on the wing, 8 % faster).
 const FINAL_SWEEPS: usize = 20;
-/// Quads below this SICN get their interior nodes optimized.
-const UNTANGLE_BELOW: f64 = 0.1;
-/// Passes of that optimization.
-const UNTANGLE_PASSES: usize = 4;
-/// A face with more nodes to untangle than this is beyond local repair.
-const UNTANGLE_MAX_NODES: usize = 5000;
 /// Size growth away from the boundary edges in the first stage of the
 /// quasi-structured method: off. (0.25 and 0.6 were tried on the bundled
 /// models: more quads and more fallbacks at 0.25, no gain at 0.6, with the
@@ -214,15 +208,7 @@ pub fn mesh_face_unstructured(
     report.snapped = snap_repair(face, &mut patch, &origins, SNAP_PASSES);
     report.times.frontal = started.elapsed();
     let smoothing = Instant::now();
-    smooth(face, &mut patch, opts.smoothing_sweeps);
-    untangle(
-        face,
-        &mut patch,
-        UNTANGLE_BELOW,
-        UNTANGLE_PASSES,
-        UNTANGLE_MAX_NODES,
-        &crate::smoothing::sharp_corners_of(model, fid),
-    );
+    smooth_then_untangle(model, fid, &mut patch, opts.smoothing_sweeps);
     // the paper's kernels (Winslow, angle-based) on the valid mesh
     optimize(
         face,
@@ -418,20 +404,12 @@ pub fn boundary_spacing_ratios(
 pub fn invalid_quads(face: &geometry::Face, p: &QuadPatch) -> usize {
     let mut bad = 0;
     for q in &p.quads {
-        let mut dup = q.iter().any(|&i| {
+        let on_apex = q.iter().any(|&i| {
             let n = &p.nodes[i as usize];
             n.node == NodeRef::Interior
                 && (face.is_singular(n.uv) || face.surface.normal(n.uv).is_none())
         });
-        for i in 0..4 {
-            for j in i + 1..4 {
-                let (a, b) = (&p.nodes[q[i] as usize], &p.nodes[q[j] as usize]);
-                if q[i] == q[j] || (a.node != NodeRef::Interior && a.node == b.node) {
-                    dup = true;
-                }
-            }
-        }
-        if dup || !(quad_quality(face, &p.nodes, &p.pos, q) > 0.0) {
+        if on_apex || p.repeats_a_node(q) || !(quad_quality(face, &p.nodes, &p.pos, q) > 0.0) {
             bad += 1;
         }
     }
