@@ -324,6 +324,33 @@ mod tests {
     use geometry::{primitives, FaceId};
 
     #[test]
+    fn a_quad_repeats_a_node_on_one_local_node_or_two_instances_of_one_cad_node() {
+        let node = |node: NodeRef, u: f64| LocalNode {
+            uv: [u, 0.0],
+            node,
+            pole: None,
+        };
+        let corner = NodeRef::Corner(geometry::CornerId(0));
+        let p = QuadPatch {
+            nodes: vec![
+                node(NodeRef::Interior, 0.0),
+                node(NodeRef::Interior, 1.0),
+                node(NodeRef::Interior, 2.0),
+                node(NodeRef::Interior, 3.0),
+                // two instances of one CAD corner (the two sides of a seam)
+                node(corner, 4.0),
+                node(corner, 5.0),
+            ],
+            ..Default::default()
+        };
+        assert!(!p.repeats_a_node(&[0, 1, 2, 3]));
+        assert!(p.repeats_a_node(&[0, 1, 2, 1]));
+        assert!(p.repeats_a_node(&[0, 4, 2, 5]));
+        // one instance of the corner with distinct interior nodes is fine
+        assert!(!p.repeats_a_node(&[0, 4, 2, 3]));
+    }
+
+    #[test]
     fn cached_normals_give_the_same_quality_and_follow_moves() {
         // a cone: ordinary points and an apex (a pole, evaluated per quad)
         let m = primitives::cone(1.0, 1.0);
