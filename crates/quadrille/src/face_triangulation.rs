@@ -35,6 +35,17 @@ const CHORD_RATIO: f64 = 0.14;
 /// Triangles whose normals (centre vs vertices, ends of interior edges)
 /// differ by more than acos(this) are refined...
 const NORMAL_COS: f64 = 0.3;
+/// [`CHORD_RATIO`] and [`NORMAL_COS`] of a triangulation whose interior points
+/// come from a front already sized for curvature ([`FaceTriangulation::curvature_by_size_map`]):
+/// about 120° of arc, and normals 120° apart. The curves allow a coarse
+/// segment per 90° of turn, so a coarse triangle beside one may turn as much;
+/// refining below that splits the front's regular rows into scattered points
+/// (on the 26 shared models, plain unstructured method: 2 052 interior
+/// irregular vertices against 3 320 with the tighter limits; BENCHMARKS.md,
+/// "Curvature refinement of the plain method's triangulation").
+const FRONT_CHORD_RATIO: f64 = 0.29;
+/// See [`FRONT_CHORD_RATIO`].
+const FRONT_NORMAL_COS: f64 = -0.5;
 /// ...unless they are smaller than this fraction of the target size (or than
 /// the surface's [`geometry::Surface::resolution`]): a bend narrower than
 /// that (a trailing edge rounded far below the quad size) is a crease at the
@@ -165,6 +176,8 @@ pub struct FaceTriangulation<'a> {
     scale: [f64; 2],
     origin: [f64; 2],
     target: f64,
+    /// Limits of the curvature refinement: (chord ratio, normal cosine).
+    turn_limits: (f64, f64),
 }
 
 /// Maps (u, v) to the triangulation plane: centred on the face's uv box,
@@ -395,6 +408,7 @@ impl<'a> FaceTriangulation<'a> {
             scale,
             origin,
             target,
+            turn_limits: (CHORD_RATIO, NORMAL_COS),
         };
         ft.classify();
         if ft.inside.iter().all(|&b| !b) {
@@ -678,6 +692,15 @@ impl<'a> FaceTriangulation<'a> {
         centroid_uv(&self.nodes, t)
     }
 
+    /// From now on [`Self::refine`] splits triangles for curvature only past
+    /// about 120° of turn ([`FRONT_CHORD_RATIO`], [`FRONT_NORMAL_COS`]) instead
+    /// of 60°–70°: for interior points placed by a front whose size map
+    /// already bounds the turn per quad, the finer limits only scatter extra
+    /// points between its rows.
+    pub fn curvature_by_size_map(&mut self) {
+        self.turn_limits = (FRONT_CHORD_RATIO, FRONT_NORMAL_COS);
+    }
+
     /// Refines until every triangle has edges at most `SIZE_RATIO × target`
     /// long in 3D, follows the surface (chord deviation of interior edges) and
     /// has the orientation of the face normal.
@@ -779,7 +802,9 @@ impl<'a> FaceTriangulation<'a> {
             }
             let m = edge_mid_uv(na, nb);
             let dev = vec3::dist(self.eval(m), vec3::lerp(p[k], p[(k + 1) % 3], 0.5));
-            if l[k] < 1e-9 * self.target || (dev > CHORD_RATIO * l[k] && l[k] > curvature_floor) {
+            if l[k] < 1e-9 * self.target
+                || (dev > self.turn_limits.0 * l[k] && l[k] > curvature_floor)
+            {
                 return Some((10.0 + dev / l[k].max(1e-300), m, g, 1e-3 * lmax.max(1e-300)));
             }
         }
@@ -816,7 +841,7 @@ impl<'a> FaceTriangulation<'a> {
                         }
                     }
                 }
-                if min_dot < NORMAL_COS {
+                if min_dot < self.turn_limits.1 {
                     return Some((15.0 - min_dot, g, g, 1e-3 * lmax));
                 }
             }

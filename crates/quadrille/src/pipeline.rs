@@ -539,6 +539,7 @@ fn run_unstructured(
         // the §5 mesh is the output: its interior follows the curves' spacing
         uopts.gradation = crate::unstructured::PLAIN_GRADATION;
         uopts.directional_spacing = true;
+        uopts.curvature_by_size_map = true;
     }
     let face_times: std::sync::Mutex<StageTimes> = std::sync::Mutex::new(StageTimes::default());
     let fallback: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());

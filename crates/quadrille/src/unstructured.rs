@@ -94,6 +94,11 @@ pub struct UnstructuredOptions {
     /// boundary edges that run along that branch
     /// ([`boundary_spacing_ratios`]), instead of by the size alone.
     pub directional_spacing: bool,
+    /// The triangulation is refined for curvature only past about 120° of
+    /// turn ([`FaceTriangulation::curvature_by_size_map`]): the size map
+    /// bounds the turn per quad already and the curves allow 90° per coarse
+    /// segment.
+    pub curvature_by_size_map: bool,
     /// Defect removal by disk quadrangulations ([`improve_face`]); `false` switches it off.
     pub defects: bool,
     /// Cavity remeshing after the defect removal ([`improve_face`]); `None` switches it off.
@@ -109,6 +114,7 @@ impl Default for UnstructuredOptions {
             gradation: GRADATION,
             augment_path: AUGMENT_PATH,
             directional_spacing: false,
+            curvature_by_size_map: false,
             defects: true,
             cavity: Some(CavityOptions::default()),
         }
@@ -171,6 +177,9 @@ pub fn mesh_face_unstructured(
         insert_frontal_points_directional(&mut ft, face, &bg, &opts.frontal, ratios.as_ref());
     // fills holes and fixes what the front cannot see (chord deviation,
     // folded triangles on curved surfaces)
+    if opts.curvature_by_size_map {
+        ft.curvature_by_size_map();
+    }
     ft.refine().map_err(|e| format!("refinement: {e:?}"))?;
     let tris = ft.triangles();
     if tris.is_empty() {
