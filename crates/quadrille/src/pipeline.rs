@@ -538,8 +538,12 @@ fn run_unstructured(
     if stages == Stages::NONE {
         // the §5 mesh is the output: its interior follows the curves' spacing
         uopts.gradation = crate::unstructured::PLAIN_GRADATION;
-        uopts.directional_spacing = true;
+        uopts.front_spacings = vec![
+            crate::unstructured::FrontSpacing::BoundaryRatio,
+            crate::unstructured::FrontSpacing::BoundarySpacing,
+        ];
         uopts.curvature_by_size_map = true;
+        uopts.min_curve_corner_sicn = crate::unstructured::PLAIN_MIN_CURVE_CORNER_SICN;
     }
     let face_times: std::sync::Mutex<StageTimes> = std::sync::Mutex::new(StageTimes::default());
     let fallback: std::sync::Mutex<BTreeMap<u32, String>> = std::sync::Mutex::new(BTreeMap::new());

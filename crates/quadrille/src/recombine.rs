@@ -26,6 +26,25 @@ use crate::split::{node_normal, quad_quality};
 /// The paper's threshold on the SICN of a recombined quad.
 pub const MIN_SICN: f64 = 0.1;
 
+/// Thresholds of [`recombine`] on the SICN of a candidate quad.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MinSicn {
+    /// Its worst corner (the paper's [`MIN_SICN`]).
+    pub quad: f64,
+    /// Its corners between two curve edges, as subdivision leaves them: a
+    /// node on a smooth curve whose only element the quad would be keeps a
+    /// nearly flat corner (SICN about 0.17), which no smoothing can open.
+    pub curve_corner: f64,
+}
+
+impl MinSicn {
+    /// The paper's threshold on every corner.
+    pub const PAPER: MinSicn = MinSicn {
+        quad: MIN_SICN,
+        curve_corner: MIN_SICN,
+    };
+}
+
 /// A quad-dominant mesh of one face on local nodes, counter-clockwise in (u, v).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct QuadDominant {
@@ -41,7 +60,7 @@ pub struct QuadDominant {
 /// for other edges: a quad with two curve edges in a row keeps, after
 /// midpoint subdivision, a corner between the two midpoints, flatter than the
 /// coarse one on a convex curve, and that corner is what is measured against
-/// `min_sicn`. `alignment` gives the weight of a quad from its
+/// `min_sicn` (both its thresholds). `alignment` gives the weight of a quad from its
 /// four 3D corners (return 1 to rank by quality only). Quads are counter-
 /// clockwise in (u, v) like the triangles; their quality is measured with the
 /// face's oriented normal (reversed faces are taken into account).
@@ -53,7 +72,7 @@ pub fn recombine(
     tris: &[[u32; 3]],
     curve_mid: impl Fn(u32, u32) -> Option<Vec3>,
     alignment: impl Fn(&[Vec3; 4]) -> f64,
-    min_sicn: f64,
+    min_sicn: MinSicn,
     max_path: usize,
 ) -> QuadDominant {
     // edge → (triangle, local edge index) of its first use
@@ -88,10 +107,9 @@ pub fn recombine(
                     } else {
                         q
                     };
-                    let sicn = quad_quality(face, nodes, pos, &oriented).min(
-                        subdivided_curve_corners(face, nodes, pos, &oriented, &curve_mid),
-                    );
-                    if !(sicn > min_sicn) {
+                    let cc = subdivided_curve_corners(face, nodes, pos, &oriented, &curve_mid);
+                    let sicn = quad_quality(face, nodes, pos, &oriented).min(cc);
+                    if !(sicn > min_sicn.quad && cc > min_sicn.curve_corner) {
                         continue;
                     }
                     let w = alignment(&oriented.map(|i| pos[i as usize]));
@@ -260,7 +278,7 @@ mod tests {
             tris,
             |_, _| None,
             |_| 1.0,
-            MIN_SICN,
+            MinSicn::PAPER,
             max_path,
         )
     }
@@ -301,7 +319,7 @@ mod tests {
             &tris,
             |a, b| ((a.min(b), a.max(b)) == (0, 2)).then_some([0.0; 3]),
             |_| 1.0,
-            MIN_SICN,
+            MinSicn::PAPER,
             3,
         );
         assert!(r.quads.is_empty());
@@ -346,9 +364,68 @@ mod tests {
         // measured at the midpoints, it does not
         let sub = subdivided_curve_corners(&m.faces[0], &nodes, &pos, &q, &mids);
         assert!((sub - 0.0797).abs() < 1e-3, "{sub}");
-        let r1 = recombine(&m.faces[0], &nodes, &pos, &tris, mids, |_| 1.0, MIN_SICN, 0);
+        let r1 = recombine(
+            &m.faces[0],
+            &nodes,
+            &pos,
+            &tris,
+            mids,
+            |_| 1.0,
+            MinSicn::PAPER,
+            0,
+        );
         assert!(r1.quads.is_empty());
         assert_eq!(r1.triangles.len(), 2);
+    }
+
+    #[test]
+    fn a_stricter_curve_corner_threshold_refuses_what_the_paper_takes() {
+        // the arc of the test above bulging 0.2: after subdivision the
+        // corner at B is 168.7° (SICN sin 168.7° = 0.196)
+        let m = primitives::square(1.0);
+        let h = 0.2;
+        let nodes = vec![
+            node(-1.0, 0.0),
+            node(0.0, -1.0),
+            node(0.0, h),
+            node(1.0, 0.0),
+        ];
+        let pos: Vec<Vec3> = nodes.iter().map(|n| [n.uv[0], n.uv[1], 0.0]).collect();
+        let tris = vec![[0, 1, 2], [2, 1, 3]];
+        let c = (h * h - 1.0) / (2.0 * h);
+        let r = (1.0 + c * c).sqrt();
+        let arc_mid = |x: f64| {
+            let t = 0.5 * ((-c).atan2(x) + 0.5 * std::f64::consts::PI);
+            [r * t.cos(), c + r * t.sin(), 0.0]
+        };
+        let mids = |a: u32, b: u32| match (a.min(b), a.max(b)) {
+            (0, 2) => Some(arc_mid(-1.0)),
+            (2, 3) => Some(arc_mid(1.0)),
+            _ => None,
+        };
+        let paper = recombine(
+            &m.faces[0],
+            &nodes,
+            &pos,
+            &tris,
+            mids,
+            |_| 1.0,
+            MinSicn::PAPER,
+            0,
+        );
+        assert_eq!(paper.quads.len(), 1);
+        let q = paper.quads[0];
+        let sub = subdivided_curve_corners(&m.faces[0], &nodes, &pos, &q, &mids);
+        assert!((sub - 0.196).abs() < 1e-3, "{sub}");
+        let strict = MinSicn {
+            quad: MIN_SICN,
+            curve_corner: 0.3,
+        };
+        let r = recombine(&m.faces[0], &nodes, &pos, &tris, mids, |_| 1.0, strict, 0);
+        assert!(r.quads.is_empty());
+        assert_eq!(r.triangles.len(), 2);
+        // while the coarse quad itself is well above both thresholds
+        assert!(quad_quality(&m.faces[0], &nodes, &pos, &q) > 0.3);
     }
 
     #[test]
@@ -398,7 +475,7 @@ mod tests {
             &tris,
             |_, _| None,
             middle,
-            MIN_SICN,
+            MinSicn::PAPER,
             0,
         );
         assert_eq!(r.quads.len(), 1, "{:?}", r.quads);
@@ -415,7 +492,7 @@ mod tests {
             &tris,
             |_, _| None,
             middle,
-            MIN_SICN,
+            MinSicn::PAPER,
             3,
         );
         assert_eq!(r.quads.len(), 2, "{:?}", r.quads);
@@ -427,7 +504,7 @@ mod tests {
             &tris,
             |_, _| None,
             middle,
-            MIN_SICN,
+            MinSicn::PAPER,
             1,
         );
         assert_eq!(r.quads.len(), 1);
