@@ -161,7 +161,8 @@ pub enum Method {
     /// Frontal points along the cross field, recombination and subdivision
     /// (paper §5): the quasi-structured method without its topology steps
     /// (no patterns, defect removal, cavity remeshing or regular pass), its
-    /// front keeping the spacing of the curves along each direction.
+    /// front keeping the spacing of the curves along each direction (two ways
+    /// tried per face, the more regular kept).
     Unstructured,
     /// Triangulate each face in uv and split every triangle into three quads
     /// (always valid, about half the vertices irregular).
