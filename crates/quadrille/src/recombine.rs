@@ -326,14 +326,31 @@ mod tests {
         assert_eq!(r.triangles.len(), 2);
     }
 
-    #[test]
-    fn a_corner_flattened_by_subdivision_is_refused() {
-        // A, B, C on a circular arc bulging 0.08 at B, X inside: the pair
-        // (A, X, B), (B, X, C) makes the quad A X C B, whose corner at B has
-        // SICN 0.159; after subdivision that corner lies between the arc's
-        // midpoints and its SICN is 0.080, below the threshold
-        let m = primitives::square(1.0);
-        let h = 0.08;
+    /// Recombination with curve midpoints `mids`, quality alone (weight 1),
+    /// thresholds `min_sicn` and no augmenting path.
+    fn with_curves(
+        m: &geometry::Model,
+        nodes: &[LocalNode],
+        pos: &[Vec3],
+        tris: &[[u32; 3]],
+        mids: impl Fn(u32, u32) -> Option<Vec3>,
+        min_sicn: MinSicn,
+    ) -> QuadDominant {
+        recombine(&m.faces[0], nodes, pos, tris, mids, |_| 1.0, min_sicn, 0)
+    }
+
+    /// A (−1, 0), X (0, −1), B (0, h), C (1, 0): B on a circular arc through
+    /// A and C bulging `h`, X inside; the triangles (A, X, B), (B, X, C) and
+    /// the arc's midpoints on A–B and B–C (`curve_mid`).
+    #[allow(clippy::type_complexity)]
+    fn arc_corner(
+        h: f64,
+    ) -> (
+        Vec<LocalNode>,
+        Vec<Vec3>,
+        Vec<[u32; 3]>,
+        impl Fn(u32, u32) -> Option<Vec3>,
+    ) {
         let nodes = vec![
             node(-1.0, 0.0),
             node(0.0, -1.0),
@@ -346,15 +363,27 @@ mod tests {
         let c = (h * h - 1.0) / (2.0 * h);
         let r = (1.0 + c * c).sqrt();
         // the arc's midpoint between B (at angle π/2) and the end at x = ±1
-        let arc_mid = |x: f64| {
+        let arc_mid = move |x: f64| {
             let t = 0.5 * ((-c).atan2(x) + 0.5 * std::f64::consts::PI);
             [r * t.cos(), c + r * t.sin(), 0.0]
         };
-        let mids = |a: u32, b: u32| match (a.min(b), a.max(b)) {
+        let mids = move |a: u32, b: u32| match (a.min(b), a.max(b)) {
             (0, 2) => Some(arc_mid(-1.0)),
             (2, 3) => Some(arc_mid(1.0)),
             _ => None,
         };
+        (nodes, pos, tris, mids)
+    }
+
+    #[test]
+    fn a_corner_flattened_by_subdivision_is_refused() {
+        // A, B, C on a circular arc bulging 0.08 at B, X inside: the pair
+        // (A, X, B), (B, X, C) makes the quad A X C B, whose corner at B has
+        // SICN 0.159; after subdivision that corner lies between the arc's
+        // midpoints and its SICN is 0.080, below the threshold
+        let m = primitives::square(1.0);
+        let (nodes, pos, tris, arc) = arc_corner(0.08);
+        let mids = |a: u32, b: u32| arc(a, b);
         // the coarse corner alone passes
         let r0 = plain(&m, &nodes, &pos, &tris, 0);
         assert_eq!(r0.quads.len(), 1);
@@ -364,16 +393,7 @@ mod tests {
         // measured at the midpoints, it does not
         let sub = subdivided_curve_corners(&m.faces[0], &nodes, &pos, &q, &mids);
         assert!((sub - 0.0797).abs() < 1e-3, "{sub}");
-        let r1 = recombine(
-            &m.faces[0],
-            &nodes,
-            &pos,
-            &tris,
-            mids,
-            |_| 1.0,
-            MinSicn::PAPER,
-            0,
-        );
+        let r1 = with_curves(&m, &nodes, &pos, &tris, mids, MinSicn::PAPER);
         assert!(r1.quads.is_empty());
         assert_eq!(r1.triangles.len(), 2);
     }
@@ -383,36 +403,9 @@ mod tests {
         // the arc of the test above bulging 0.2: after subdivision the
         // corner at B is 168.7° (SICN sin 168.7° = 0.196)
         let m = primitives::square(1.0);
-        let h = 0.2;
-        let nodes = vec![
-            node(-1.0, 0.0),
-            node(0.0, -1.0),
-            node(0.0, h),
-            node(1.0, 0.0),
-        ];
-        let pos: Vec<Vec3> = nodes.iter().map(|n| [n.uv[0], n.uv[1], 0.0]).collect();
-        let tris = vec![[0, 1, 2], [2, 1, 3]];
-        let c = (h * h - 1.0) / (2.0 * h);
-        let r = (1.0 + c * c).sqrt();
-        let arc_mid = |x: f64| {
-            let t = 0.5 * ((-c).atan2(x) + 0.5 * std::f64::consts::PI);
-            [r * t.cos(), c + r * t.sin(), 0.0]
-        };
-        let mids = |a: u32, b: u32| match (a.min(b), a.max(b)) {
-            (0, 2) => Some(arc_mid(-1.0)),
-            (2, 3) => Some(arc_mid(1.0)),
-            _ => None,
-        };
-        let paper = recombine(
-            &m.faces[0],
-            &nodes,
-            &pos,
-            &tris,
-            mids,
-            |_| 1.0,
-            MinSicn::PAPER,
-            0,
-        );
+        let (nodes, pos, tris, arc) = arc_corner(0.2);
+        let mids = |a: u32, b: u32| arc(a, b);
+        let paper = with_curves(&m, &nodes, &pos, &tris, mids, MinSicn::PAPER);
         assert_eq!(paper.quads.len(), 1);
         let q = paper.quads[0];
         let sub = subdivided_curve_corners(&m.faces[0], &nodes, &pos, &q, &mids);
@@ -421,7 +414,7 @@ mod tests {
             quad: MIN_SICN,
             curve_corner: 0.3,
         };
-        let r = recombine(&m.faces[0], &nodes, &pos, &tris, mids, |_| 1.0, strict, 0);
+        let r = with_curves(&m, &nodes, &pos, &tris, mids, strict);
         assert!(r.quads.is_empty());
         assert_eq!(r.triangles.len(), 2);
         // while the coarse quad itself is well above both thresholds

@@ -161,7 +161,7 @@ pub enum FrontSpacing {
     /// the curves' rounding but follows the size map's variation.
     BoundaryRatio,
     /// By the boundary edges' spacing along that branch itself, never above
-    /// the graded size ([`boundary_spacings`]): where the size map varies
+    /// the graded size: where the size map varies
     /// between the sides and the middle (a flat face between fillets), the
     /// fronts of opposite sides still meet on one grid.
     BoundarySpacing,
@@ -282,11 +282,7 @@ fn front_mesh(
     .map_err(|e| format!("boundary: {e:?}"))?;
     let graded = graded_sizes(&ft, field, size, opts.gradation);
     let bg = Background::new(field, &graded).map_err(|e| e.to_string())?;
-    let ratios = match spacing {
-        FrontSpacing::Size => None,
-        FrontSpacing::BoundaryRatio => Some(boundary_spacing_ratios(&ft, field, size, &graded)?),
-        FrontSpacing::BoundarySpacing => Some(boundary_spacings(&ft, field, size, &graded)?),
-    };
+    let ratios = boundary_spacing_ratios(&ft, field, size, &graded, spacing)?;
     report.frontal =
         insert_frontal_points_directional(&mut ft, face, &bg, &opts.frontal, ratios.as_ref());
     // fills holes and fixes what the front cannot see (chord deviation,
@@ -438,39 +434,27 @@ pub fn graded_sizes(
 /// spacing along from its long sides; on a wing, the chordwise spacing from
 /// the airfoils, refined at their leading and trailing edges, and the
 /// spanwise spacing from the edges' curves.
+///
+/// That is [`FrontSpacing::BoundaryRatio`]. With
+/// [`FrontSpacing::BoundarySpacing`] the edges' spacing `h` itself is
+/// interpolated the same way (its logarithm), not rescaled by the size map:
+/// the spacing along a branch is `min(h, graded)` (on the flat faces of
+/// s13o_cube_rounded_2, between fillets where the size map is smaller than
+/// in their middle, every interior point then lands on the sides' grid).
+/// With [`FrontSpacing::Size`], `None`: the front steps by the size alone.
 pub fn boundary_spacing_ratios(
     ft: &FaceTriangulation<'_>,
     field: &CrossField,
     size: &[f64],
     graded: &[f64],
-) -> Result<DirectionalRatios, String> {
-    directional_ratios(ft, field, size, graded, true)
-}
-
-/// Like [`boundary_spacing_ratios`], but the spacing along each branch is the
-/// boundary edges' spacing itself, interpolated the same way (its logarithm,
-/// weights `cos⁴ · h / d³`), and not rescaled by the size map: `min(h, graded)`.
-/// ([`FrontSpacing::BoundarySpacing`]: on the flat faces of
-/// s13o_cube_rounded_2, between fillets where the size map is smaller than in
-/// their middle, every interior point then lands on the sides' grid.)
-pub fn boundary_spacings(
-    ft: &FaceTriangulation<'_>,
-    field: &CrossField,
-    size: &[f64],
-    graded: &[f64],
-) -> Result<DirectionalRatios, String> {
-    directional_ratios(ft, field, size, graded, false)
-}
-
-/// [`boundary_spacing_ratios`] (`relative`: edges carry their ratio to the
-/// size map) and [`boundary_spacings`] (edges carry their spacing).
-fn directional_ratios(
-    ft: &FaceTriangulation<'_>,
-    field: &CrossField,
-    size: &[f64],
-    graded: &[f64],
-    relative: bool,
-) -> Result<DirectionalRatios, String> {
+    spacing: FrontSpacing,
+) -> Result<Option<DirectionalRatios>, String> {
+    // what each edge carries: ln(h / s), or ln h
+    let relative = match spacing {
+        FrontSpacing::Size => return Ok(None),
+        FrontSpacing::BoundaryRatio => true,
+        FrontSpacing::BoundarySpacing => false,
+    };
     let bg = Background::new(field, size).map_err(|e| e.to_string())?;
     let mut keys: Vec<&(u32, u32)> = ft.boundary_mid.keys().collect();
     keys.sort();
@@ -531,7 +515,7 @@ fn directional_ratios(
             }
         }));
     }
-    Ok(out)
+    Ok(Some(out))
 }
 
 /// Number of invalid quads of a patch: SICN ≤ 0 (CAD normals), two corners
@@ -592,7 +576,10 @@ mod tests {
     fn the_spacing_along_each_branch_is_the_sides_spacing() {
         let (model, cms, field, size) = square_with_rounded_sides();
         let ft = FaceTriangulation::new(&model, FaceId(0), &cms, 0.1).unwrap();
-        let ratios = boundary_spacing_ratios(&ft, &field, &size, &size).unwrap();
+        let ratios =
+            boundary_spacing_ratios(&ft, &field, &size, &size, FrontSpacing::BoundaryRatio)
+                .unwrap()
+                .unwrap();
         assert_eq!(ratios.log_ratio.len(), field.topology.positions.len());
         for r in &ratios.log_ratio {
             for k in 0..2 {
@@ -602,7 +589,10 @@ mod tests {
         }
         // a graded size already at the sides' spacing is kept (never raised)
         let graded = vec![0.04; size.len()];
-        let ratios = boundary_spacing_ratios(&ft, &field, &size, &graded).unwrap();
+        let ratios =
+            boundary_spacing_ratios(&ft, &field, &size, &graded, FrontSpacing::BoundaryRatio)
+                .unwrap()
+                .unwrap();
         assert!(ratios.log_ratio.iter().all(|r| r[0] == 0.0 && r[1] == 0.0));
     }
 
@@ -632,7 +622,10 @@ mod tests {
             "steps of 0.12 cannot stay on the grid"
         );
         let mut ft = FaceTriangulation::new(&model, FaceId(0), &cms, 0.1).unwrap();
-        let ratios = boundary_spacing_ratios(&ft, &field, &size, &size).unwrap();
+        let ratios =
+            boundary_spacing_ratios(&ft, &field, &size, &size, FrontSpacing::BoundaryRatio)
+                .unwrap()
+                .unwrap();
         let st = insert_frontal_points_directional(&mut ft, face, &bg, &opts, Some(&ratios));
         // the 9 × 9 interior nodes of the 10 × 10 grid, every one on it
         assert_eq!(st.inserted, 81, "{st:?}");
@@ -660,8 +653,14 @@ mod tests {
         let (model, cms, field, size) = square_with_a_size_growing_inside();
         let ft = FaceTriangulation::new(&model, FaceId(0), &cms, 0.1).unwrap();
         let step = |r: &DirectionalRatios, v: usize, k: usize| size[v] * r.log_ratio[v][k].exp();
-        let spacings = boundary_spacings(&ft, &field, &size, &size).unwrap();
-        let ratios = boundary_spacing_ratios(&ft, &field, &size, &size).unwrap();
+        let spacings =
+            boundary_spacing_ratios(&ft, &field, &size, &size, FrontSpacing::BoundarySpacing)
+                .unwrap()
+                .unwrap();
+        let ratios =
+            boundary_spacing_ratios(&ft, &field, &size, &size, FrontSpacing::BoundaryRatio)
+                .unwrap()
+                .unwrap();
         // the background vertex nearest the centre
         let centre = (0..size.len())
             .min_by(|&a, &b| {
