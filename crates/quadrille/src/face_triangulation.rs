@@ -516,6 +516,44 @@ impl<'a> FaceTriangulation<'a> {
             .collect()
     }
 
+    /// Makes each pole one node in `tris` (this triangulation's
+    /// [`Self::triangles`]): a pole's local instances along its (u, v) segment
+    /// are replaced by the first, and the boundary midpoints of edges to a
+    /// later instance are also keyed by the first. The two triangles on
+    /// either side of a pole's vanishing triangle then share an edge, so
+    /// recombination can pair them into the quad a pole corner asks for (at
+    /// the 90° pole corner of s14o_cube_corner_sub_sphere's sphere octant, a
+    /// fan of three quads and four irregular vertices around it otherwise).
+    /// [`crate::subdivide::subdivide`] already places midpoints and centres
+    /// of elements at a pole by its one identity.
+    pub fn merge_poles(&mut self, tris: &mut [[u32; 3]]) {
+        let mut first: HashMap<NodeRef, u32> = HashMap::new();
+        let mut canon: Vec<u32> = (0..self.nodes.len() as u32).collect();
+        for (i, n) in self.nodes.iter().enumerate() {
+            if n.pole.is_some() {
+                canon[i] = *first.entry(n.node).or_insert(i as u32);
+            }
+        }
+        if canon.iter().enumerate().all(|(i, &c)| c == i as u32) {
+            return;
+        }
+        for t in tris.iter_mut() {
+            *t = t.map(|v| canon[v as usize]);
+        }
+        let mut aliases: Vec<((u32, u32), BoundaryMid)> = Vec::new();
+        for (&(a, b), m) in &self.boundary_mid {
+            let (ca, cb) = (canon[a as usize], canon[b as usize]);
+            if (ca, cb) != (a, b) && ca != cb {
+                aliases.push(((ca.min(cb), ca.max(cb)), *m));
+            }
+        }
+        // sorted, so that a key reached from two instances gets the same one
+        aliases.sort_by_key(|(k, _)| *k);
+        for (k, m) in aliases {
+            self.boundary_mid.entry(k).or_insert(m);
+        }
+    }
+
     fn is_boundary_edge(&self, a: u32, b: u32) -> bool {
         self.boundary_mid.contains_key(&(a.min(b), a.max(b)))
     }
@@ -957,6 +995,60 @@ mod tests {
                 (ft.nodes.len(), ft.triangles().len())
             })
             .collect()
+    }
+
+    #[test]
+    fn merged_poles_leave_one_node_per_pole_and_an_oriented_manifold() {
+        // a sphere's two poles and a cone's apex, each a segment of local nodes
+        for m in [primitives::sphere(1.0), primitives::cone(1.0, 2.0)] {
+            let h = 0.2;
+            let cms = discretize_all(&m, &plan_curves(&m, h));
+            for f in 0..m.faces.len() {
+                let mut ft = FaceTriangulation::new(&m, FaceId(f as u32), &cms, 2.0 * h).unwrap();
+                ft.refine().unwrap();
+                let before = ft.triangles();
+                let instances = ft.nodes.iter().filter(|n| n.pole.is_some()).count();
+                let poles: HashSet<NodeRef> = ft
+                    .nodes
+                    .iter()
+                    .filter(|n| n.pole.is_some())
+                    .map(|n| n.node)
+                    .collect();
+                assert!(
+                    instances > poles.len(),
+                    "{instances} instances of {poles:?}"
+                );
+                let mut tris = before.clone();
+                ft.merge_poles(&mut tris);
+                assert_eq!(tris.len(), before.len());
+                // one local node per pole: its first instance
+                let used: HashSet<u32> = tris.iter().flatten().copied().collect();
+                for pole in &poles {
+                    let ids: Vec<u32> = (0..ft.nodes.len() as u32)
+                        .filter(|&i| ft.nodes[i as usize].pole.is_some())
+                        .filter(|&i| ft.nodes[i as usize].node == *pole)
+                        .collect();
+                    assert!(used.contains(&ids[0]));
+                    assert!(ids[1..].iter().all(|i| !used.contains(i)), "{ids:?}");
+                }
+                // every edge used once in each direction at most, and a boundary
+                // edge before is a boundary edge after
+                let mut directed: HashSet<(u32, u32)> = HashSet::new();
+                for t in &tris {
+                    assert!(t[0] != t[1] && t[1] != t[2] && t[2] != t[0], "{t:?}");
+                    for k in 0..3 {
+                        assert!(directed.insert((t[k], t[(k + 1) % 3])), "{t:?}");
+                    }
+                }
+                for (t, u) in before.iter().zip(&tris) {
+                    for k in 0..3 {
+                        let (a, b) = (t[k], t[(k + 1) % 3]);
+                        let (c, d) = (u[k], u[(k + 1) % 3]);
+                        assert_eq!(ft.is_boundary_edge(a, b), ft.is_boundary_edge(c, d));
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -291,7 +291,7 @@ fn front_mesh(
         ft.curvature_by_size_map();
     }
     ft.refine().map_err(|e| format!("refinement: {e:?}"))?;
-    let tris = ft.triangles();
+    let mut tris = ft.triangles();
     if tris.is_empty() {
         return Err("the triangulation is empty".into());
     }
@@ -303,6 +303,8 @@ fn front_mesh(
         ));
     }
     report.triangles = tris.len();
+    // a pole corner's two triangles beside the vanishing one may pair up
+    ft.merge_poles(&mut tris);
     let boundary = &ft.boundary_mid;
     let qd = recombine(
         face,
