@@ -160,6 +160,7 @@ impl HasPosition for Vtx {
 type Cdt = ConstrainedDelaunayTriangulation<Vtx>;
 
 /// A face's constrained triangulation in (u, v) with its local nodes.
+#[derive(Clone)]
 pub struct FaceTriangulation<'a> {
     face: &'a Face,
     /// Local nodes (boundary nodes first, then inserted interior nodes).

@@ -199,6 +199,16 @@ pub fn mesh_face_unstructured(
     // validates the size array
     Background::new(field, size).map_err(|e| e.to_string())?;
     let started = Instant::now();
+    let max_size = size.iter().cloned().fold(0.0, f64::max);
+    let boundary = FaceTriangulation::new(
+        model,
+        fid,
+        cms,
+        REFINE_SLACK * opts.frontal.factor * max_size,
+    )
+    .map_err(|e| format!("boundary: {e:?}"))?;
+    let graded = graded_sizes(&boundary, field, size, opts.gradation);
+    let bg = Background::new(field, &graded).map_err(|e| e.to_string())?;
     let mut meshes: Vec<FrontMesh> = Vec::new();
     let mut why = String::from("no front spacing to try");
     let spacings: &[FrontSpacing] = if opts.front_spacings.is_empty() {
@@ -206,8 +216,19 @@ pub fn mesh_face_unstructured(
     } else {
         &opts.front_spacings
     };
+    let front = Front {
+        field,
+        size,
+        graded: &graded,
+        bg: &bg,
+    };
     for &spacing in spacings {
-        match front_mesh(model, fid, cms, field, size, opts, spacing) {
+        match front_mesh(face, boundary.clone(), &front, opts, spacing) {
+            // no irregular vertex: no later spacing can do better
+            Ok(m) if m.irregular == 0 => {
+                meshes.push(m);
+                break;
+            }
             Ok(m) => meshes.push(m),
             Err(e) => why = e,
         }
@@ -259,30 +280,28 @@ pub fn mesh_face_unstructured(
     Err(why)
 }
 
-/// The front of one [`FrontSpacing`] on face `fid`: triangulation, frontal
-/// points, refinement, recombination, subdivision and snapping.
+/// What every run of the front on one face shares: the cross field, the
+/// size map, the size graded from the boundary and its background.
+struct Front<'f> {
+    field: &'f CrossField,
+    size: &'f [f64],
+    graded: &'f [f64],
+    bg: &'f Background<'f>,
+}
+
+/// The front of one [`FrontSpacing`] on `face` from its boundary
+/// triangulation `ft`: frontal points, refinement, recombination,
+/// subdivision and snapping.
 fn front_mesh(
-    model: &Model,
-    fid: FaceId,
-    cms: &[CurveMesh],
-    field: &CrossField,
-    size: &[f64],
+    face: &geometry::Face,
+    mut ft: FaceTriangulation<'_>,
+    front: &Front<'_>,
     opts: &UnstructuredOptions,
     spacing: FrontSpacing,
 ) -> Result<FrontMesh, String> {
-    let face = &model.faces[fid.idx()];
-    let max_size = size.iter().cloned().fold(0.0, f64::max);
     let mut report = FaceReport::default();
-    let mut ft = FaceTriangulation::new(
-        model,
-        fid,
-        cms,
-        REFINE_SLACK * opts.frontal.factor * max_size,
-    )
-    .map_err(|e| format!("boundary: {e:?}"))?;
-    let graded = graded_sizes(&ft, field, size, opts.gradation);
-    let bg = Background::new(field, &graded).map_err(|e| e.to_string())?;
-    let ratios = boundary_spacing_ratios(&ft, field, size, &graded, spacing)?;
+    let bg = front.bg;
+    let ratios = boundary_spacing_ratios(&ft, front.field, front.size, front.graded, spacing)?;
     report.frontal =
         insert_frontal_points_directional(&mut ft, face, &bg, &opts.frontal, ratios.as_ref());
     // fills holes and fixes what the front cannot see (chord deviation,
