@@ -30,6 +30,7 @@ use crate::recombine::{recombine, MinSicn, MIN_SICN};
 use crate::smoothing::{optimize, smooth_then_untangle, OptimizeOptions};
 use crate::split::{quad_quality, QuadPatch};
 use crate::subdivide::{snap_repair, subdivide};
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// Smoothing sweeps after subdivision.
@@ -222,15 +223,28 @@ pub fn mesh_face_unstructured(
         graded: &graded,
         bg: &bg,
     };
-    for &spacing in spacings {
-        match front_mesh(face, boundary.clone(), &front, opts, spacing) {
-            // no irregular vertex: no later spacing can do better
-            Ok(m) if m.irregular == 0 => {
-                meshes.push(m);
-                break;
+    let run = |spacing: FrontSpacing| front_mesh(face, boundary.clone(), &front, opts, spacing);
+    if rayon::current_num_threads() > 1 {
+        // the runs side by side: a large face left last does not keep one
+        // worker alone (the choice below does not depend on the order)
+        let runs: Vec<Result<FrontMesh, String>> = spacings.par_iter().map(|&s| run(s)).collect();
+        for r in runs {
+            match r {
+                Ok(m) => meshes.push(m),
+                Err(e) => why = e,
             }
-            Ok(m) => meshes.push(m),
-            Err(e) => why = e,
+        }
+    } else {
+        for &spacing in spacings {
+            match run(spacing) {
+                // no irregular vertex: no later spacing can do better
+                Ok(m) if m.irregular == 0 => {
+                    meshes.push(m);
+                    break;
+                }
+                Ok(m) => meshes.push(m),
+                Err(e) => why = e,
+            }
         }
     }
     let frontal_time = started.elapsed();
