@@ -739,7 +739,7 @@ impl<'a> FaceTriangulation<'a> {
     }
 
     /// From now on [`Self::refine`] splits triangles for curvature only past
-    /// about 120° of turn ([`FRONT_CHORD_RATIO`], [`FRONT_NORMAL_COS`]) instead
+    /// about 120° of turn (`FRONT_CHORD_RATIO` 0.29, `FRONT_NORMAL_COS` −0.5) instead
     /// of 60°–70°: for interior points placed by a front whose size map
     /// already bounds the turn per quad, the finer limits only scatter extra
     /// points between its rows.

@@ -317,7 +317,7 @@ fn front_mesh(
     let bg = front.bg;
     let ratios = boundary_spacing_ratios(&ft, front.field, front.size, front.graded, spacing)?;
     report.frontal =
-        insert_frontal_points_directional(&mut ft, face, &bg, &opts.frontal, ratios.as_ref());
+        insert_frontal_points_directional(&mut ft, face, bg, &opts.frontal, ratios.as_ref());
     // fills holes and fixes what the front cannot see (chord deviation,
     // folded triangles on curved surfaces)
     if opts.curvature_by_size_map {
@@ -508,7 +508,7 @@ pub fn boundary_spacing_ratios(
             let ratio = (h / s).clamp(SPACING_RATIO_MIN, 1.0 / SPACING_RATIO_MIN);
             // what is interpolated: ln(h / s), or ln h
             let carried = if relative { ratio.ln() } else { h.ln() };
-            (h > 0.0 && s > 0.0).then(|| (m.pos, t, h, carried))
+            (h > 0.0 && s > 0.0).then_some((m.pos, t, h, carried))
         })
         .collect();
     let n = field.topology.positions.len();
