@@ -224,27 +224,34 @@ pub fn mesh_face_unstructured(
         bg: &bg,
     };
     let run = |spacing: FrontSpacing| front_mesh(face, boundary.clone(), &front, opts, spacing);
-    if rayon::current_num_threads() > 1 {
-        // the runs side by side: a large face left last does not keep one
-        // worker alone (the choice below does not depend on the order)
-        let runs: Vec<Result<FrontMesh, String>> = spacings.par_iter().map(|&s| run(s)).collect();
-        for r in runs {
-            match r {
-                Ok(m) => meshes.push(m),
-                Err(e) => why = e,
+    // in the spacings' order, up to the first run with no irregular vertex
+    // (no later one can do better): on one worker the later runs are not
+    // made at all, on more they run side by side (a large face left last
+    // does not keep one worker alone) and are dropped, so the output is the same
+    let runs: Vec<Result<FrontMesh, String>> = if rayon::current_num_threads() > 1 {
+        spacings.par_iter().map(|&s| run(s)).collect()
+    } else {
+        let mut runs = Vec::new();
+        for &spacing in spacings {
+            let r = run(spacing);
+            let done = matches!(&r, Ok(m) if m.irregular == 0);
+            runs.push(r);
+            if done {
+                break;
             }
         }
-    } else {
-        for &spacing in spacings {
-            match run(spacing) {
-                // no irregular vertex: no later spacing can do better
-                Ok(m) if m.irregular == 0 => {
-                    meshes.push(m);
+        runs
+    };
+    for r in runs {
+        match r {
+            Ok(m) => {
+                let done = m.irregular == 0;
+                meshes.push(m);
+                if done {
                     break;
                 }
-                Ok(m) => meshes.push(m),
-                Err(e) => why = e,
             }
+            Err(e) => why = e,
         }
     }
     let frontal_time = started.elapsed();
