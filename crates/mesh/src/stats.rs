@@ -17,6 +17,7 @@ use std::fmt;
 
 use geometry::vec3::{self, add, cross, dot, scale, sub, Vec3};
 use geometry::{CornerId, CornerUv, FaceId, Model};
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::quadmesh::{NodeClass, QuadMesh};
@@ -189,14 +190,25 @@ fn corner_normals_and_folds(
     model: &Model,
     quads: &[u32],
 ) -> (Vec<[Vec3; 4]>, usize) {
-    let mut cad = CadNormals::new(mesh, model);
-    let found: Vec<[Option<Vec3>; 4]> = quads
-        .iter()
-        .map(|&qi| match mesh.quads.get(qi as usize) {
-            Some(q) => cad.quad_normals(qi as usize, q),
-            None => [None; 4],
+    let diagonal = model.diagonal();
+    // fixed chunks, each with its own projection cache: the same result on
+    // any number of threads
+    let chunks: Vec<(Vec<[Option<Vec3>; 4]>, usize)> = quads
+        .par_chunks(NORMAL_CHUNK)
+        .map(|chunk| {
+            let mut cad = CadNormals::new(mesh, model, diagonal);
+            let found = chunk
+                .iter()
+                .map(|&qi| match mesh.quads.get(qi as usize) {
+                    Some(q) => cad.quad_normals(qi as usize, q),
+                    None => [None; 4],
+                })
+                .collect();
+            (found, cad.folds)
         })
         .collect();
+    let folds = chunks.iter().map(|c| c.1).sum();
+    let found: Vec<[Option<Vec3>; 4]> = chunks.into_iter().flat_map(|c| c.0).collect();
     let fallback = found
         .iter()
         .any(|n| n.iter().any(Option::is_none))
@@ -212,8 +224,12 @@ fn corner_normals_and_folds(
             [0, 1, 2, 3].map(|k| n[k].unwrap_or(base[k]))
         })
         .collect();
-    (normals, cad.folds)
+    (normals, folds)
 }
+
+/// Quads per task of [`corner_normals_and_folds`]: CAD normals cost a few
+/// microseconds a corner, so a chunk is worth a task.
+const NORMAL_CHUNK: usize = 256;
 
 /// SICN of every quad (minimum over its corners), with the normals of
 /// [`quad_corner_normals`]. Used by the statistics, the VTU writer and the renderer.
@@ -315,11 +331,12 @@ struct CadNormals<'a> {
 }
 
 impl<'a> CadNormals<'a> {
-    fn new(mesh: &'a QuadMesh, model: &'a Model) -> Self {
+    /// `diagonal`: the model's [`Model::diagonal`] (costly: computed once by the caller).
+    fn new(mesh: &'a QuadMesh, model: &'a Model, diagonal: f64) -> Self {
         Self {
             mesh,
             model,
-            diagonal: model.diagonal(),
+            diagonal,
             projected: HashMap::new(),
             folds: 0,
         }

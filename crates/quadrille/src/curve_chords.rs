@@ -343,9 +343,11 @@ pub fn balance_for_patterns(
     members: &impl Fn(usize) -> Vec<usize>,
     min_count: &impl Fn(usize) -> usize,
 ) {
+    use rayon::prelude::*;
+    // the faces' sides (corner angles on the CAD), side by side
     let faces: Vec<Vec<Vec<usize>>> = model
         .faces
-        .iter()
+        .par_iter()
         .filter_map(|f| convex_sides(model, f))
         .filter(|s| s.len() <= PATTERN_MAX_SIDES && s.iter().all(|x| !x.is_empty()))
         .collect();

@@ -22,7 +22,6 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use geometry::vec3::Vec3;
 use geometry::{FaceId, Model};
 use mesh::field::{CrossFieldMesh, FieldSingularity};
-use rayon::prelude::*;
 
 use crate::crossfield::{
     compute_cross_field, CrossField, CrossFieldError, CrossFieldOptions, FaceMesh,
@@ -351,19 +350,15 @@ pub fn model_fields(model: &Model, opts: &FieldOptions) -> Result<ModelFields, M
     let done = AtomicUsize::new(0);
     let mut order: Vec<usize> = (0..nf).collect();
     crate::curve_mesh::largest_faces_first(model, &cms, &mut order);
-    let mut faces: Vec<FaceFieldReport> = order
-        .into_par_iter()
-        .with_max_len(1)
-        .map(|f| {
-            let face = FaceId(f as u32);
-            let outcome = face_field(model, face, &cms, h_bg, h, opts);
-            let d = done.fetch_add(1, Ordering::Relaxed) + 1;
-            if let Some(p) = &opts.progress {
-                p(d, nf);
-            }
-            FaceFieldReport { face, outcome }
-        })
-        .collect();
+    let mut faces: Vec<FaceFieldReport> = crate::work_queue::map_in_order(&order, |&f| {
+        let face = FaceId(f as u32);
+        let outcome = face_field(model, face, &cms, h_bg, h, opts);
+        let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+        if let Some(p) = &opts.progress {
+            p(d, nf);
+        }
+        FaceFieldReport { face, outcome }
+    });
     faces.sort_by_key(|r| r.face.0);
     let mut fields = ModelFields {
         size: h,

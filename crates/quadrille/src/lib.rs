@@ -55,6 +55,7 @@ pub mod subdivide;
 #[cfg(test)]
 pub(crate) mod test_grid;
 pub mod unstructured;
+pub mod work_queue;
 
 pub use pipeline::{
     default_size, mesh_model, mesh_model_stages, mesh_model_with, resolve_size, MeshError,

@@ -812,10 +812,8 @@ fn run(
         times.curves += t.elapsed();
         let t = Instant::now();
         crate::curve_mesh::largest_faces_first(model, &cms, &mut pending);
-        let mut out: Vec<(usize, Result<QuadPatch, FaceFailure>)> = pending
-            .par_iter()
-            .with_max_len(1)
-            .map(|&f| {
+        let mut out: Vec<(usize, Result<QuadPatch, FaceFailure>)> =
+            crate::work_queue::map_in_order(&pending, |&f| {
                 let started = Instant::now();
                 let r = mesher(FaceId(f as u32), &cms);
                 if debug_enabled() {
@@ -832,8 +830,7 @@ fn run(
                     }
                 }
                 (f, r)
-            })
-            .collect();
+            });
         out.sort_by_key(|(f, _)| *f);
         times.faces += t.elapsed();
         let mut refine: BTreeSet<CurveId> = BTreeSet::new();

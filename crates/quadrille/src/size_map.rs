@@ -626,29 +626,35 @@ pub fn build_size_map(
             }
         }
     }
-    grade(&graph, &mut conformal, opts.gradient);
-    // small features and user sizes on corners and curves
-    let mut feature = if opts.small_features {
-        feature_sizes(model, cms, &graph)
-    } else {
-        vec![f64::INFINITY; graph.len()]
-    };
-    for &(e, s) in &opts.entity_sizes {
-        for (v, r) in graph.refs.iter().enumerate() {
-            let on = match (e, *r) {
-                (Entity::Corner(k), NodeRef::Corner(x)) => k == x,
-                (Entity::Curve(c), NodeRef::Curve(x, _)) => c == x,
-                (Entity::Curve(c), NodeRef::Corner(x)) => {
-                    model.curves[c.idx()].start == x || model.curves[c.idx()].end == x
-                }
-                _ => false,
+    // the two fields are graded independently: side by side
+    let (_, feature) = rayon::join(
+        || grade(&graph, &mut conformal, opts.gradient),
+        || {
+            // small features and user sizes on corners and curves
+            let mut feature = if opts.small_features {
+                feature_sizes(model, cms, &graph)
+            } else {
+                vec![f64::INFINITY; graph.len()]
             };
-            if on {
-                feature[v] = feature[v].min(s);
+            for &(e, s) in &opts.entity_sizes {
+                for (v, r) in graph.refs.iter().enumerate() {
+                    let on = match (e, *r) {
+                        (Entity::Corner(k), NodeRef::Corner(x)) => k == x,
+                        (Entity::Curve(c), NodeRef::Curve(x, _)) => c == x,
+                        (Entity::Curve(c), NodeRef::Corner(x)) => {
+                            model.curves[c.idx()].start == x || model.curves[c.idx()].end == x
+                        }
+                        _ => false,
+                    };
+                    if on {
+                        feature[v] = feature[v].min(s);
+                    }
+                }
             }
-        }
-    }
-    grade(&graph, &mut feature, opts.gradient);
+            grade(&graph, &mut feature, opts.gradient);
+            feature
+        },
+    );
     let lo = opts.min_size.unwrap_or(0.0);
     let hi = opts.max_size.unwrap_or(f64::INFINITY);
     let size: Vec<f64> = conformal
