@@ -256,6 +256,8 @@ fn colour_movers(
 /// applied in group order. Groups must share no quad (the chunks of one
 /// curve colour; the faces' groups). Returns whether a mover was active and
 /// how many moved.
+// the four state arrays are borrowed apart: `fixed` holds the mesh's quads
+#[allow(clippy::too_many_arguments)]
 fn sweep_groups(
     fixed: &Fixed<'_>,
     movers: &[Mover],
