@@ -132,7 +132,7 @@ type Attempt = (
     QuadPatch,
     Vec<[u32; 3]>,
     Vec<u32>,
-    std::collections::HashMap<(u32, u32), crate::face_triangulation::BoundaryMid>,
+    crate::fast_hash::FastMap<(u32, u32), crate::face_triangulation::BoundaryMid>,
 );
 
 /// One meshing attempt: the patch, its triangles, the triangles with invalid

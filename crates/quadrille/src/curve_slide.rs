@@ -355,27 +355,8 @@ struct Overlay {
     sicn: IdMap<f64>,
 }
 
-/// A map keyed by node or quad number, hashed by one multiplication: the
-/// overlays are read at every step, where SipHash showed in the profile.
-type IdMap<V> = HashMap<u32, V, std::hash::BuildHasherDefault<IdHasher>>;
-
-/// Fibonacci hashing of a `u32` key (the table uses the high bits).
-#[derive(Default)]
-struct IdHasher(u64);
-
-impl std::hash::Hasher for IdHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 = (self.0.rotate_left(8) ^ u64::from(b)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-        }
-    }
-    fn write_u32(&mut self, x: u32) {
-        self.0 = (self.0 ^ u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    }
-}
+/// A map keyed by node or quad number: the overlays are read at every step.
+type IdMap<V> = crate::fast_hash::FastMap<u32, V>;
 
 /// What one group's sweep of the parallel phase gives back.
 struct GroupSweep {

@@ -16,7 +16,8 @@
 //!   moved along it toward the point it is combined with ([`LocalNode::uv_toward`]).
 //!   Triangles with two nodes on the same pole are degenerate and dropped.
 
-use std::collections::{HashMap, HashSet};
+use crate::fast_hash::{FastMap, FastSet};
+use std::collections::HashMap;
 
 use geometry::vec3::{self, Vec3};
 use geometry::{CornerId, CurveId, Face, FaceId, Model};
@@ -168,7 +169,7 @@ pub struct FaceTriangulation<'a> {
     /// 3D position of each local node.
     pub pos: Vec<Vec3>,
     /// Midpoints of boundary edges, keyed by the sorted local node pair.
-    pub boundary_mid: HashMap<(u32, u32), BoundaryMid>,
+    pub boundary_mid: FastMap<(u32, u32), BoundaryMid>,
     /// Curves of the boundary, for error reports.
     pub curves: Vec<CurveId>,
     loops: Vec<Vec<u32>>,
@@ -368,7 +369,7 @@ impl<'a> FaceTriangulation<'a> {
                 .map_err(|e| FaceFailure::Fatal(format!("bad uv coordinate: {e:?}")))?;
             handles.push(h);
         }
-        let mut boundary_mid = HashMap::new();
+        let mut boundary_mid = FastMap::default();
         for (l, ids) in loops.iter().enumerate() {
             for k in 0..ids.len() {
                 let (a, b) = (ids[k], ids[(k + 1) % ids.len()]);
@@ -471,7 +472,7 @@ impl<'a> FaceTriangulation<'a> {
 
     /// Curves whose boundary edges no triangle of `tris` uses (the mesh would have a hole there).
     pub fn missing_boundary_edges(&self, tris: &[[u32; 3]]) -> Vec<CurveId> {
-        let mut seen = std::collections::HashSet::new();
+        let mut seen = FastSet::default();
         for t in tris {
             for k in 0..3 {
                 let (a, b) = (t[k], t[(k + 1) % 3]);
@@ -753,7 +754,7 @@ impl<'a> FaceTriangulation<'a> {
     pub fn refine(&mut self) -> Result<(), FaceFailure> {
         // triangles found fine in an earlier round: `assess` depends on the
         // triangle's nodes alone, so one that survived unchanged stays fine
-        let mut settled: HashSet<[u32; 3]> = HashSet::new();
+        let mut settled: FastSet<[u32; 3]> = FastSet::default();
         for round in 0..MAX_ROUNDS {
             let mut cands: Vec<(f64, [f64; 2], [f64; 2], f64)> = Vec::new();
             for t in self.inside_triangles() {
@@ -991,6 +992,7 @@ mod tests {
     use super::*;
     use crate::curve_mesh::{discretize_all, plan_curves};
     use geometry::primitives;
+    use std::collections::HashSet;
 
     fn tri(model: &Model, h: f64) -> Vec<(usize, usize)> {
         let plan = plan_curves(model, h);

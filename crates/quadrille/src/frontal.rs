@@ -26,7 +26,9 @@
 //! seam see each other. Everything is sequential per face: the result only
 //! depends on the inputs.
 
-use std::collections::{HashMap, VecDeque};
+use std::collections::VecDeque;
+
+use crate::fast_hash::FastMap;
 
 use geometry::vec3::{self, Vec3};
 use geometry::Face;
@@ -88,7 +90,7 @@ const LEVELS: usize = 8;
 /// boundary edges beside a coarse interior) stay cheap.
 struct PointGrid {
     cell: [f64; LEVELS],
-    cells: Vec<HashMap<[i64; 3], Vec<u32>>>,
+    cells: Vec<FastMap<[i64; 3], Vec<u32>>>,
     pts: Vec<Vec3>,
     /// The surface normal at each inserted point; `None` for the boundary
     /// nodes and edge midpoints, which block from either side.
@@ -103,7 +105,7 @@ impl PointGrid {
         }
         PointGrid {
             cell: c,
-            cells: vec![HashMap::new(); LEVELS],
+            cells: vec![FastMap::default(); LEVELS],
             pts: Vec::new(),
             normals: Vec::new(),
         }

@@ -36,6 +36,7 @@ pub mod defects;
 pub mod disk_quads;
 pub mod face_quads;
 pub mod face_triangulation;
+pub mod fast_hash;
 pub mod field_report;
 pub mod frontal;
 pub mod holed_face;

@@ -14,7 +14,7 @@
 //! free triangle; flipping the path turns two triangles into one more quad
 //! (each triangle left alone becomes an irregular vertex after subdivision).
 
-use std::collections::HashMap;
+use crate::fast_hash::FastMap;
 
 use geometry::vec3::Vec3;
 use geometry::Face;
@@ -76,7 +76,8 @@ pub fn recombine(
     max_path: usize,
 ) -> QuadDominant {
     // edge → (triangle, local edge index) of its first use
-    let mut first: HashMap<(u32, u32), (u32, usize)> = HashMap::with_capacity(3 * tris.len());
+    let mut first: FastMap<(u32, u32), (u32, usize)> =
+        FastMap::with_capacity_and_hasher(3 * tris.len(), Default::default());
     let mut cands: Vec<(f64, u32, u32, [u32; 4])> = Vec::new();
     for (ti, t) in tris.iter().enumerate() {
         for k in 0..3 {

@@ -8,6 +8,7 @@
 //! surface at their (u, v). Quads are oriented counter-clockwise seen from the
 //! oriented face normal.
 
+use crate::fast_hash::FastMap;
 use std::collections::HashMap;
 
 use geometry::vec3::{self, Vec3};
@@ -51,7 +52,7 @@ pub fn split_triangles(
     nodes: &[LocalNode],
     pos: &[Vec3],
     tris: &[[u32; 3]],
-    boundary_mid: &HashMap<(u32, u32), BoundaryMid>,
+    boundary_mid: &FastMap<(u32, u32), BoundaryMid>,
 ) -> QuadPatch {
     let mut out = QuadPatch {
         nodes: nodes.to_vec(),
@@ -74,7 +75,7 @@ pub fn split_triangles(
             i
         }
     };
-    let mut mids: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut mids: FastMap<(u32, u32), u32> = FastMap::default();
     for (ti, t) in tris.iter().enumerate() {
         let mut m = [0u32; 3];
         for k in 0..3 {

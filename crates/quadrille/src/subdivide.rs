@@ -16,6 +16,7 @@
 //! midpoint (or centre) — is tried and kept only when the worst adjacent quad
 //! gets better, so a node never makes things worse.
 
+use crate::fast_hash::FastMap;
 use std::collections::HashMap;
 
 use geometry::vec3::{self, Vec3};
@@ -42,7 +43,7 @@ pub fn subdivide(
     pos: &[Vec3],
     quads: &[[u32; 4]],
     tris: &[[u32; 3]],
-    boundary_mid: &HashMap<(u32, u32), BoundaryMid>,
+    boundary_mid: &FastMap<(u32, u32), BoundaryMid>,
 ) -> (QuadPatch, Origins) {
     let mut out = QuadPatch {
         nodes: nodes.to_vec(),
@@ -66,7 +67,7 @@ pub fn subdivide(
             i
         }
     };
-    let mut mids: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut mids: FastMap<(u32, u32), u32> = FastMap::default();
     let elements = tris
         .iter()
         .map(|t| t.to_vec())
@@ -248,7 +249,7 @@ mod tests {
         let pos: Vec<Vec3> = nodes.iter().map(|n| face.surface.eval(n.uv)).collect();
         let quads = [[0, 1, 6, 7], [2, 3, 4, 5]];
         let tris = [[1, 2, 5], [1, 5, 6]];
-        let (p, origins) = subdivide(face, &nodes, &pos, &quads, &tris, &HashMap::new());
+        let (p, origins) = subdivide(face, &nodes, &pos, &quads, &tris, &FastMap::default());
         assert_eq!(p.quads.len(), 3 * 2 + 4 * 2);
         // new nodes: one per edge (11 distinct edges) and one per element (4)
         assert_eq!(p.nodes.len(), 8 + 11 + 4);
@@ -284,7 +285,14 @@ mod tests {
             node(0.0, 1.0),
         ];
         let pos: Vec<Vec3> = nodes.iter().map(|n| face.surface.eval(n.uv)).collect();
-        let (mut p, origins) = subdivide(face, &nodes, &pos, &[[0, 1, 2, 3]], &[], &HashMap::new());
+        let (mut p, origins) = subdivide(
+            face,
+            &nodes,
+            &pos,
+            &[[0, 1, 2, 3]],
+            &[],
+            &FastMap::default(),
+        );
         let before: Vec<Vec3> = p.pos.clone();
         // all valid: nothing moves
         assert_eq!(snap_repair(face, &mut p, &origins, 3), 0);
