@@ -5,9 +5,9 @@
 use std::time::Instant;
 
 use anyhow::{bail, Result};
-use quadrille::field_report::{model_fields, FieldOptions, ModelFields};
-use quadrille::singularities::SingularitySite;
-use quadrille::size_map::SizeMapOptions;
+use quadrille::field::field_report::{model_fields, FieldOptions, ModelFields};
+use quadrille::field::singularities::SingularitySite;
+use quadrille::field::size_map::SizeMapOptions;
 use serde::Serialize;
 
 use crate::files;

@@ -85,7 +85,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             eprintln!(
                 "{} curves shorter than {:.0e} of the model's diagonal meshed as points (their end corners share one node): {}",
                 list.len(),
-                quadrille::pipeline::SLIVER_LENGTH,
+                quadrille::methods::pipeline::SLIVER_LENGTH,
                 list.join(", ")
             );
         }
@@ -103,13 +103,13 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let t_mesh = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
     if let Method::Regular = args.method {
-        let ropts = quadrille::regularize::RegularizeOptions {
+        let ropts = quadrille::topology::regularize::RegularizeOptions {
             threads: args.threads,
             ..Default::default()
         };
         let bar = FaceProgress::new(args.quiet, model.faces.len(), "regularizing");
         let progress = bar.callback();
-        let rep = quadrille::regularize::regularize_mesh_with_progress(
+        let rep = quadrille::topology::regularize::regularize_mesh_with_progress(
             &model,
             &mut m,
             &ropts,

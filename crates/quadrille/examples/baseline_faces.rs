@@ -5,8 +5,8 @@
 use std::time::Instant;
 
 use geometry::FaceId;
-use quadrille::baseline::mesh_face;
-use quadrille::curve_mesh::{discretize_all, plan_curves};
+use quadrille::methods::baseline::mesh_face;
+use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -82,9 +82,9 @@ fn main() {
     }
 }
 
-fn dump(model: &geometry::Model, f: usize, cms: &[quadrille::curve_mesh::CurveMesh], h: f64) {
-    use quadrille::face_triangulation::FaceTriangulation;
-    use quadrille::split::{quad_quality, split_triangles};
+fn dump(model: &geometry::Model, f: usize, cms: &[quadrille::curves::curve_mesh::CurveMesh], h: f64) {
+    use quadrille::triangulate::face_triangulation::FaceTriangulation;
+    use quadrille::triangulate::split::{quad_quality, split_triangles};
     let face = &model.faces[f];
     let b = face.uv_bounds;
     for (i, j) in [(0.5, 0.5), (0.0, 0.0), (1.0, 1.0)] {

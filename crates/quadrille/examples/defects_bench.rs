@@ -1,4 +1,4 @@
-//! Defect removal ([`quadrille::defects::remove_defects`]) on the baseline
+//! Defect removal ([`quadrille::topology::defects::remove_defects`]) on the baseline
 //! mesher's faces (triangle split: about half the interior vertices have
 //! valence 6): per model, interior vertices of valence ≥ 6 or ≤ 2 before and
 //! after, irregular interior share, worst SICN, and time.
@@ -9,11 +9,11 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use geometry::FaceId;
-use quadrille::baseline::mesh_face;
-use quadrille::curve_mesh::{discretize_all, plan_curves};
-use quadrille::defects::remove_defects;
-use quadrille::face_triangulation::NodeRef;
-use quadrille::split::{quad_quality, QuadPatch};
+use quadrille::methods::baseline::mesh_face;
+use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
+use quadrille::topology::defects::remove_defects;
+use quadrille::triangulate::face_triangulation::NodeRef;
+use quadrille::triangulate::split::{quad_quality, QuadPatch};
 
 /// (interior vertices, irregular ones, defects) of a patch.
 fn counts(p: &QuadPatch) -> (usize, usize, usize) {

@@ -1,4 +1,4 @@
-//! Builds the disk-quadrangulation table ([`quadrille::disk_quads`]) and
+//! Builds the disk-quadrangulation table ([`quadrille::combinatorics::disk_quads`]) and
 //! prints its size per (boundary, interior) vertex count and the build time.
 //!
 //! Run: `cargo run --release -p quadrille --example disk_table [max_boundary] [max_interior]`
@@ -13,11 +13,11 @@ fn main() {
     let args: Vec<String> = std::env::args().filter(|a| a != "--write").collect();
     let arg = |i: usize, d: usize| args.get(i).and_then(|a| a.parse().ok()).unwrap_or(d);
     let (b, i) = (
-        arg(1, quadrille::disk_quads::TABLE_MAX_BOUNDARY),
-        arg(2, quadrille::disk_quads::TABLE_MAX_INTERIOR),
+        arg(1, quadrille::combinatorics::disk_quads::TABLE_MAX_BOUNDARY),
+        arg(2, quadrille::combinatorics::disk_quads::TABLE_MAX_INTERIOR),
     );
     let t = Instant::now();
-    let disks = quadrille::disk_quads::enumerate(b, i);
+    let disks = quadrille::combinatorics::disk_quads::enumerate(b, i);
     let secs = t.elapsed().as_secs_f64();
     let mut counts: BTreeMap<(usize, usize), usize> = BTreeMap::new();
     for d in &disks {
@@ -45,14 +45,14 @@ fn main() {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/src/disk_quads/table.txt");
         if (b, i)
             != (
-                quadrille::disk_quads::TABLE_MAX_BOUNDARY,
-                quadrille::disk_quads::TABLE_MAX_INTERIOR,
+                quadrille::combinatorics::disk_quads::TABLE_MAX_BOUNDARY,
+                quadrille::combinatorics::disk_quads::TABLE_MAX_INTERIOR,
             )
         {
             eprintln!("--write needs the default sizes");
             std::process::exit(2);
         }
-        if let Err(e) = std::fs::write(path, quadrille::disk_quads::format_table(&disks)) {
+        if let Err(e) = std::fs::write(path, quadrille::combinatorics::disk_quads::format_table(&disks)) {
             eprintln!("{path}: {e}");
             std::process::exit(1);
         }

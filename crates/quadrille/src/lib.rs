@@ -24,41 +24,18 @@
 //!   (midpoint subdivision on the CAD), driven per face by [`unstructured`],
 //!   whose topology is then improved by [`defects`] and [`cavity`].
 
-pub mod background;
-pub mod baseline;
-pub mod cavity;
-pub mod crossfield;
-pub mod curve_chords;
-pub mod curve_mesh;
-pub mod curve_slide;
-pub mod cusps;
-pub mod defects;
-pub mod disk_quads;
-pub mod face_quads;
-pub mod face_triangulation;
-pub mod fast_hash;
-pub mod field_report;
+pub mod combinatorics;
+pub mod core;
+pub mod curves;
+pub mod direct;
+pub mod field;
 pub mod frontal;
-pub mod holed_face;
-pub mod pattern_face;
-pub mod patterns;
-pub mod pipeline;
-pub mod recombine;
-pub mod regular_pass;
-pub mod regularize;
-pub mod scaling;
-pub mod singularities;
-pub mod size_map;
+pub mod methods;
 pub mod smoothing;
-pub mod sphere_face;
-pub mod split;
-pub mod subdivide;
-#[cfg(test)]
-pub(crate) mod test_grid;
-pub mod unstructured;
-pub mod work_queue;
+pub mod topology;
+pub mod triangulate;
 
-pub use pipeline::{
+pub use methods::pipeline::{
     default_size, mesh_model, mesh_model_stages, mesh_model_with, resolve_size, MeshError,
     MeshMethod, MeshOptions, MeshReport, ProgressFn, Size, StageTimes, Stages,
     DEFAULT_QUADS_PER_TURN,

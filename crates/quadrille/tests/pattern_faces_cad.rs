@@ -8,12 +8,12 @@ use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
 
 use geometry::FaceId;
-use quadrille::curve_mesh::{discretize_all, plan_curves};
-use quadrille::face_triangulation::NodeRef;
-use quadrille::holed_face::HOLED_GRID;
-use quadrille::pattern_face::{mesh_face_pattern, MIN_PATTERN_SICN, O_GRID};
-use quadrille::patterns::library;
-use quadrille::split::quad_quality;
+use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
+use quadrille::triangulate::face_triangulation::NodeRef;
+use quadrille::direct::holed_face::HOLED_GRID;
+use quadrille::direct::pattern_face::{mesh_face_pattern, MIN_PATTERN_SICN, O_GRID};
+use quadrille::combinatorics::patterns::library;
+use quadrille::triangulate::split::quad_quality;
 
 fn model(name: &str) -> geometry::Model {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -131,7 +131,7 @@ fn a_plate_with_one_round_hole_is_a_holed_grid() {
         .iter()
         .map(|u| u.curve.idx())
         .collect();
-    let pairs = quadrille::curve_chords::opposite_pairs(&m);
+    let pairs = quadrille::curves::curve_chords::opposite_pairs(&m);
     assert!(pairs.contains(&[outer[0], outer[2]]) && pairs.contains(&[outer[1], outer[3]]));
     // on the hole: four nodes on three quads, the others on two
     let mut val = vec![0usize; patch.nodes.len()];

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use mesh::stats::MeshStats;
-use quadrille::regularize::{regularize_mesh, RegularizeOptions};
+use quadrille::topology::regularize::{regularize_mesh, RegularizeOptions};
 use quadrille::{mesh_model, MeshOptions};
 
 fn check(file: &str, bar_percent: f64) {

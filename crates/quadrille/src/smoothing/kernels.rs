@@ -26,8 +26,8 @@
 use geometry::vec3::{self, Vec3};
 use geometry::Face;
 
-use crate::face_triangulation::NodeRef;
-use crate::split::{keep_unfolded_curve_normals, quad_quality_with, QuadPatch};
+use crate::triangulate::face_triangulation::NodeRef;
+use crate::triangulate::split::{keep_unfolded_curve_normals, quad_quality_with, QuadPatch};
 
 /// Gauss–Newton iterations mapping a 3D target onto the surface.
 const MAP_ITERATIONS: usize = 3;
@@ -279,8 +279,8 @@ pub const ASCENT_GOOD: f64 = 0.995;
 
 /// The eight compass directions (unit, in a tangent frame) of the steps of
 /// [`raise_average`] at a kink of its objective, of the face nodes of
-/// [`crate::curve_slide`], and (in (u, v)) of the regular method's last
-/// repair ([`crate::regularize::reposition::polish_invalid`]).
+/// [`crate::smoothing::curve_slide`], and (in (u, v)) of the regular method's last
+/// repair ([`crate::topology::regularize::reposition::polish_invalid`]).
 pub(crate) const COMPASS: [(f64, f64); 8] = {
     let d = std::f64::consts::FRAC_1_SQRT_2;
     [
@@ -696,9 +696,9 @@ fn sweep_nodes(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::face_triangulation::LocalNode;
+    use crate::triangulate::face_triangulation::LocalNode;
     use crate::smoothing::untangle;
-    use crate::split::quad_quality;
+    use crate::triangulate::split::quad_quality;
     use geometry::{primitives, CornerId, CurveId};
 
     /// Ring `x₁..x₈` of the node at grid point (0, 0) under the map `f`.

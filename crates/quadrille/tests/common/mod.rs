@@ -197,12 +197,12 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
         }
     }
     // sliver curves may be meshed as points (the default method does,
-    // `quadrille::pipeline::SLIVER_LENGTH`): no edges, and their end corners
+    // `quadrille::methods::pipeline::SLIVER_LENGTH`): no edges, and their end corners
     // share one node; a sliver whose merged-away corner has a node of its own
     // was meshed as a curve and is checked like any other
     let slivers: Vec<geometry::slivers::Collapsed> = geometry::slivers::collapse_short_curves(
         model,
-        quadrille::pipeline::SLIVER_LENGTH * diagonal,
+        quadrille::methods::pipeline::SLIVER_LENGTH * diagonal,
     )
     .map(|(_, list)| list)
     .unwrap_or_default()
