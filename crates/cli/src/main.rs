@@ -331,8 +331,35 @@ fn quiet_on_closed_pipe() {
     }
 }
 
+/// The environment variable holding the library's log filter, as `RUST_LOG`
+/// (for example `quadrille=debug`: each stage's rounds and the quads it
+/// could not fix, on stderr). Unset, nothing is logged.
+const LOG_VARIABLE: &str = "QUADRILLE_LOG";
+
+/// Sends the library's `tracing` events to stderr when [`LOG_VARIABLE`]
+/// holds a filter. The only place the program reads an environment variable
+/// of its own.
+fn set_up_logging() {
+    let Ok(filter) = std::env::var(LOG_VARIABLE) else {
+        return;
+    };
+    match tracing_subscriber::EnvFilter::try_new(&filter) {
+        Ok(f) => {
+            tracing_subscriber::fmt()
+                .with_env_filter(f)
+                .with_writer(std::io::stderr)
+                .without_time()
+                .init();
+        }
+        Err(e) => {
+            eprintln!("warning: {LOG_VARIABLE}={filter:?} is not a log filter ({e}); logging off")
+        }
+    }
+}
+
 fn main() -> ExitCode {
     quiet_on_closed_pipe();
+    set_up_logging();
     let cli = Cli::parse();
     let import = match &cli.command {
         Command::Info(a) => Some(&a.import),

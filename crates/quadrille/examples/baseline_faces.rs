@@ -5,8 +5,8 @@
 use std::time::Instant;
 
 use geometry::FaceId;
-use quadrille::methods::baseline::mesh_face;
 use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
+use quadrille::methods::baseline::mesh_face;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -82,7 +82,12 @@ fn main() {
     }
 }
 
-fn dump(model: &geometry::Model, f: usize, cms: &[quadrille::curves::curve_mesh::CurveMesh], h: f64) {
+fn dump(
+    model: &geometry::Model,
+    f: usize,
+    cms: &[quadrille::curves::curve_mesh::CurveMesh],
+    h: f64,
+) {
     use quadrille::triangulate::face_triangulation::FaceTriangulation;
     use quadrille::triangulate::split::{quad_quality, split_triangles};
     let face = &model.faces[f];

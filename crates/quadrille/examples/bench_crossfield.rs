@@ -20,7 +20,9 @@ use faer::c64;
 use quadrille::field::crossfield::assembly::{assemble, cr_stiffness};
 use quadrille::field::crossfield::linsolve::{LowerPattern, SparseSpd};
 use quadrille::field::crossfield::topology::NONE;
-use quadrille::field::crossfield::{compute_cross_field, fixtures, CrossFieldOptions, FaceTopology};
+use quadrille::field::crossfield::{
+    compute_cross_field, fixtures, CrossFieldOptions, FaceTopology,
+};
 use quadrille::field::scaling::conformal_scaling;
 use quadrille::field::singularities::extract_singularities;
 

@@ -9,8 +9,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use geometry::FaceId;
-use quadrille::methods::baseline::mesh_face;
 use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
+use quadrille::methods::baseline::mesh_face;
 use quadrille::topology::defects::remove_defects;
 use quadrille::triangulate::face_triangulation::NodeRef;
 use quadrille::triangulate::split::{quad_quality, QuadPatch};

@@ -52,7 +52,10 @@ fn main() {
             eprintln!("--write needs the default sizes");
             std::process::exit(2);
         }
-        if let Err(e) = std::fs::write(path, quadrille::combinatorics::disk_quads::format_table(&disks)) {
+        if let Err(e) = std::fs::write(
+            path,
+            quadrille::combinatorics::disk_quads::format_table(&disks),
+        ) {
             eprintln!("{path}: {e}");
             std::process::exit(1);
         }

@@ -255,7 +255,9 @@ fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
             );
             if let Some(sides) = four_sides(&fq) {
                 eprintln!("     sides {sides:?}");
-            } else if let Some(lp) = quadrille::topology::regularize::grid::single_boundary_loop(&fq) {
+            } else if let Some(lp) =
+                quadrille::topology::regularize::grid::single_boundary_loop(&fq)
+            {
                 let ideals: String = lp
                     .iter()
                     .map(|&v| {

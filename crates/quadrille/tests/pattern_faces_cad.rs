@@ -8,11 +8,11 @@ use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
 
 use geometry::FaceId;
+use quadrille::combinatorics::patterns::library;
 use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
-use quadrille::triangulate::face_triangulation::NodeRef;
 use quadrille::direct::holed_face::HOLED_GRID;
 use quadrille::direct::pattern_face::{mesh_face_pattern, MIN_PATTERN_SICN, O_GRID};
-use quadrille::combinatorics::patterns::library;
+use quadrille::triangulate::face_triangulation::NodeRef;
 use quadrille::triangulate::split::quad_quality;
 
 fn model(name: &str) -> geometry::Model {

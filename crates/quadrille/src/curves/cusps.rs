@@ -139,8 +139,9 @@ mod tests {
             None,
             Some(vec![[-half_pi, 0.5], [0.0, 0.5]]),
         ];
-        let first =
-            |cms: &[crate::curves::curve_mesh::CurveMesh], c: usize| geometry::vec3::norm(cms[c].points[1]);
+        let first = |cms: &[crate::curves::curve_mesh::CurveMesh], c: usize| {
+            geometry::vec3::norm(cms[c].points[1])
+        };
         let plain = discretize_all(&model, &plan_curves_sized(&model, 3.0, &sizes));
         let kept = discretize_all(&model, &plan_final_curves(&model, 3.0, &sizes));
         for c in [0, 2] {

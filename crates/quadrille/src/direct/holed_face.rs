@@ -15,11 +15,11 @@ use geometry::vec3::Vec3;
 use geometry::{FaceId, Model};
 
 use crate::curves::curve_mesh::CurveMesh;
-use crate::triangulate::face_triangulation::LocalNode;
 use crate::direct::pattern_face::{
     harmonic_uv, loop_ring, needs_reversal, place_interior, smooth_and_check, Ring,
 };
 use crate::field::singularities::ideal_corner_valence;
+use crate::triangulate::face_triangulation::LocalNode;
 use crate::triangulate::split::QuadPatch;
 
 /// Name of the pattern of [`mesh_holed_face`].

@@ -13,11 +13,11 @@ use std::collections::HashMap;
 use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
+use crate::combinatorics::patterns::{library, match_pattern, refine};
 use crate::curves::curve_chords::use_start_angle;
 use crate::curves::curve_mesh::CurveMesh;
-use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
-use crate::combinatorics::patterns::{library, match_pattern, refine};
 use crate::field::singularities::ideal_corner_valence;
+use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
 use crate::triangulate::split::{quad_quality, QuadPatch};
 
 /// Smallest quad SICN a pattern mesh must reach to be kept (the paper's

@@ -23,16 +23,18 @@ use geometry::vec3::Vec3;
 use geometry::{FaceId, Model};
 use mesh::field::{CrossFieldMesh, FieldSingularity};
 
+use crate::curves::curve_mesh::CurvePlan;
+use crate::curves::curve_mesh::{discretize_all, plan_curves, CurveMesh};
 use crate::field::crossfield::{
     compute_cross_field, CrossField, CrossFieldError, CrossFieldOptions, FaceMesh,
 };
-use crate::curves::curve_mesh::CurvePlan;
-use crate::curves::curve_mesh::{discretize_all, plan_curves, CurveMesh};
-use crate::triangulate::face_triangulation::{FaceTriangulation, NodeRef};
-use crate::methods::pipeline::{resolve_size, MeshError, ProgressFn, Size};
 use crate::field::scaling::{conformal_scaling, scaling_constant};
 use crate::field::singularities::{extract_singularities, Singularities};
-use crate::field::size_map::{build_size_map, FaceBackground, SizeMap, SizeMapError, SizeMapOptions};
+use crate::field::size_map::{
+    build_size_map, FaceBackground, SizeMap, SizeMapError, SizeMapOptions,
+};
+use crate::methods::pipeline::{resolve_size, MeshError, ProgressFn, Size};
+use crate::triangulate::face_triangulation::{FaceTriangulation, NodeRef};
 
 /// Default ratio between the quad size and the background size (the
 /// background triangulation has edges of about a third of the quad size).
@@ -343,8 +345,8 @@ pub fn model_fields(model: &Model, opts: &FieldOptions) -> Result<ModelFields, M
     if !(opts.refine.is_finite() && opts.refine > 0.0) {
         return Err(MeshError::InvalidSize(opts.refine));
     }
-    let h_bg =
-        (h / opts.refine).max(crate::methods::pipeline::default_size(model) / MAX_BACKGROUND_DIVISIONS);
+    let h_bg = (h / opts.refine)
+        .max(crate::methods::pipeline::default_size(model) / MAX_BACKGROUND_DIVISIONS);
     let cms = discretize_all(model, &plan_curves(model, h_bg));
     let nf = model.faces.len();
     let done = AtomicUsize::new(0);
@@ -370,8 +372,8 @@ pub fn model_fields(model: &Model, opts: &FieldOptions) -> Result<ModelFields, M
     if opts.size_map {
         let started = std::time::Instant::now();
         fields.apply_size_map(model, &opts.sizing)?;
-        if crate::methods::pipeline::debug_enabled() {
-            eprintln!("size map in {:.4} s", started.elapsed().as_secs_f64());
+        if tracing::enabled!(tracing::Level::DEBUG) {
+            tracing::debug!("size map in {:.4} s", started.elapsed().as_secs_f64());
         }
     }
     Ok(fields)

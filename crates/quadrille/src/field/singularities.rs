@@ -59,7 +59,11 @@ pub struct Singularity {
 impl Singularity {
     /// The mean of `size` (per welded vertex of `topo`) over the
     /// singularity's site: its vertex, or its triangle's three vertices.
-    pub fn size_from(&self, topo: &crate::field::crossfield::FaceTopology, size: &[f64]) -> Option<f64> {
+    pub fn size_from(
+        &self,
+        topo: &crate::field::crossfield::FaceTopology,
+        size: &[f64],
+    ) -> Option<f64> {
         let at = |v: u32| size.get(v as usize).copied();
         let s = match self.site {
             SingularitySite::Vertex(v) | SingularitySite::AcuteCorner(v, _) => at(v)?,

@@ -10,9 +10,8 @@ use std::collections::BTreeSet;
 use geometry::{CurveId, FaceId, Model};
 
 use crate::curves::curve_mesh::CurveMesh;
-use crate::triangulate::face_triangulation::{FaceFailure, FaceTriangulation};
-use crate::methods::pipeline::debug_enabled;
 use crate::smoothing::smooth_then_untangle;
+use crate::triangulate::face_triangulation::{FaceFailure, FaceTriangulation};
 use crate::triangulate::split::{quad_quality, split_triangles, QuadPatch};
 
 /// A face with more bad quads than this (or than 5 % of its quads) fails at
@@ -88,17 +87,17 @@ fn mesh_face_at(
             }
         }
     }
-    if debug_enabled() {
+    if tracing::enabled!(tracing::Level::DEBUG) {
         for (qi, q) in patch.quads.iter().enumerate() {
             if bad.contains(&patch.quad_tri[qi]) {
-                eprintln!(
+                tracing::debug!(
                     "face {} quad {qi} sicn {:.3}",
                     fid.0,
                     quad_quality(face, &patch.nodes, &patch.pos, q)
                 );
                 for &i in q {
                     let n = &patch.nodes[i as usize];
-                    eprintln!(
+                    tracing::debug!(
                         "   {i}: uv {:?} {:?} pole {} pos {:?} n {:?}",
                         n.uv,
                         n.node,
@@ -132,7 +131,10 @@ type Attempt = (
     QuadPatch,
     Vec<[u32; 3]>,
     Vec<u32>,
-    crate::core::fast_hash::FastMap<(u32, u32), crate::triangulate::face_triangulation::BoundaryMid>,
+    crate::core::fast_hash::FastMap<
+        (u32, u32),
+        crate::triangulate::face_triangulation::BoundaryMid,
+    >,
 );
 
 /// One meshing attempt: the patch, its triangles, the triangles with invalid

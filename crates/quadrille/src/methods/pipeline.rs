@@ -18,8 +18,8 @@ use geometry::{CornerId, CurveId, FaceId, Model, ModelError};
 use mesh::{NodeClass, QuadMesh};
 use rayon::prelude::*;
 
-use crate::methods::baseline::mesh_face;
 use crate::curves::curve_mesh::{discretize_all, plan_curves, CurveMesh, CurvePlan};
+use crate::methods::baseline::mesh_face;
 use crate::triangulate::face_triangulation::{FaceFailure, NodeRef};
 use crate::triangulate::split::QuadPatch;
 
@@ -172,14 +172,6 @@ pub enum MeshError {
         /// The pool builder's message.
         reason: String,
     },
-}
-
-/// True when the environment variable `QUADRILLE_DEBUG` is set: the stages
-/// then print their rounds and the quads they could not fix to stderr (a
-/// developer's aid; the library prints nothing otherwise).
-pub fn debug_enabled() -> bool {
-    static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *ON.get_or_init(|| std::env::var_os("QUADRILLE_DEBUG").is_some())
 }
 
 /// Curves shorter than this share of the model's diagonal are slivers, meshed
@@ -503,12 +495,12 @@ fn run_unstructured(
             opts.quads_per_turn
         )));
     }
-    use crate::topology::cavity::CavityReport;
-    use crate::topology::defects::DefectReport;
-    use crate::field::field_report::{model_fields, FieldOptions};
     use crate::direct::pattern_face::mesh_face_pattern;
+    use crate::field::field_report::{model_fields, FieldOptions};
     use crate::methods::unstructured::improve_face_timed;
     use crate::methods::unstructured::{mesh_face_unstructured, UnstructuredOptions};
+    use crate::topology::cavity::CavityReport;
+    use crate::topology::defects::DefectReport;
     let mut times = StageTimes::default();
     // the size map, bounded so that faces, curves and the baseline fallback agree
     let t = Instant::now();
@@ -564,8 +556,8 @@ fn run_unstructured(
             } else {
                 Err("patterns are off".into())
             };
-            if let (Err(why), true) = (&by_pattern, debug_enabled()) {
-                eprintln!("face {}: no pattern: {why}", fid.0 + 1);
+            if let (Err(why), true) = (&by_pattern, tracing::enabled!(tracing::Level::DEBUG)) {
+                tracing::debug!("face {}: no pattern: {why}", fid.0 + 1);
             }
             {
                 let mut pt = patterns.lock().unwrap_or_else(|e| e.into_inner());
@@ -617,8 +609,8 @@ fn run_unstructured(
                     &crate::smoothing::sharp_corners_of(model, fid),
                 );
                 ft.smoothing += t.elapsed();
-                if debug_enabled() {
-                    eprintln!(
+                if tracing::enabled!(tracing::Level::DEBUG) {
+                    tracing::debug!(
                         "face {}: {} quads ({} triangles, {} left), {} singularities, {:?}, {:?}",
                         fid.0 + 1,
                         p.quads.len(),
@@ -670,8 +662,8 @@ fn run_unstructured(
                     &crate::smoothing::sharp_corners_of(model, fid),
                     &pass_opts,
                 );
-                if debug_enabled() {
-                    eprintln!("face {}: regular pass {rep:?}", fid.0 + 1);
+                if tracing::enabled!(tracing::Level::DEBUG) {
+                    tracing::debug!("face {}: regular pass {rep:?}", fid.0 + 1);
                 }
                 if rep.tried {
                     regular
@@ -684,8 +676,8 @@ fn run_unstructured(
             // last, the face's average quality (square quads, sizes free)
             let t = Instant::now();
             let rep = crate::smoothing::raise_average(&model.faces[fid.idx()], p, ASCENT_SWEEPS);
-            if debug_enabled() {
-                eprintln!(
+            if tracing::enabled!(tracing::Level::DEBUG) {
+                tracing::debug!(
                     "face {}: average SICN {:?} → {:?} sweeps {} moves {}",
                     fid.0 + 1,
                     rep.before,
@@ -744,9 +736,10 @@ fn run_unstructured(
     }
     // last, curve nodes slide along their curves (on every face that uses them)
     let t = Instant::now();
-    let rep = crate::smoothing::curve_slide::slide_curve_nodes(model, &mut mesh, CURVE_SLIDE_SWEEPS);
-    if debug_enabled() {
-        eprintln!("curve nodes slid: {rep:?}");
+    let rep =
+        crate::smoothing::curve_slide::slide_curve_nodes(model, &mut mesh, CURVE_SLIDE_SWEEPS);
+    if tracing::enabled!(tracing::Level::DEBUG) {
+        tracing::debug!("curve nodes slid: {rep:?}");
     }
     times.curve_slide = t.elapsed();
     let pt = patterns.into_inner().unwrap_or_else(|e| e.into_inner());
@@ -816,8 +809,8 @@ fn run(
             crate::core::work_queue::map_in_order(&pending, |&f| {
                 let started = Instant::now();
                 let r = mesher(FaceId(f as u32), &cms);
-                if debug_enabled() {
-                    eprintln!(
+                if tracing::enabled!(tracing::Level::DEBUG) {
+                    tracing::debug!(
                         "face {} meshed in {:.4} s",
                         f + 1,
                         started.elapsed().as_secs_f64()
@@ -850,8 +843,8 @@ fn run(
                 }
             }
         }
-        if debug_enabled() {
-            eprintln!(
+        if tracing::enabled!(tracing::Level::DEBUG) {
+            tracing::debug!(
                 "round {round}: {} faces meshed, failed {:?}, refine {:?}",
                 pending.len(),
                 failed,
@@ -1084,13 +1077,19 @@ mod tests {
             },
         )
         .unwrap();
-        assert_eq!(off.cavities, crate::topology::cavity::CavityReport::default());
+        assert_eq!(
+            off.cavities,
+            crate::topology::cavity::CavityReport::default()
+        );
         assert_eq!(off.times.cavities, Duration::ZERO);
         assert_eq!(off.defects, all.defects, "defects run before cavities");
         assert_ne!(with.quads, without.quads);
         let (_, none) =
             mesh_model_stages(&sphere, &opts, MeshMethod::Unstructured, Stages::NONE).unwrap();
-        assert_eq!(none.defects, crate::topology::defects::DefectReport::default());
+        assert_eq!(
+            none.defects,
+            crate::topology::defects::DefectReport::default()
+        );
         assert_eq!(none.regular_pass, (0, 0, 0));
         assert_eq!(none.times.regular_pass, Duration::ZERO);
         // with patterns, the sphere is a cube: one pattern, no cavity

@@ -18,16 +18,16 @@
 use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
-use crate::field::background::{Background, DirectionalRatios};
-use crate::topology::cavity::{remesh_cavities, CavityOptions, CavityReport};
-use crate::field::crossfield::CrossField;
 use crate::curves::curve_mesh::CurveMesh;
-use crate::topology::defects::{remove_defects, DefectReport};
-use crate::triangulate::face_triangulation::{FaceTriangulation, NodeRef};
+use crate::field::background::{Background, DirectionalRatios};
+use crate::field::crossfield::CrossField;
 use crate::frontal::insertion::{insert_frontal_points_directional, FrontalOptions, FrontalStats};
 use crate::methods::pipeline::StageTimes;
-use crate::triangulate::recombine::{recombine, MinSicn, MIN_SICN};
 use crate::smoothing::{optimize, smooth_then_untangle, OptimizeOptions};
+use crate::topology::cavity::{remesh_cavities, CavityOptions, CavityReport};
+use crate::topology::defects::{remove_defects, DefectReport};
+use crate::triangulate::face_triangulation::{FaceTriangulation, NodeRef};
+use crate::triangulate::recombine::{recombine, MinSicn, MIN_SICN};
 use crate::triangulate::split::{quad_quality, QuadPatch};
 use crate::triangulate::subdivide::{snap_repair, subdivide};
 use rayon::prelude::*;
@@ -280,13 +280,13 @@ pub fn mesh_face_unstructured(
         if bad == 0 {
             return Ok((patch, report));
         }
-        if crate::methods::pipeline::debug_enabled() {
+        if tracing::enabled!(tracing::Level::DEBUG) {
             let nt = report.leftover as u32;
             for (qi, q) in patch.quads.iter().enumerate() {
                 let s = quad_quality(face, &patch.nodes, &patch.pos, q);
                 if !(s > 0.0) {
                     let el = patch.quad_tri[qi];
-                    eprintln!(
+                    tracing::debug!(
                         "face {} quad {qi} sicn {s:.3} from {} {}: {:?}",
                         fid.0 + 1,
                         if el < nt { "triangle" } else { "quad" },

@@ -410,8 +410,8 @@ fn sweep_nodes(
         )
     };
     report.before = stats(&qv);
-    if std::env::var("DBG_Q").is_ok() {
-        eprintln!("qv {:?} touched {}", &qv, touched.len());
+    if tracing::enabled!(tracing::Level::TRACE) {
+        tracing::trace!("qv {:?} touched {}", &qv, touched.len());
     }
     report.after = report.before;
     if free.is_empty() || opts.max_sweeps == 0 {
@@ -696,8 +696,8 @@ fn sweep_nodes(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::triangulate::face_triangulation::LocalNode;
     use crate::smoothing::untangle;
+    use crate::triangulate::face_triangulation::LocalNode;
     use crate::triangulate::split::quad_quality;
     use geometry::{primitives, CornerId, CurveId};
 

@@ -51,9 +51,9 @@ use std::collections::{HashMap, VecDeque};
 use geometry::vec3::{self, Vec3};
 use geometry::Face;
 
-use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
 use crate::combinatorics::patterns::{library, match_pattern_where, refine, Pattern, PatternMatch};
 use crate::field::singularities::{Singularity, SingularitySite};
+use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
 use crate::triangulate::split::{quad_quality, QuadPatch};
 
 /// Largest maximal cavity, in quads (the spec's §10.3 default is 2000).
@@ -300,7 +300,8 @@ impl<'a> Work<'a> {
                     NodeRef::Interior => Kind::Inner,
                     NodeRef::Curve(..) => Kind::Bound(2),
                     NodeRef::Corner(_) => Kind::Bound(
-                        crate::field::singularities::ideal_corner_valence(angle[v]).clamp(1, 4) as u8,
+                        crate::field::singularities::ideal_corner_valence(angle[v]).clamp(1, 4)
+                            as u8,
                     ),
                 }
             })
@@ -1146,11 +1147,11 @@ impl<'a> Work<'a> {
             / region_new.len().max(1) as f64;
         let accept =
             new_worst > 0.0 && new_worst >= target && new_avg >= region_old_avg - AVG_SLACK;
-        if crate::methods::pipeline::debug_enabled() {
+        if tracing::enabled!(tracing::Level::DEBUG) {
             let avg = |qs: &[u32]| {
                 qs.iter().map(|&q| self.quality(q)).sum::<f64>() / qs.len().max(1) as f64
             };
-            eprintln!(
+            tracing::debug!(
                 "  cavity {} {:?} sides {:?}: {} → {} quads, irregular {before} → {after}, worst {old_worst:.3} → {new_worst:.3}, avg region {:.3} → {:.3}: {}",
                 library()[cand.found.pattern].name,
                 cand.found.subdivisions,

@@ -25,8 +25,8 @@
 use geometry::Face;
 
 use crate::combinatorics::disk_quads::{best_replacement, table, CavityVertex};
-use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
 use crate::smoothing::kernels::one_ring;
+use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
 use crate::triangulate::split::{quad_quality, QuadPatch};
 
 /// Laplacian sweeps over the moved vertices after a replacement.

@@ -36,12 +36,12 @@ use geometry::{CornerId, Face, FaceId};
 use mesh::NodeClass;
 
 use crate::core::face_quads::{FaceQuads, QVertex};
-use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
+use crate::smoothing::{lift_poor_quads, optimize, OptimizeOptions, POOR_SICN};
 use crate::topology::regularize::reposition::polish_invalid;
 use crate::topology::regularize::{
     classify_pole_corners, straighten_ambiguous_ideals, topological_phase, RegularizeOptions,
 };
-use crate::smoothing::{lift_poor_quads, optimize, OptimizeOptions, POOR_SICN};
+use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
 use crate::triangulate::split::{quad_quality, QuadPatch};
 
 /// Options of [`reduce_irregular`].
@@ -360,8 +360,8 @@ fn one_round(
         };
         let inside = interior_irregular(&cand);
         let q = patch_quality(face, &cand);
-        if crate::methods::pipeline::debug_enabled() {
-            eprintln!(
+        if tracing::enabled!(tracing::Level::DEBUG) {
+            tracing::debug!(
                 "face {}: attempt {a:?}: interior {inside0} → {inside}, boundary {boundary0} → {boundary}, worst/average {:.3}/{:.3} → {:.3}/{:.3}",
                 fid.0 + 1,
                 rep.before.0,

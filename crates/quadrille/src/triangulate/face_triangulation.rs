@@ -773,8 +773,8 @@ impl<'a> FaceTriangulation<'a> {
                 return Ok(());
             }
             cands.sort_by(|a, b| b.0.total_cmp(&a.0));
-            if crate::methods::pipeline::debug_enabled() {
-                eprintln!(
+            if tracing::enabled!(tracing::Level::DEBUG) {
+                tracing::debug!(
                     "refine round {round}: {} nodes, {} candidates, worst {:.3}",
                     self.nodes.len(),
                     cands.len(),

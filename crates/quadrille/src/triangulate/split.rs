@@ -15,7 +15,9 @@ use geometry::vec3::{self, Vec3};
 use geometry::Face;
 use mesh::quality::corner_sicn;
 
-use crate::triangulate::face_triangulation::{centroid_uv, edge_mid_uv, BoundaryMid, LocalNode, NodeRef};
+use crate::triangulate::face_triangulation::{
+    centroid_uv, edge_mid_uv, BoundaryMid, LocalNode, NodeRef,
+};
 
 /// The quads of one face, on local nodes.
 #[derive(Clone, Debug, Default)]
