@@ -88,8 +88,9 @@ fn dump(
     cms: &[quadrille::curves::curve_mesh::CurveMesh],
     h: f64,
 ) {
+    use quadrille::core::quality::quad_quality;
     use quadrille::triangulate::face_triangulation::FaceTriangulation;
-    use quadrille::triangulate::split::{quad_quality, split_triangles};
+    use quadrille::triangulate::split::split_triangles;
     let face = &model.faces[f];
     let b = face.uv_bounds;
     for (i, j) in [(0.5, 0.5), (0.0, 0.0), (1.0, 1.0)] {

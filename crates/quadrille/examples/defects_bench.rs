@@ -9,11 +9,12 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use geometry::FaceId;
+use quadrille::core::patch::NodeRef;
+use quadrille::core::patch::QuadPatch;
+use quadrille::core::quality::quad_quality;
 use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
 use quadrille::methods::baseline::mesh_face;
 use quadrille::topology::defects::remove_defects;
-use quadrille::triangulate::face_triangulation::NodeRef;
-use quadrille::triangulate::split::{quad_quality, QuadPatch};
 
 /// (interior vertices, irregular ones, defects) of a patch.
 fn counts(p: &QuadPatch) -> (usize, usize, usize) {

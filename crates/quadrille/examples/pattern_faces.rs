@@ -10,9 +10,9 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use geometry::FaceId;
+use quadrille::core::quality::quad_quality;
 use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
 use quadrille::direct::pattern_face::mesh_face_pattern;
-use quadrille::triangulate::split::quad_quality;
 
 fn main() {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "data/cad".into()));

@@ -9,11 +9,11 @@ use std::path::PathBuf;
 
 use geometry::FaceId;
 use quadrille::combinatorics::patterns::library;
+use quadrille::core::patch::NodeRef;
+use quadrille::core::quality::quad_quality;
 use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
 use quadrille::direct::holed_face::HOLED_GRID;
 use quadrille::direct::pattern_face::{mesh_face_pattern, MIN_PATTERN_SICN, O_GRID};
-use quadrille::triangulate::face_triangulation::NodeRef;
-use quadrille::triangulate::split::quad_quality;
 
 fn model(name: &str) -> geometry::Model {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -9,4 +9,6 @@
 
 pub mod face_quads;
 pub mod fast_hash;
+pub mod patch;
+pub mod quality;
 pub mod work_queue;

@@ -14,11 +14,12 @@ use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
 use crate::combinatorics::patterns::{library, match_pattern, refine};
+use crate::core::patch::QuadPatch;
+use crate::core::patch::{LocalNode, NodeRef};
+use crate::core::quality::quad_quality;
 use crate::curves::curve_chords::use_start_angle;
 use crate::curves::curve_mesh::CurveMesh;
 use crate::field::singularities::ideal_corner_valence;
-use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
-use crate::triangulate::split::{quad_quality, QuadPatch};
 
 /// Smallest quad SICN a pattern mesh must reach to be kept (the paper's
 /// "satisfactory quality"; its value is ours).

@@ -15,9 +15,9 @@ use std::collections::HashMap;
 use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
+use crate::core::patch::QuadPatch;
+use crate::core::patch::{LocalNode, NodeRef};
 use crate::curves::curve_mesh::CurveMesh;
-use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
-use crate::triangulate::split::QuadPatch;
 
 /// A projected point farther than this share of the radius from the
 /// surface means the face is not a sphere.
@@ -292,8 +292,8 @@ fn lay_cube(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::core::quality::quad_quality;
     use crate::curves::curve_mesh::{discretize_all, plan_curves};
-    use crate::triangulate::split::quad_quality;
 
     #[test]
     fn a_full_sphere_is_a_cube_with_eight_valence_3_vertices() {

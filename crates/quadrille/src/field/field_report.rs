@@ -23,6 +23,7 @@ use geometry::vec3::Vec3;
 use geometry::{FaceId, Model};
 use mesh::field::{CrossFieldMesh, FieldSingularity};
 
+use crate::core::patch::NodeRef;
 use crate::curves::curve_mesh::CurvePlan;
 use crate::curves::curve_mesh::{discretize_all, plan_curves, CurveMesh};
 use crate::field::crossfield::{
@@ -34,7 +35,7 @@ use crate::field::size_map::{
     build_size_map, FaceBackground, SizeMap, SizeMapError, SizeMapOptions,
 };
 use crate::methods::pipeline::{resolve_size, MeshError, ProgressFn, Size};
-use crate::triangulate::face_triangulation::{FaceTriangulation, NodeRef};
+use crate::triangulate::face_triangulation::FaceTriangulation;
 
 /// Default ratio between the quad size and the background size (the
 /// background triangulation has edges of about a third of the quad size).

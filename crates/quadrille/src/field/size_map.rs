@@ -27,10 +27,10 @@ use std::collections::{BinaryHeap, HashMap};
 use geometry::vec3::{self, Vec3};
 use geometry::{CornerId, CurveId, FaceId, Model};
 
+use crate::core::patch::NodeRef;
 use crate::curves::curve_mesh::CurveMesh;
 use crate::field::crossfield::FaceTopology;
 use crate::field::scaling::scaling_constant;
-use crate::triangulate::face_triangulation::NodeRef;
 
 /// Default largest size gradient `g` of Eq. 10: the size grows by at most
 /// 20 % of the distance travelled (spec §5.3; useful range 0.1–0.5).

@@ -9,10 +9,13 @@ use std::collections::BTreeSet;
 
 use geometry::{CurveId, FaceId, Model};
 
+use crate::core::patch::FaceFailure;
+use crate::core::patch::QuadPatch;
+use crate::core::quality::quad_quality;
 use crate::curves::curve_mesh::CurveMesh;
 use crate::smoothing::smooth_then_untangle;
-use crate::triangulate::face_triangulation::{FaceFailure, FaceTriangulation};
-use crate::triangulate::split::{quad_quality, split_triangles, QuadPatch};
+use crate::triangulate::face_triangulation::FaceTriangulation;
+use crate::triangulate::split::split_triangles;
 
 /// A face with more bad quads than this (or than 5 % of its quads) fails at
 /// once instead of asking for finer curves.

@@ -18,10 +18,10 @@ use geometry::{CornerId, CurveId, FaceId, Model, ModelError};
 use mesh::{NodeClass, QuadMesh};
 use rayon::prelude::*;
 
+use crate::core::patch::QuadPatch;
+use crate::core::patch::{FaceFailure, NodeRef};
 use crate::curves::curve_mesh::{discretize_all, plan_curves, CurveMesh, CurvePlan};
 use crate::methods::baseline::mesh_face;
-use crate::triangulate::face_triangulation::{FaceFailure, NodeRef};
-use crate::triangulate::split::QuadPatch;
 
 /// The default final edge length is the bounding-box diagonal divided by this.
 /// 24: on the 26 shared models Quadrille then makes as many quads as Gmsh at

@@ -9,8 +9,8 @@ use geometry::{CornerId, CurveId, Model};
 use crate::curves::curve_mesh::{discretize_all, plan_curves, CurveMesh};
 use crate::field::field_report::{model_fields, FieldOptions, ModelFields};
 
-use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
-use crate::triangulate::split::QuadPatch;
+use crate::core::patch::QuadPatch;
+use crate::core::patch::{LocalNode, NodeRef};
 
 /// Id of grid vertex `(x, y)` of an `n × n` grid.
 pub fn grid_id(n: usize, x: usize, y: usize) -> u32 {

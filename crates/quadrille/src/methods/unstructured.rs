@@ -18,6 +18,9 @@
 use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
+use crate::core::patch::NodeRef;
+use crate::core::patch::QuadPatch;
+use crate::core::quality::quad_quality;
 use crate::curves::curve_mesh::CurveMesh;
 use crate::field::background::{Background, DirectionalRatios};
 use crate::field::crossfield::CrossField;
@@ -26,9 +29,8 @@ use crate::methods::pipeline::StageTimes;
 use crate::smoothing::{optimize, smooth_then_untangle, OptimizeOptions};
 use crate::topology::cavity::{remesh_cavities, CavityOptions, CavityReport};
 use crate::topology::defects::{remove_defects, DefectReport};
-use crate::triangulate::face_triangulation::{FaceTriangulation, NodeRef};
+use crate::triangulate::face_triangulation::FaceTriangulation;
 use crate::triangulate::recombine::{recombine, MinSicn, MIN_SICN};
-use crate::triangulate::split::{quad_quality, QuadPatch};
 use crate::triangulate::subdivide::{snap_repair, subdivide};
 use rayon::prelude::*;
 use std::time::Instant;

@@ -26,8 +26,9 @@
 use geometry::vec3::{self, Vec3};
 use geometry::Face;
 
-use crate::triangulate::face_triangulation::NodeRef;
-use crate::triangulate::split::{keep_unfolded_curve_normals, quad_quality_with, QuadPatch};
+use crate::core::patch::NodeRef;
+use crate::core::patch::QuadPatch;
+use crate::core::quality::{keep_unfolded_curve_normals, quad_quality_with};
 
 /// Gauss–Newton iterations mapping a 3D target onto the surface.
 const MAP_ITERATIONS: usize = 3;
@@ -696,9 +697,9 @@ fn sweep_nodes(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::core::patch::LocalNode;
+    use crate::core::quality::quad_quality;
     use crate::smoothing::untangle;
-    use crate::triangulate::face_triangulation::LocalNode;
-    use crate::triangulate::split::quad_quality;
     use geometry::{primitives, CornerId, CurveId};
 
     /// Ring `x₁..x₈` of the node at grid point (0, 0) under the map `f`.

@@ -9,10 +9,9 @@
 use geometry::vec3::{self, Vec3};
 use geometry::{CornerId, Face, FaceId, Model};
 
-use crate::triangulate::face_triangulation::NodeRef;
-use crate::triangulate::split::{
-    node_normal, quad_quality, quad_quality_with, NodeNormals, QuadPatch,
-};
+use crate::core::patch::NodeRef;
+use crate::core::patch::QuadPatch;
+use crate::core::quality::{node_normal, quad_quality, quad_quality_with, NodeNormals};
 
 use super::kernels::{optimize_nodes, OptimizeOptions};
 

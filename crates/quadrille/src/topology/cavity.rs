@@ -52,9 +52,10 @@ use geometry::vec3::{self, Vec3};
 use geometry::Face;
 
 use crate::combinatorics::patterns::{library, match_pattern_where, refine, Pattern, PatternMatch};
+use crate::core::patch::QuadPatch;
+use crate::core::patch::{LocalNode, NodeRef};
+use crate::core::quality::quad_quality;
 use crate::field::singularities::{Singularity, SingularitySite};
-use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
-use crate::triangulate::split::{quad_quality, QuadPatch};
 
 /// Largest maximal cavity, in quads (the spec's §10.3 default is 2000).
 /// 500 leaves every one of the 26 shared models unchanged at the default

@@ -25,9 +25,10 @@
 use geometry::Face;
 
 use crate::combinatorics::disk_quads::{best_replacement, table, CavityVertex};
+use crate::core::patch::QuadPatch;
+use crate::core::patch::{LocalNode, NodeRef};
+use crate::core::quality::quad_quality;
 use crate::smoothing::kernels::one_ring;
-use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
-use crate::triangulate::split::{quad_quality, QuadPatch};
 
 /// Laplacian sweeps over the moved vertices after a replacement.
 const SMOOTHING_SWEEPS: usize = 30;

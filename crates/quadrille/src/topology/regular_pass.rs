@@ -36,13 +36,14 @@ use geometry::{CornerId, Face, FaceId};
 use mesh::NodeClass;
 
 use crate::core::face_quads::{FaceQuads, QVertex};
+use crate::core::patch::QuadPatch;
+use crate::core::patch::{LocalNode, NodeRef};
+use crate::core::quality::quad_quality;
 use crate::smoothing::{lift_poor_quads, optimize, OptimizeOptions, POOR_SICN};
 use crate::topology::regularize::reposition::polish_invalid;
 use crate::topology::regularize::{
     classify_pole_corners, straighten_ambiguous_ideals, topological_phase, RegularizeOptions,
 };
-use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
-use crate::triangulate::split::{quad_quality, QuadPatch};
 
 /// Options of [`reduce_irregular`].
 #[derive(Clone, Debug, PartialEq)]

@@ -20,12 +20,13 @@ use crate::core::fast_hash::{FastMap, FastSet};
 use std::collections::HashMap;
 
 use geometry::vec3::{self, Vec3};
-use geometry::{CornerId, CurveId, Face, FaceId, Model};
+use geometry::{CurveId, Face, FaceId, Model};
 use spade::handles::{FixedFaceHandle, FixedVertexHandle, InnerTag};
 use spade::{
     ConstrainedDelaunayTriangulation, HasPosition, Point2, PositionInTriangulation, Triangulation,
 };
 
+use crate::core::patch::{FaceFailure, LocalNode, NodeRef};
 use crate::curves::curve_mesh::CurveMesh;
 
 /// Triangles longer than this times the target size are refined.
@@ -66,73 +67,6 @@ const LAYER_SAMPLES: usize = 100;
 const STALL_AFTER: usize = 12;
 /// Upper bound on the nodes of one face triangulation.
 const MAX_NODES: usize = 500_000;
-
-/// Where a local node lives in the global mesh, independent of global numbering.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum NodeRef {
-    /// A CAD corner.
-    Corner(CornerId),
-    /// Point `i` (1 ≤ i < 2n) of a curve's discretization.
-    Curve(CurveId, u32),
-    /// A node created inside this face.
-    Interior,
-}
-
-/// A node of a face mesh in the face's parameter plane.
-#[derive(Clone, Copy, Debug)]
-pub struct LocalNode {
-    /// Its (u, v).
-    pub uv: [f64; 2],
-    /// Its global identity.
-    pub node: NodeRef,
-    /// For a node on a degenerate curve: the (u, v) segment that all maps to it.
-    pub pole: Option<[[f64; 2]; 2]>,
-}
-
-impl LocalNode {
-    /// Where the node lies for [`geometry::Face::corner_normal`]: a pole, a
-    /// point on a CAD curve (curve and corner nodes), or an interior point.
-    pub fn corner_uv(&self) -> geometry::CornerUv {
-        match (self.pole, self.node) {
-            (Some(seg), _) => geometry::CornerUv::Pole(seg),
-            (None, NodeRef::Interior) => geometry::CornerUv::Point(self.uv),
-            (None, _) => geometry::CornerUv::Curve(self.uv),
-        }
-    }
-
-    /// The node's (u, v) as seen from `other`: itself, except for a pole, which
-    /// is the point of its degenerate segment nearest to `other`.
-    pub fn uv_toward(&self, other: [f64; 2]) -> [f64; 2] {
-        match self.pole {
-            None => self.uv,
-            Some([p, q]) => {
-                let d = [q[0] - p[0], q[1] - p[1]];
-                let dd = d[0] * d[0] + d[1] * d[1];
-                let s = if dd > 0.0 {
-                    (((other[0] - p[0]) * d[0] + (other[1] - p[1]) * d[1]) / dd).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                [p[0] + s * d[0], p[1] + s * d[1]]
-            }
-        }
-    }
-
-    /// True when both nodes are the same pole (a degenerate pair).
-    pub fn same_pole(&self, other: &LocalNode) -> bool {
-        self.pole.is_some() && other.pole.is_some() && self.node == other.node
-    }
-}
-
-/// Why a face could not be triangulated.
-#[derive(Clone, Debug)]
-pub enum FaceFailure {
-    /// The boundary polygon is too coarse (self-intersecting, or its quads
-    /// cannot be made valid): refining these curves may help.
-    RefineCurves(Vec<CurveId>, String),
-    /// Nothing more can be done.
-    Fatal(String),
-}
 
 /// The midpoint node of a boundary edge.
 #[derive(Clone, Copy, Debug)]
@@ -992,6 +926,7 @@ mod tests {
     use super::*;
     use crate::curves::curve_mesh::{discretize_all, plan_curves};
     use geometry::primitives;
+    use geometry::CornerId;
     use std::collections::HashSet;
 
     fn tri(model: &Model, h: f64) -> Vec<(usize, usize)> {

@@ -20,8 +20,8 @@ use geometry::vec3::Vec3;
 use geometry::Face;
 use mesh::quality::corner_sicn;
 
-use crate::triangulate::face_triangulation::LocalNode;
-use crate::triangulate::split::{node_normal, quad_quality};
+use crate::core::patch::LocalNode;
+use crate::core::quality::{node_normal, quad_quality};
 
 /// The paper's threshold on the SICN of a recombined quad.
 pub const MIN_SICN: f64 = 0.1;
@@ -260,7 +260,7 @@ fn subdivided_curve_corners(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::triangulate::face_triangulation::NodeRef;
+    use crate::core::patch::NodeRef;
     use geometry::primitives;
 
     /// Recombination with no curve edge, quality alone (weight 1) and the

@@ -22,8 +22,10 @@ use std::collections::HashMap;
 use geometry::vec3::{self, Vec3};
 use geometry::Face;
 
-use crate::triangulate::face_triangulation::{edge_mid_uv, BoundaryMid, LocalNode, NodeRef};
-use crate::triangulate::split::{quad_quality, QuadPatch};
+use crate::core::patch::QuadPatch;
+use crate::core::patch::{LocalNode, NodeRef};
+use crate::core::quality::quad_quality;
+use crate::triangulate::face_triangulation::{edge_mid_uv, BoundaryMid};
 
 /// Where a new node of the subdivision came from: the local nodes whose 3D
 /// mean is its straight (not snapped) position.

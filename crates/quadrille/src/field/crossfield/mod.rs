@@ -79,7 +79,7 @@ impl FaceMesh {
     pub fn from_face_triangulation(
         ft: &crate::triangulate::face_triangulation::FaceTriangulation<'_>,
     ) -> FaceMesh {
-        use crate::triangulate::face_triangulation::NodeRef;
+        use crate::core::patch::NodeRef;
         FaceMesh {
             uv: ft.nodes.iter().map(|n| n.uv).collect(),
             xyz: ft.pos.clone(),
