@@ -35,8 +35,9 @@ pub mod smoothing;
 pub mod topology;
 pub mod triangulate;
 
+pub use core::error::MeshError;
+pub use core::options::{default_size, resolve_size, ProgressFn, Size, DEFAULT_DIVISIONS};
 pub use methods::pipeline::{
-    default_size, mesh_model, mesh_model_stages, mesh_model_with, resolve_size, MeshError,
-    MeshMethod, MeshOptions, MeshReport, ProgressFn, Size, StageTimes, Stages,
-    DEFAULT_QUADS_PER_TURN,
+    mesh_model, mesh_model_stages, mesh_model_with, MeshMethod, MeshOptions, MeshReport,
+    StageTimes, Stages, DEFAULT_QUADS_PER_TURN,
 };

@@ -7,8 +7,12 @@
 //! - [`face_quads`]: the editable quads of one face with an edit journal and
 //!   checkpoints (exact rollback), used by the topology stages.
 
+pub mod error;
 pub mod face_quads;
 pub mod fast_hash;
+pub mod options;
 pub mod patch;
 pub mod quality;
+pub mod queries;
+pub mod valence;
 pub mod work_queue;

@@ -98,4 +98,20 @@ impl QuadPatch {
             })
         })
     }
+
+    /// Face-interior nodes with other than four quads (nodes in no quad are
+    /// not counted).
+    pub fn interior_irregular(&self) -> usize {
+        let mut deg = vec![0u32; self.nodes.len()];
+        for q in &self.quads {
+            for &v in q {
+                deg[v as usize] += 1;
+            }
+        }
+        self.nodes
+            .iter()
+            .zip(&deg)
+            .filter(|(n, &d)| n.node == NodeRef::Interior && d > 0 && d != 4)
+            .count()
+    }
 }

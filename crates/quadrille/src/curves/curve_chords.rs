@@ -8,7 +8,7 @@
 use geometry::vec3;
 use geometry::{Face, Loop, Model};
 
-use crate::field::singularities::ideal_corner_valence;
+use crate::core::valence::ideal_corner_valence;
 
 /// Two opposite curves join a chord only when their ideal counts differ by at
 /// most this fraction of the larger one (the spec's τ: "very different" means
@@ -182,7 +182,7 @@ pub fn convex_sides(model: &Model, face: &Face) -> Option<Vec<Vec<usize>>> {
         match ideal_corner_valence(angle) {
             // as the pattern mesher: no pattern puts one quad on a pole
             1 if degenerate(k)
-                && crate::direct::pattern_face::folds_at_pole(
+                && crate::core::queries::folds_at_pole(
                     face,
                     face.pole_segment(&lp.uses[k], &model.curves[lp.uses[k].curve.idx()]),
                 ) =>

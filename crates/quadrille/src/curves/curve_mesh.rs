@@ -646,7 +646,7 @@ fn enforce_minimum_counts(
     let curve_faces = model.curve_faces();
     for f in 0..model.faces.len() {
         let fid = geometry::FaceId(f as u32);
-        if let Some((s0, _)) = crate::direct::sphere_face::full_sphere_seam(model, fid) {
+        if let Some((s0, _)) = crate::core::queries::full_sphere_seam(model, fid) {
             let seam = model.faces[f].loops[0].uses[s0].curve.idx();
             if counts[seam] % 2 == 1 && curve_faces[seam].as_slice() == [fid] {
                 for j in members(seam) {

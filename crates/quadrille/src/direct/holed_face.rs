@@ -16,11 +16,11 @@ use geometry::{FaceId, Model};
 
 use crate::core::patch::LocalNode;
 use crate::core::patch::QuadPatch;
+use crate::core::valence::ideal_corner_valence;
 use crate::curves::curve_mesh::CurveMesh;
 use crate::direct::pattern_face::{
     harmonic_uv, loop_ring, needs_reversal, place_interior, smooth_and_check, Ring,
 };
-use crate::field::singularities::ideal_corner_valence;
 
 /// Name of the pattern of [`mesh_holed_face`].
 pub const HOLED_GRID: &str = "holed grid";

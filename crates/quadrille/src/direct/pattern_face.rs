@@ -17,24 +17,14 @@ use crate::combinatorics::patterns::{library, match_pattern, refine};
 use crate::core::patch::QuadPatch;
 use crate::core::patch::{LocalNode, NodeRef};
 use crate::core::quality::quad_quality;
+use crate::core::queries::folds_at_pole;
+use crate::core::valence::ideal_corner_valence;
 use crate::curves::curve_chords::use_start_angle;
 use crate::curves::curve_mesh::CurveMesh;
-use crate::field::singularities::ideal_corner_valence;
 
 /// Smallest quad SICN a pattern mesh must reach to be kept (the paper's
 /// "satisfactory quality"; its value is ours).
 pub const MIN_PATTERN_SICN: f64 = 0.3;
-
-/// Largest spread of the normals around a pole ([`geometry::Face::pole_normal_spread`])
-/// at which one quad may take the pole as a corner (a sphere's pole: 0; the
-/// apex of i04o_m4's half cones: about 70°).
-pub const MAX_POLE_CORNER_SPREAD_DEG: f64 = 30.0;
-
-/// True when a quad cornered at the pole of segment `seg` would fold.
-pub fn folds_at_pole(face: &geometry::Face, seg: [[f64; 2]; 2]) -> bool {
-    face.pole_normal_spread(seg)
-        .is_none_or(|a| a.to_degrees() > MAX_POLE_CORNER_SPREAD_DEG)
-}
 
 /// Conjugate-gradient iterations of the harmonic map, at most (times √n).
 const CG_ITERATIONS_PER_ROOT: usize = 40;

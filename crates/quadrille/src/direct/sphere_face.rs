@@ -17,6 +17,7 @@ use geometry::{FaceId, Model};
 
 use crate::core::patch::QuadPatch;
 use crate::core::patch::{LocalNode, NodeRef};
+use crate::core::queries::full_sphere_seam;
 use crate::curves::curve_mesh::CurveMesh;
 
 /// A projected point farther than this share of the radius from the
@@ -68,27 +69,6 @@ pub fn mesh_full_sphere(
         )));
     }
     Some(lay_cube(model, fid, cms, (s0, s1), n))
-}
-
-/// When face `fid` is a full sphere (one loop: seam, pole, the seam
-/// again, pole), the positions in its loop of the two uses of the seam.
-pub fn full_sphere_seam(model: &Model, fid: FaceId) -> Option<(usize, usize)> {
-    let face = &model.faces[fid.idx()];
-    let [lp] = face.loops.as_slice() else {
-        return None;
-    };
-    let u = &lp.uses;
-    if u.len() != 4 {
-        return None;
-    }
-    let deg = |k: usize| model.curves[u[k].curve.idx()].degenerate;
-    if deg(1) && deg(3) && u[0].curve == u[2].curve && u[0].seam {
-        Some((0, 2))
-    } else if deg(0) && deg(2) && u[1].curve == u[3].curve && u[1].seam {
-        Some((1, 3))
-    } else {
-        None
-    }
 }
 
 fn lay_cube(

@@ -416,8 +416,8 @@ pub fn closest_on_triangle(p: Vec3, q: [Vec3; 3]) -> ([f64; 3], Vec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::core::options::Size;
     use crate::field::field_report::{model_fields, FieldOptions};
-    use crate::methods::pipeline::Size;
 
     #[test]
     fn closest_point_regions() {

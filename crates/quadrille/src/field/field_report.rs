@@ -23,6 +23,8 @@ use geometry::vec3::Vec3;
 use geometry::{FaceId, Model};
 use mesh::field::{CrossFieldMesh, FieldSingularity};
 
+use crate::core::error::MeshError;
+use crate::core::options::{resolve_size, ProgressFn, Size};
 use crate::core::patch::NodeRef;
 use crate::curves::curve_mesh::CurvePlan;
 use crate::curves::curve_mesh::{discretize_all, plan_curves, CurveMesh};
@@ -34,7 +36,6 @@ use crate::field::singularities::{extract_singularities, Singularities};
 use crate::field::size_map::{
     build_size_map, FaceBackground, SizeMap, SizeMapError, SizeMapOptions,
 };
-use crate::methods::pipeline::{resolve_size, MeshError, ProgressFn, Size};
 use crate::triangulate::face_triangulation::FaceTriangulation;
 
 /// Default ratio between the quad size and the background size (the
@@ -346,8 +347,8 @@ pub fn model_fields(model: &Model, opts: &FieldOptions) -> Result<ModelFields, M
     if !(opts.refine.is_finite() && opts.refine > 0.0) {
         return Err(MeshError::InvalidSize(opts.refine));
     }
-    let h_bg = (h / opts.refine)
-        .max(crate::methods::pipeline::default_size(model) / MAX_BACKGROUND_DIVISIONS);
+    let h_bg =
+        (h / opts.refine).max(crate::core::options::default_size(model) / MAX_BACKGROUND_DIVISIONS);
     let cms = discretize_all(model, &plan_curves(model, h_bg));
     let nf = model.faces.len();
     let done = AtomicUsize::new(0);
@@ -424,7 +425,7 @@ mod tests {
     fn background_size_stops_at_a_fraction_of_the_default_size() {
         // square of side 2: diagonal 2√2, default size 2√2 / DEFAULT_DIVISIONS
         let model = geometry::primitives::square(2.0);
-        let default = crate::methods::pipeline::default_size(&model);
+        let default = crate::core::options::default_size(&model);
         // a coarse quad size: h / BACKGROUND_REFINE
         let f = model_fields(
             &model,

@@ -24,6 +24,7 @@ use std::f64::consts::PI;
 use geometry::vec3::{self, Vec3};
 use geometry::CornerId;
 
+use crate::core::valence::ideal_corner_valence;
 use crate::field::crossfield::topology::arg_ratio;
 use crate::field::crossfield::{CrossField, VertexClass};
 
@@ -126,12 +127,6 @@ impl Singularities {
     pub fn count(&self, k: i32) -> usize {
         self.list.iter().filter(|s| s.index == k).count()
     }
-}
-
-/// Ideal quad valence of a corner of interior angle `angle` (radians):
-/// `clamp(round(γ / 90°), 1, 4)` (spec §11.1).
-pub fn ideal_corner_valence(angle: f64) -> i32 {
-    ((angle / (PI / 2.0)).round() as i32).clamp(1, 4)
 }
 
 /// Per triangle, the representation-angle steps `d[a] = arg(w_{a+1} / w_a)`

@@ -11,23 +11,19 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use geometry::{CornerId, CurveId, FaceId, Model, ModelError};
+use geometry::{CornerId, CurveId, FaceId, Model};
 use mesh::{NodeClass, QuadMesh};
 use rayon::prelude::*;
 
+use crate::core::error::MeshError;
+use crate::core::options::{default_size, resolve_size, ProgressFn, Size};
 use crate::core::patch::QuadPatch;
 use crate::core::patch::{FaceFailure, NodeRef};
 use crate::curves::curve_mesh::{discretize_all, plan_curves, CurveMesh, CurvePlan};
 use crate::methods::baseline::mesh_face;
 
-/// The default final edge length is the bounding-box diagonal divided by this.
-/// 24: on the 26 shared models Quadrille then makes as many quads as Gmsh at
-/// its default size (geometric-mean ratio 1.00; at 18 it was 0.71), so a user
-/// switching from Gmsh gets the density they know (BENCHMARKS.md, "Default size").
-pub const DEFAULT_DIVISIONS: f64 = 24.0;
 /// Sweeps of [`crate::smoothing::raise_average`] on every face of the
 /// default and unstructured methods, last: on the 25 shared models (wing
 /// out) the average SICN rises by up to 0.006 (s17o_sphere 0.948 → 0.976)
@@ -71,25 +67,6 @@ const COARSE_FLOOR: f64 = 1.0;
 fn size_map_floor(model: &Model, h: f64) -> f64 {
     (SIZE_MAP_MIN * h).min(COARSE_FLOOR * default_size(model))
 }
-
-/// Target mesh size.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Size {
-    /// Final quad edge length, in model units.
-    Absolute(f64),
-    /// A multiple of the default size ([`default_size`]); `Factor(1.0)` is the default.
-    Factor(f64),
-}
-
-impl Default for Size {
-    fn default() -> Self {
-        Size::Factor(1.0)
-    }
-}
-
-/// Progress callback: called with `(faces done, total faces)` after each face
-/// (from worker threads, in no particular order).
-pub type ProgressFn = Arc<dyn Fn(usize, usize) + Send + Sync>;
 
 /// Options of [`mesh_model`].
 #[derive(Clone)]
@@ -141,39 +118,6 @@ impl std::fmt::Debug for MeshOptions {
     }
 }
 
-/// Why meshing failed.
-#[derive(Debug, thiserror::Error)]
-pub enum MeshError {
-    /// The requested size is not a positive finite number.
-    #[error("invalid mesh size {0}: it must be a positive finite number")]
-    InvalidSize(f64),
-    /// The model has no face to mesh.
-    #[error("the model has no faces to mesh")]
-    NoFaces,
-    /// The model refers to missing entities.
-    #[error("invalid model: {0}")]
-    Model(#[from] ModelError),
-    /// One face could not be meshed (face numbers are 1-based, as in files).
-    #[error("face {} could not be meshed: {reason}", face.0 + 1)]
-    Face {
-        /// The face.
-        face: FaceId,
-        /// What went wrong.
-        reason: String,
-    },
-    /// The size-map options are invalid (bad gradient, bounds or entity sizes).
-    #[error("size map: {0}")]
-    Sizing(String),
-    /// The thread pool could not be created.
-    #[error("could not start a pool of {threads} threads: {reason}")]
-    Threads {
-        /// Requested thread count.
-        threads: usize,
-        /// The pool builder's message.
-        reason: String,
-    },
-}
-
 /// Curves shorter than this share of the model's diagonal are slivers, meshed
 /// as a point ([`geometry::slivers`]): far below any mesh size (the default
 /// is 1/24 of the diagonal), and a quad edge that short is a degenerate quad.
@@ -186,33 +130,6 @@ pub const SLIVER_LENGTH: f64 = 1e-5;
 /// sliver two short quad edges, which the regular method then works around.
 pub fn collapse_slivers(model: &Model) -> Option<(Model, Vec<geometry::slivers::Collapsed>)> {
     geometry::slivers::collapse_short_curves(model, SLIVER_LENGTH * model.diagonal())
-}
-
-/// The default final quad edge length: the model's bounding-box diagonal / [`DEFAULT_DIVISIONS`].
-pub fn default_size(model: &Model) -> f64 {
-    model.diagonal() / DEFAULT_DIVISIONS
-}
-
-/// Resolves a [`Size`] to a final edge length for `model`.
-pub fn resolve_size(model: &Model, size: Size) -> Result<f64, MeshError> {
-    let h = match size {
-        Size::Absolute(h) => {
-            if !(h.is_finite() && h > 0.0) {
-                return Err(MeshError::InvalidSize(h));
-            }
-            h
-        }
-        Size::Factor(f) => {
-            if !(f.is_finite() && f > 0.0) {
-                return Err(MeshError::InvalidSize(f));
-            }
-            f * default_size(model)
-        }
-    };
-    if !(h.is_finite() && h > 0.0) {
-        return Err(MeshError::InvalidSize(h));
-    }
-    Ok(h)
 }
 
 /// Meshes every face of `model` with the baseline method: an all-quad mesh,
@@ -606,7 +523,7 @@ fn run_unstructured(
                     &model.faces[fid.idx()],
                     &mut p,
                     crate::smoothing::POOR_SICN,
-                    &crate::smoothing::sharp_corners_of(model, fid),
+                    &crate::core::queries::sharp_corners_of(model, fid),
                 );
                 ft.smoothing += t.elapsed();
                 if tracing::enabled!(tracing::Level::DEBUG) {
@@ -659,7 +576,7 @@ fn run_unstructured(
                     &model.faces[fid.idx()],
                     fid,
                     p,
-                    &crate::smoothing::sharp_corners_of(model, fid),
+                    &crate::core::queries::sharp_corners_of(model, fid),
                     &pass_opts,
                 );
                 if tracing::enabled!(tracing::Level::DEBUG) {
@@ -963,6 +880,7 @@ fn assemble(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::core::options::DEFAULT_DIVISIONS;
     use geometry::primitives;
 
     #[test]

@@ -58,7 +58,7 @@ pub fn fields_and_curves(model: &Model, h: f64) -> (ModelFields, Vec<CurveMesh>)
     let fields = model_fields(
         model,
         &FieldOptions {
-            size: crate::methods::pipeline::Size::Absolute(h),
+            size: crate::core::options::Size::Absolute(h),
             ..Default::default()
         },
     )

@@ -372,7 +372,7 @@ fn front_mesh(
         &ft.boundary_mid,
     );
     report.snapped = snap_repair(face, &mut patch, &origins, SNAP_PASSES);
-    let irregular = crate::topology::regular_pass::interior_irregular(&patch);
+    let irregular = patch.interior_irregular();
     Ok(FrontMesh {
         patch,
         report,
@@ -760,7 +760,7 @@ mod tests {
             };
             let (p, _) =
                 mesh_face_unstructured(&model, FaceId(0), &cms, &field, &size, &opts).unwrap();
-            (crate::topology::regular_pass::interior_irregular(&p), p)
+            (p.interior_irregular(), p)
         };
         let (by_ratio, _) = mesh(vec![FrontSpacing::BoundaryRatio]);
         let (by_spacing, grid) = mesh(vec![FrontSpacing::BoundarySpacing]);
@@ -940,7 +940,7 @@ mod tests {
         }
         let m = primitives::square(1.0);
         let bad = MeshOptions {
-            size: crate::methods::pipeline::Size::Absolute(-1.0),
+            size: crate::core::options::Size::Absolute(-1.0),
             ..Default::default()
         };
         assert!(mesh_model_with(&m, &bad, MeshMethod::Unstructured).is_err());

@@ -643,7 +643,8 @@ fn sliders(model: &Model, mesh: &QuadMesh) -> Vec<Slider> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::methods::pipeline::{mesh_model_with, MeshMethod, MeshOptions, Size};
+    use crate::core::options::Size;
+    use crate::methods::pipeline::{mesh_model_with, MeshMethod, MeshOptions};
     use geometry::primitives;
 
     #[test]

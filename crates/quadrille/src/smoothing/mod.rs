@@ -13,7 +13,6 @@ pub mod repair;
 
 pub use kernels::{optimize, optimize_nodes, raise_average, OptimizeOptions, OptimizeReport};
 pub use repair::{
-    lift_poor_quads, optimize_around, sharp_corner_weights, sharp_corners_of, smooth,
-    smooth_then_untangle, untangle, POOR_SICN, SHARP_CORNER_WEIGHT, UNTANGLE_BELOW,
-    UNTANGLE_MAX_NODES, UNTANGLE_PASSES,
+    lift_poor_quads, optimize_around, sharp_corner_weights, smooth, smooth_then_untangle, untangle,
+    POOR_SICN, SHARP_CORNER_WEIGHT, UNTANGLE_BELOW, UNTANGLE_MAX_NODES, UNTANGLE_PASSES,
 };

@@ -12,6 +12,7 @@ use geometry::{CornerId, Face, FaceId, Model};
 use crate::core::patch::NodeRef;
 use crate::core::patch::QuadPatch;
 use crate::core::quality::{node_normal, quad_quality, quad_quality_with, NodeNormals};
+use crate::core::queries::sharp_corners_of;
 
 use super::kernels::{optimize_nodes, OptimizeOptions};
 
@@ -156,15 +157,6 @@ pub const POOR_SICN: f64 = 0.1;
 /// way along the wedge, the next quad had SICN 0.047). Weighted, it still
 /// keeps that quad from folding.
 pub const SHARP_CORNER_WEIGHT: f64 = 10.0;
-
-/// The corners of face `fid` whose interior angle there is below
-/// `mesh::stats::SHARP_CORNER_DEG`: the ones the statistics excuse.
-pub fn sharp_corners_of(model: &Model, fid: FaceId) -> Vec<CornerId> {
-    mesh::stats::sharp_corners_in_face(model, fid.idx(), mesh::stats::SHARP_CORNER_DEG)
-        .into_iter()
-        .map(|s| CornerId(s.corner))
-        .collect()
-}
 
 /// Per quad, the factor its SICN is weighted by in [`untangle`]:
 /// [`SHARP_CORNER_WEIGHT`] when it touches one of the corners `sharp`, else 1.

@@ -301,8 +301,7 @@ impl<'a> Work<'a> {
                     NodeRef::Interior => Kind::Inner,
                     NodeRef::Curve(..) => Kind::Bound(2),
                     NodeRef::Corner(_) => Kind::Bound(
-                        crate::field::singularities::ideal_corner_valence(angle[v]).clamp(1, 4)
-                            as u8,
+                        crate::core::valence::ideal_corner_valence(angle[v]).clamp(1, 4) as u8,
                     ),
                 }
             })

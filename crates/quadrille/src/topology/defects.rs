@@ -67,7 +67,7 @@ fn corner_ideal(p: &QuadPatch, star: &[u32], v: u32) -> u8 {
             angle += c.clamp(-1.0, 1.0).acos();
         }
     }
-    crate::field::singularities::ideal_corner_valence(angle) as u8
+    crate::core::valence::ideal_corner_valence(angle) as u8
 }
 
 /// The boundary loop of the quads `star` around boundary vertex `v`, in

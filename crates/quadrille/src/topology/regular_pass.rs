@@ -134,21 +134,6 @@ pub struct RegularPassReport {
     pub after: (f64, f64),
 }
 
-/// Face-interior nodes of `p` with other than four quads.
-pub fn interior_irregular(p: &QuadPatch) -> usize {
-    let mut deg = vec![0u32; p.nodes.len()];
-    for q in &p.quads {
-        for &v in q {
-            deg[v as usize] += 1;
-        }
-    }
-    p.nodes
-        .iter()
-        .zip(&deg)
-        .filter(|(n, &d)| n.node == NodeRef::Interior && d > 0 && d != 4)
-        .count()
-}
-
 /// Worst and average SICN (CAD normals) of `p`'s quads.
 pub fn patch_quality(face: &Face, p: &QuadPatch) -> (f64, f64) {
     let mut worst = f64::INFINITY;
@@ -286,7 +271,7 @@ fn attempt(
     let mut cand = to_patch(&fq, original);
     let boundary = fq
         .irregular_count()
-        .saturating_sub(interior_irregular(&cand));
+        .saturating_sub(cand.interior_irregular());
     optimize(face, &mut cand, &OptimizeOptions::default());
     lift_poor_quads(face, &mut cand, POOR_SICN, sharp);
     Some((cand, boundary))
@@ -335,7 +320,7 @@ fn one_round(
     sharp: &[CornerId],
     opts: &RegularPassOptions,
 ) -> RegularPassReport {
-    let inside0 = interior_irregular(p);
+    let inside0 = p.interior_irregular();
     let mut rep = RegularPassReport {
         irregular: (inside0, inside0),
         ..Default::default()
@@ -359,7 +344,7 @@ fn one_round(
         let Some((cand, boundary)) = attempt(face, &fq0, p, sharp, opts, a) else {
             continue;
         };
-        let inside = interior_irregular(&cand);
+        let inside = cand.interior_irregular();
         let q = patch_quality(face, &cand);
         if tracing::enabled!(tracing::Level::DEBUG) {
             tracing::debug!(

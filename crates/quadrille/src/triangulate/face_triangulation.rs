@@ -462,7 +462,7 @@ impl<'a> FaceTriangulation<'a> {
     /// fan of three quads and four irregular vertices around it otherwise).
     /// [`crate::triangulate::subdivide::subdivide`] already places midpoints and centres
     /// of elements at a pole by its one identity. Poles where a quad cornered
-    /// there would fold ([`crate::direct::pattern_face::folds_at_pole`]: the apex of
+    /// there would fold ([`crate::core::queries::folds_at_pole`]: the apex of
     /// i04o_m4's half cones) keep their instances apart.
     pub fn merge_poles(&mut self, tris: &mut [[u32; 3]]) {
         let mut first: HashMap<NodeRef, Option<u32>> = HashMap::new();
@@ -471,7 +471,7 @@ impl<'a> FaceTriangulation<'a> {
             let Some(seg) = n.pole else { continue };
             // not where one quad cornered at the pole would fold (a cone's apex)
             let c = *first.entry(n.node).or_insert_with(|| {
-                (!crate::direct::pattern_face::folds_at_pole(self.face, seg)).then_some(i as u32)
+                (!crate::core::queries::folds_at_pole(self.face, seg)).then_some(i as u32)
             });
             if let Some(c) = c {
                 canon[i] = c;

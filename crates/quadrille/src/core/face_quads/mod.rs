@@ -23,6 +23,7 @@
 
 pub mod extract;
 
+use crate::core::valence::{ideal_boundary_valence, ideal_pole_valence};
 use geometry::vec3::{self, Vec3};
 use geometry::Face;
 use mesh::NodeClass;
@@ -585,32 +586,6 @@ impl FaceQuads {
         }
         Ok(())
     }
-}
-
-/// Ideal valence (edge count) of a boundary vertex from the face's interior
-/// angle θ there (degrees): < 135° → 2, < 225° → 3, < 315° → 4, else 5.
-/// A straight boundary (180°) wants 3 edges (2 quads), a 90° corner 2.
-pub fn ideal_boundary_valence(theta_deg: f64) -> u32 {
-    if theta_deg < 135.0 {
-        2
-    } else if theta_deg < 225.0 {
-        3
-    } else if theta_deg < 315.0 {
-        4
-    } else {
-        5
-    }
-}
-
-/// Ideal valence of a pole with a closed fan (a sphere pole, a cone apex)
-/// from its cone angle θ (the sum of the 3D quad angles there, degrees): the
-/// number of right angles that fit, θ / 90° rounded, at least 3 (a point of a
-/// smooth surface, 360°, wants 4; a sharp cone tip 3).
-pub fn ideal_pole_valence(theta_deg: f64) -> u32 {
-    if !theta_deg.is_finite() {
-        return 4;
-    }
-    ((theta_deg / 90.0).round() as i64).clamp(3, 8) as u32
 }
 
 #[cfg(test)]

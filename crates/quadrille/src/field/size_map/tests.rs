@@ -1,7 +1,7 @@
 use super::*;
+use crate::core::options::Size;
 use crate::curves::curve_mesh::{discretize_curve, plan_curves, plan_curves_sized};
 use crate::field::field_report::{model_fields, FieldOptions, ModelFields};
-use crate::methods::pipeline::Size;
 use geometry::primitives;
 
 /// A graph of `n × n` grid vertices with spacing 1, each joined to its right,
@@ -317,7 +317,7 @@ fn bad_options_are_refused() {
             },
         );
         assert!(
-            matches!(r, Err(crate::methods::pipeline::MeshError::Sizing(_))),
+            matches!(r, Err(crate::core::error::MeshError::Sizing(_))),
             "{sizing:?} accepted"
         );
     }

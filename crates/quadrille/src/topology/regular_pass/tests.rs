@@ -44,7 +44,7 @@ fn a_swapped_edge_in_a_grid_is_swapped_back() {
     let face = &model.faces[0];
     let mut p = grid_with_a_swapped_edge(face);
     assert_eq!(
-        interior_irregular(&p),
+        p.interior_irregular(),
         4,
         "the swap makes two 3s and two 5s"
     );
@@ -53,7 +53,7 @@ fn a_swapped_edge_in_a_grid_is_swapped_back() {
     let rep = reduce_irregular(face, FaceId(0), &mut p, &[], &RegularPassOptions::default());
     assert!(rep.tried && rep.kept, "{rep:?}");
     assert_eq!(rep.irregular, (4, 0));
-    assert_eq!(interior_irregular(&p), 0);
+    assert_eq!(p.interior_irregular(), 0);
     assert_eq!(p.quads.len(), 64);
     let after = patch_quality(face, &p);
     assert_eq!(after, rep.after);
@@ -111,5 +111,5 @@ fn a_face_above_the_quad_cap_is_left_alone() {
     };
     let rep = reduce_irregular(face, FaceId(0), &mut p, &[], &opts);
     assert!(!rep.tried, "{rep:?}");
-    assert_eq!(interior_irregular(&p), 4);
+    assert_eq!(p.interior_irregular(), 4);
 }

@@ -588,7 +588,7 @@ fn grid_candidate(face: &Face, fid: FaceId, fq: &FaceQuads) -> Option<(FaceQuads
 
 /// Sets the ideal valence of every pole on the face boundary (fixed, with a
 /// pole segment and an open fan: one edge more than quads) from the face's
-/// interior angle there ([`crate::core::face_quads::ideal_boundary_valence`]), as
+/// interior angle there ([`crate::core::valence::ideal_boundary_valence`]), as
 /// for any corner. [`FaceQuads::classify_fixed`] gives such a vertex its input
 /// valence (never irregular), which makes the triangle split's fan at the
 /// pole (often 5 or more edges at a 90° corner) a constraint: on a
@@ -607,20 +607,20 @@ pub fn classify_pole_corners(fq: &mut FaceQuads) {
         }
         let angle = fq.angle_sum(v);
         if angle.is_finite() && angle > 0.0 {
-            fq.verts[v as usize].ideal = crate::core::face_quads::ideal_boundary_valence(angle);
+            fq.verts[v as usize].ideal = crate::core::valence::ideal_boundary_valence(angle);
         }
     }
 }
 
 /// Half-width (degrees) of the band around 225° (a threshold of
-/// [`crate::core::face_quads::ideal_boundary_valence`]) within which
+/// [`crate::core::valence::ideal_boundary_valence`]) within which
 /// [`straighten_ambiguous_ideals`] rounds toward a straight boundary.
 pub const TIE_DEG: f64 = 3.0;
 
 /// Gives ideal valence 3 (a straight boundary) to every boundary vertex
 /// (fixed, open fan, a curve or corner node, not a pole) whose interior angle
 /// is within [`TIE_DEG`] of 225°, where
-/// [`crate::core::face_quads::ideal_boundary_valence`] switches from 3 to 4. A circle cut into 8 segments (a common hole) has chordal
+/// [`crate::core::valence::ideal_boundary_valence`] switches from 3 to 4. A circle cut into 8 segments (a common hole) has chordal
 /// angles of exactly 225° on the face around it, so rounding noise gave some
 /// of its vertices 4 and others 3: every face around such a hole had
 /// irregular vertices forced by its classification (i16o_s9: index sums 4–6

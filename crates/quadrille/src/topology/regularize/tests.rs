@@ -1127,7 +1127,7 @@ fn boundary_angles_at_the_225_degree_threshold_count_as_straight() {
         fq.verts[v].xyz = [2.0, y, 0.0];
         let a = fq.angle_sum(v as u32);
         assert!((a - deg).abs() < 1e-6, "{a} vs {deg}");
-        fq.verts[v].ideal = crate::core::face_quads::ideal_boundary_valence(a);
+        fq.verts[v].ideal = crate::core::valence::ideal_boundary_valence(a);
         let others: Vec<u32> = fq.verts.iter().map(|x| x.ideal).collect();
         straighten_ambiguous_ideals(&mut fq);
         assert_eq!(fq.verts[v].ideal, want, "angle {a:.2}°");
