@@ -60,21 +60,31 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let t_load = t0.elapsed().as_secs_f64();
 
     let bar = FaceProgress::new(args.quiet, model.faces.len(), "meshing");
-    let progress = bar.callback();
+    let regularize_bar =
+        FaceProgress::new(args.quiet, model.faces.len(), "regularizing").hidden_until_first();
     let opts = MeshOptions {
         size,
         threads: args.threads,
-        progress,
+        progress: bar.callback(),
+        regularize_progress: regularize_bar.callback_after(&bar),
         quads_per_turn: args.quads_per_turn,
     };
     let t1 = Instant::now();
     let method = match args.method {
-        Method::QuasiStructured | Method::Unstructured => quadrille::MeshMethod::Unstructured,
-        Method::Baseline | Method::Regular => quadrille::MeshMethod::Baseline,
+        Method::QuasiStructured => quadrille::MeshMethod::QuasiStructured(stages),
+        Method::Unstructured => quadrille::MeshMethod::Unstructured,
+        Method::Baseline => quadrille::MeshMethod::Baseline,
+        Method::Regular => {
+            quadrille::MeshMethod::Regular(quadrille::topology::regularize::RegularizeOptions {
+                threads: args.threads,
+                ..Default::default()
+            })
+        }
     };
-    let (mut m, report) = quadrille::mesh_model_stages(&model, &opts, method, stages)
+    let (m, report) = quadrille::mesh_model_with(&model, &opts, method)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
     bar.finish();
+    regularize_bar.finish();
     if !args.quiet {
         if !report.slivers.is_empty() {
             let list: Vec<String> = report
@@ -85,7 +95,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             eprintln!(
                 "{} curves shorter than {:.0e} of the model's diagonal meshed as points (their end corners share one node): {}",
                 list.len(),
-                quadrille::methods::pipeline::SLIVER_LENGTH,
+                quadrille::SLIVER_LENGTH,
                 list.join(", ")
             );
         }
@@ -99,25 +109,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         if args.method == Method::QuasiStructured {
             eprintln!("{}", topology_summary(&report, model.faces.len(), stages));
         }
-    }
-    let t_mesh = t1.elapsed().as_secs_f64();
-    let t2 = Instant::now();
-    if let Method::Regular = args.method {
-        let ropts = quadrille::topology::regularize::RegularizeOptions {
-            threads: args.threads,
-            ..Default::default()
-        };
-        let bar = FaceProgress::new(args.quiet, model.faces.len(), "regularizing");
-        let progress = bar.callback();
-        let rep = quadrille::topology::regularize::regularize_mesh_with_progress(
-            &model,
-            &mut m,
-            &ropts,
-            progress.as_ref(),
-        )
-        .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
-        bar.finish();
-        if !args.quiet {
+        if let Some(rep) = &report.regularize {
             let (before, after) = rep.irregular();
             let reverted = rep.faces.iter().filter(|f| f.reverted).count();
             eprintln!(
@@ -134,7 +126,8 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             }
         }
     }
-    let t_improve = t2.elapsed().as_secs_f64();
+    let t_improve = report.times.regularize.as_secs_f64();
+    let t_mesh = t1.elapsed().as_secs_f64() - t_improve;
 
     let t3 = Instant::now();
     // the quality summary and the VTU's cell data (a whole-mesh pass with the

@@ -8,6 +8,14 @@ use geometry::FaceId;
 use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
 use quadrille::methods::baseline::mesh_face;
 
+/// The baseline method's mesh of `model`.
+fn mesh_baseline(
+    model: &geometry::Model,
+    opts: &quadrille::MeshOptions,
+) -> Result<mesh::QuadMesh, quadrille::MeshError> {
+    quadrille::mesh_model_with(model, opts, quadrille::MeshMethod::Baseline).map(|(m, _)| m)
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let Some(path) = args.get(1) else {
@@ -30,7 +38,7 @@ fn main() {
             progress: None,
             ..Default::default()
         };
-        match quadrille::mesh_model(&model, &opts) {
+        match mesh_baseline(&model, &opts) {
             Ok(m) => println!(
                 "{} quads in {:.2}s",
                 m.quads.len(),

@@ -15,7 +15,15 @@ use std::time::Instant;
 
 use mesh::stats::MeshStats;
 use quadrille::topology::regularize::{regularize_mesh, RegularizeOptions};
-use quadrille::{mesh_model, MeshOptions};
+use quadrille::MeshOptions;
+
+/// The baseline method's mesh of `model`.
+fn mesh_baseline(
+    model: &geometry::Model,
+    opts: &quadrille::MeshOptions,
+) -> Result<mesh::QuadMesh, quadrille::MeshError> {
+    quadrille::mesh_model_with(model, opts, quadrille::MeshMethod::Baseline).map(|(m, _)| m)
+}
 
 fn main() {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
@@ -47,7 +55,7 @@ fn main() {
             .and_then(|s| s.parse::<f64>().ok())
             .map(quadrille::Size::Factor)
             .unwrap_or_default();
-        let mut mesh = match mesh_model(
+        let mut mesh = match mesh_baseline(
             &model,
             &MeshOptions {
                 size,

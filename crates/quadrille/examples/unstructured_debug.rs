@@ -20,7 +20,7 @@ fn main() {
         threads: Some(1),
         ..Default::default()
     };
-    let (m, rep) = quadrille::mesh_model_with(&model, &opts, quadrille::MeshMethod::Unstructured)
+    let (m, rep) = quadrille::mesh_model_with(&model, &opts, quadrille::MeshMethod::default())
         .expect("meshes");
     println!(
         "fallback {:?}",

@@ -37,7 +37,7 @@ pub mod triangulate;
 
 pub use core::error::MeshError;
 pub use core::options::{default_size, resolve_size, ProgressFn, Size, DEFAULT_DIVISIONS};
-pub use methods::pipeline::{
-    mesh_model, mesh_model_stages, mesh_model_with, MeshMethod, MeshOptions, MeshReport,
-    StageTimes, Stages, DEFAULT_QUADS_PER_TURN,
-};
+pub use methods::driver::SLIVER_LENGTH;
+pub use methods::options::{MeshOptions, Stages, DEFAULT_QUADS_PER_TURN};
+pub use methods::report::{FaceOutcome, MadeBy, MeshReport, StageTimes};
+pub use methods::{mesh_model, mesh_model_with, MeshMethod};

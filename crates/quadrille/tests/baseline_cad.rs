@@ -11,7 +11,15 @@ mod common;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use quadrille::{mesh_model, MeshOptions, Size};
+use quadrille::{MeshOptions, Size};
+
+/// The baseline method's mesh of `model`.
+fn mesh_baseline(
+    model: &geometry::Model,
+    opts: &quadrille::MeshOptions,
+) -> Result<mesh::QuadMesh, quadrille::MeshError> {
+    quadrille::mesh_model_with(model, opts, quadrille::MeshMethod::Baseline).map(|(m, _)| m)
+}
 
 fn models() -> Vec<PathBuf> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad");
@@ -69,7 +77,7 @@ fn every_cad_model_meshes_validly() {
             }
         };
         let t = Instant::now();
-        let mesh = match mesh_model(
+        let mesh = match mesh_baseline(
             &model,
             &MeshOptions {
                 size: Size::Factor(factor),
@@ -177,7 +185,7 @@ fn cad_output_is_identical_for_any_thread_count() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/i04o_m4.step");
     let model = occt::load(&path).expect("i04o_m4 loads");
     let run = |threads| {
-        mesh_model(
+        mesh_baseline(
             &model,
             &MeshOptions {
                 size: Size::Factor(1.0),

@@ -5,10 +5,18 @@ mod common;
 
 use geometry::{primitives, Model};
 use mesh::{NodeClass, QuadMesh};
-use quadrille::{mesh_model, MeshOptions, Size};
+use quadrille::{MeshOptions, Size};
+
+/// The baseline method's mesh of `model`.
+fn mesh_baseline(
+    model: &geometry::Model,
+    opts: &quadrille::MeshOptions,
+) -> Result<mesh::QuadMesh, quadrille::MeshError> {
+    quadrille::mesh_model_with(model, opts, quadrille::MeshMethod::Baseline).map(|(m, _)| m)
+}
 
 fn run(model: &Model, size: Size, threads: usize) -> QuadMesh {
-    mesh_model(
+    mesh_baseline(
         model,
         &MeshOptions {
             size,
@@ -118,7 +126,7 @@ fn bad_sizes_are_errors() {
         Size::Absolute(f64::NAN),
         Size::Factor(-1.0),
     ] {
-        assert!(mesh_model(
+        assert!(mesh_baseline(
             &m,
             &MeshOptions {
                 size: s,
@@ -127,7 +135,7 @@ fn bad_sizes_are_errors() {
         )
         .is_err());
     }
-    assert!(mesh_model(&Model::default(), &MeshOptions::default()).is_err());
+    assert!(mesh_baseline(&Model::default(), &MeshOptions::default()).is_err());
 }
 
 #[test]
@@ -146,6 +154,6 @@ fn progress_reports_every_face() {
         })),
         ..Default::default()
     };
-    mesh_model(&m, &opts).unwrap();
+    mesh_baseline(&m, &opts).unwrap();
     assert_eq!(max.load(Ordering::Relaxed), 3);
 }

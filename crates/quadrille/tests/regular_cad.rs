@@ -6,7 +6,15 @@ use std::path::PathBuf;
 
 use mesh::stats::MeshStats;
 use quadrille::topology::regularize::{regularize_mesh, RegularizeOptions};
-use quadrille::{mesh_model, MeshOptions};
+use quadrille::MeshOptions;
+
+/// The baseline method's mesh of `model`.
+fn mesh_baseline(
+    model: &geometry::Model,
+    opts: &quadrille::MeshOptions,
+) -> Result<mesh::QuadMesh, quadrille::MeshError> {
+    quadrille::mesh_model_with(model, opts, quadrille::MeshMethod::Baseline).map(|(m, _)| m)
+}
 
 fn check(file: &str, bar_percent: f64) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -14,7 +22,7 @@ fn check(file: &str, bar_percent: f64) {
         .join(file);
     let model = occt::load(&path).unwrap_or_else(|e| panic!("{file}: {e}"));
     let mut mesh =
-        mesh_model(&model, &MeshOptions::default()).unwrap_or_else(|e| panic!("{file}: {e}"));
+        mesh_baseline(&model, &MeshOptions::default()).unwrap_or_else(|e| panic!("{file}: {e}"));
     let before = mesh.clone();
     let s0 = MeshStats::compute(&before, Some(&model));
     let rep = regularize_mesh(&model, &mut mesh, &RegularizeOptions::default()).unwrap();

@@ -13,7 +13,7 @@ mod common;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use quadrille::{mesh_model_stages, mesh_model_with, MeshMethod, MeshOptions, Size, Stages};
+use quadrille::{mesh_model_with, MeshMethod, MeshOptions, Size, Stages};
 
 fn models() -> Vec<PathBuf> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad");
@@ -96,7 +96,7 @@ fn every_cad_model_meshes_validly_with_the_unstructured_method() {
             progress: None,
             ..Default::default()
         };
-        let (mesh, report) = match mesh_model_with(&model, &opts, MeshMethod::Unstructured) {
+        let (mesh, report) = match mesh_model_with(&model, &opts, MeshMethod::default()) {
             Ok(m) => m,
             Err(e) => {
                 println!("{name:<28} FAILED: {e}");
@@ -199,7 +199,7 @@ fn unstructured_output_is_identical_for_any_thread_count() {
             progress: None,
             ..Default::default()
         };
-        mesh_model_with(&model, &opts, MeshMethod::Unstructured).expect("meshes")
+        mesh_model_with(&model, &opts, MeshMethod::default()).expect("meshes")
     };
     let ((a, ra), (b, rb)) = (run(1), run(2));
     let bits = |m: &mesh::QuadMesh| {
@@ -222,7 +222,7 @@ fn unstructured_meshes_a_plain_box_face_as_a_grid() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/s11o_cube_cyl.stp");
     let model = occt::load(&path).expect("s11o_cube_cyl loads");
     let (mesh, report) =
-        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::Unstructured).expect("meshes");
+        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::default()).expect("meshes");
     assert!(report.fallback.is_empty(), "{:?}", report.fallback);
     let irregular = irregular_share(&mesh);
     assert!(irregular < 0.03, "{:.1} % irregular", 100.0 * irregular);
@@ -238,7 +238,7 @@ fn sliver_curves_of_i16o_are_meshed_as_points() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/i16o_s9.step");
     let model = occt::load(&path).expect("i16o_s9 loads");
     let (mesh, report) =
-        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::Unstructured).expect("meshes");
+        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::default()).expect("meshes");
     let curves: Vec<u32> = report.slivers.iter().map(|(c, _)| c.0 + 1).collect();
     assert_eq!(curves, [54, 56, 64, 66]);
     let r = common::check(&model, &mesh);
@@ -257,7 +257,7 @@ fn a_full_torus_is_one_grid_of_about_square_cells() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/s16o_torus.stp");
     let model = occt::load(&path).expect("s16o_torus loads");
     let (mesh, report) =
-        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::Unstructured).expect("meshes");
+        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::default()).expect("meshes");
     assert_eq!(report.patterns.len(), 1, "{:?}", report.patterns);
     let edges = |c: u32| mesh.curve_edges.iter().filter(|(_, k)| k.0 == c).count() as f64;
     let (e0, e1) = (edges(0), edges(1));
@@ -293,8 +293,9 @@ fn fine_meshes_of_a_half_cone_and_a_disk_keep_their_worst_quad() {
         };
         // the plain §5 mesh, where both defects were born, and the default method
         for stages in [Stages::NONE, Stages::ALL] {
-            let (mesh, report) = mesh_model_stages(&model, &opts, MeshMethod::Unstructured, stages)
-                .expect("it meshes");
+            let (mesh, report) =
+                mesh_model_with(&model, &opts, MeshMethod::QuasiStructured(stages))
+                    .expect("it meshes");
             assert!(report.fallback.is_empty(), "{file}: {:?}", report.fallback);
             let r = common::check(&model, &mesh);
             assert_eq!(r.inverted, 0, "{file} {stages:?}");
@@ -328,7 +329,7 @@ fn a_coarse_size_asks_for_finer_curves_instead_of_failing() {
         threads: None,
         ..Default::default()
     };
-    let (mesh, _) = mesh_model_stages(&model, &opts, MeshMethod::Unstructured, Stages::ALL)
+    let (mesh, _) = mesh_model_with(&model, &opts, MeshMethod::QuasiStructured(Stages::ALL))
         .expect("a coarse mesh, not an error");
     let r = common::check(&model, &mesh);
     assert_eq!(r.inverted, 0);
@@ -352,7 +353,7 @@ fn the_regular_pass_removes_irregular_vertices_of_i11o_without_inverting_a_quad(
             regular_pass,
             ..Stages::ALL
         };
-        mesh_model_stages(&model, &opts, MeshMethod::Unstructured, stages).expect("meshes")
+        mesh_model_with(&model, &opts, MeshMethod::QuasiStructured(stages)).expect("meshes")
     };
     let count = |mesh: &mesh::QuadMesh| {
         let n = (0..mesh.nodes.len())
@@ -402,7 +403,7 @@ fn the_concave_corners_of_n12o_get_three_quads_on_their_caps() {
         .join("../../data/cad/n12o_limit_cycle_genus0.stp");
     let model = occt::load(&path).expect("n12o loads");
     let (mesh, report) =
-        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::Unstructured).expect("meshes");
+        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::default()).expect("meshes");
     assert!(report.regular_pass.2 >= 2, "{:?}", report.regular_pass);
     let mut quads_at = vec![0usize; mesh.nodes.len()];
     for q in &mesh.quads {
@@ -439,7 +440,7 @@ fn i04o_ends_below_gmshs_irregular_share() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/i04o_m4.step");
     let model = occt::load(&path).expect("i04o_m4 loads");
     let (mesh, report) =
-        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::Unstructured).expect("meshes");
+        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::default()).expect("meshes");
     let share = irregular_share(&mesh);
     assert!(
         share < 0.04616,
@@ -462,7 +463,7 @@ fn the_wing_is_one_regular_grid_with_its_trailing_edge_a_crease() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/wing_surface.step");
     let model = occt::load(&path).expect("wing_surface loads");
     let (mesh, report) =
-        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::Unstructured).expect("meshes");
+        mesh_model_with(&model, &MeshOptions::default(), MeshMethod::default()).expect("meshes");
     assert_eq!(
         report.patterns.len(),
         1,
@@ -506,11 +507,10 @@ fn the_plain_unstructured_wing_grows_its_quads_from_the_fine_airfoils() {
     // (Gmsh quadqs 0.834).
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad/wing_surface.step");
     let model = occt::load(&path).expect("wing_surface loads");
-    let (mesh, report) = mesh_model_stages(
+    let (mesh, report) = mesh_model_with(
         &model,
         &MeshOptions::default(),
-        MeshMethod::Unstructured,
-        Stages::NONE,
+        MeshMethod::QuasiStructured(Stages::NONE),
     )
     .expect("meshes");
     assert!(report.fallback.is_empty(), "{:?}", report.fallback);

@@ -11,6 +11,14 @@ use geometry::{vec3, FaceId, Model};
 use mesh::stats::MeshStats;
 use quadrille::{MeshMethod, MeshOptions, Size};
 
+/// The baseline method's mesh of `model`.
+fn mesh_baseline(
+    model: &geometry::Model,
+    opts: &quadrille::MeshOptions,
+) -> Result<mesh::QuadMesh, quadrille::MeshError> {
+    quadrille::mesh_model_with(model, opts, quadrille::MeshMethod::Baseline).map(|(m, _)| m)
+}
+
 fn cad(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../data/cad")
@@ -63,7 +71,7 @@ fn smooth_groups(model: &Model, angle_deg: f64) -> usize {
 
 /// The baseline quad mesh of a CAD model as triangles.
 fn triangles_of(model: &Model, eighteenths: f64) -> trimesh::Soup {
-    let m = quadrille::mesh_model(
+    let m = mesh_baseline(
         model,
         &MeshOptions {
             size: Size::Absolute(eighteenths * model.diagonal() / 18.0),
@@ -288,7 +296,7 @@ fn imported_box_is_meshed_like_a_cad_box() {
     )
     .unwrap();
     assert_eq!((imp.model.faces.len(), imp.model.curves.len()), (6, 12));
-    for method in [MeshMethod::Unstructured, MeshMethod::Baseline] {
+    for method in [MeshMethod::default(), MeshMethod::Baseline] {
         let s = mesh_and_check(&imp, method, "box");
         assert_eq!(s.euler_characteristic, 2);
     }
@@ -319,7 +327,7 @@ fn imported_planar_face_with_holes_keeps_them_as_loops() {
 
 /// The CAD models exported as triangles (our own baseline mesh of the CAD,
 /// each quad split in two) mesh end to end with the default method of
-/// `quadrille mesh` (the quasi-structured one; `MeshMethod::Unstructured`
+/// `quadrille mesh` (the quasi-structured one; `MeshMethod::default()`
 /// with every stage): all quads, none inverted, watertight with the CAD mesh's
 /// Euler characteristic, every curve a chain, nodes on the input. Their
 /// circles are polylines, which the curve mesher samples at their vertices
@@ -332,7 +340,7 @@ fn imported_planar_face_with_holes_keeps_them_as_loops() {
 fn cad_exports_mesh_end_to_end() {
     for (name, factor) in EXPORTED_MODELS {
         let cad_model = occt::load(&cad(name)).unwrap();
-        let cad_mesh = quadrille::mesh_model(
+        let cad_mesh = mesh_baseline(
             &cad_model,
             &MeshOptions {
                 size: Size::Factor(1.0),
@@ -349,7 +357,7 @@ fn cad_exports_mesh_end_to_end() {
             Path::new(name),
         )
         .unwrap();
-        let s = mesh_and_check(&imp, MeshMethod::Unstructured, name);
+        let s = mesh_and_check(&imp, MeshMethod::default(), name);
         assert_eq!(
             s.euler_characteristic, euler,
             "{name}: the CAD's closed surface"

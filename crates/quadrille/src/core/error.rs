@@ -25,6 +25,9 @@ pub enum MeshError {
     /// The size-map options are invalid (bad gradient, bounds or entity sizes).
     #[error("size map: {0}")]
     Sizing(String),
+    /// Topological regularization failed (the regular method).
+    #[error("regularization: {0}")]
+    Regularize(String),
     /// The thread pool could not be created.
     #[error("could not start a pool of {threads} threads: {reason}")]
     Threads {

@@ -3,11 +3,23 @@
 //! on the CAD, smooth and untangle. Not from a paper: it is always valid
 //! where a face can be meshed at all, so every other method falls back on
 //! it face by face. When quads stay invalid it tries normal layers, then
-//! asks the driver ([`crate::methods::pipeline`]) for finer curves.
+//! asks the driver ([`crate::methods::driver`]) for finer curves.
+//!
+//! As a method ([`crate::MeshMethod::Baseline`], [`mesh_baseline`]): curves
+//! at the target size, every face by this mesher, assembly.
 
 use std::collections::BTreeSet;
 
-use geometry::{CurveId, FaceId, Model};
+use std::time::Instant;
+
+use geometry::{CornerId, CurveId, FaceId, Model};
+use mesh::QuadMesh;
+
+use crate::core::error::MeshError;
+use crate::curves::curve_mesh::plan_curves;
+use crate::methods::driver::{assemble, mesh_faces, FaceContext};
+use crate::methods::options::MeshOptions;
+use crate::methods::report::{FaceOutcome, MadeBy, MeshReport, StageTimes};
 
 use crate::core::patch::FaceFailure;
 use crate::core::patch::QuadPatch;
@@ -22,6 +34,45 @@ use crate::triangulate::split::split_triangles;
 const MAX_REFINABLE_BAD: usize = 16;
 /// Smoothing sweeps per face.
 const SMOOTHING_SWEEPS: usize = 4;
+
+/// The baseline method: curves planned at the target size `h`, every face
+/// meshed by [`mesh_face`] (triangles at twice `h`, split into quads of
+/// about `h`), the model's mesh assembled; `merged` lists the corners of
+/// collapsed sliver curves (none for this method's own callers).
+pub(crate) fn mesh_baseline(
+    model: &Model,
+    h: f64,
+    opts: &MeshOptions,
+    merged: &[CornerId],
+) -> Result<(QuadMesh, MeshReport), MeshError> {
+    let mut times = StageTimes::default();
+    let t = Instant::now();
+    let plan = plan_curves(model, h);
+    times.curves += t.elapsed();
+    let face_mesher = |ctx: &FaceContext<'_>, ft: &mut StageTimes| {
+        let t = Instant::now();
+        let r = mesh_face(ctx.model, ctx.fid, ctx.cms, 2.0 * h);
+        ft.fallback += t.elapsed();
+        r.map(|p| FaceOutcome::new(p, MadeBy::Method))
+    };
+    let (cms, results) = mesh_faces(
+        model,
+        plan,
+        opts.progress.as_ref(),
+        &face_mesher,
+        &mut times,
+    )?;
+    let t = Instant::now();
+    let m = assemble(model, &cms, &results, merged)?;
+    times.assembly = t.elapsed();
+    Ok((
+        m,
+        MeshReport {
+            times,
+            ..Default::default()
+        },
+    ))
+}
 
 /// Meshes one face against the given curve meshes; `target` is the triangle
 /// size. When quads stay invalid, it tries once more with normal layers

@@ -1,12 +1,144 @@
 //! Methods: each meshing method as its recipe of stages, and the driver that
-//! meshes every face and assembles the model's mesh.
+//! meshes every face and assembles the model's mesh. Imports every folder
+//! below it; nothing imports it but the crate root.
 //!
-//! - [`baseline`]: triangle split (ours; always valid);
-//! - [`unstructured`]: the quasi-structured meshing paper's §5 per face;
-//! - [`pipeline`]: options, parallel per-face meshing, assembly.
+//! - [`baseline`]: triangulation split into quads (ours; always valid, the
+//!   fallback of every other method);
+//! - [`unstructured`]: the quasi-structured meshing paper's §5 on one face
+//!   (frontal points, recombination, subdivision);
+//! - [`quasi_structured`]: the paper's whole recipe (§3–6), and the plain
+//!   unstructured method as its preset without topology stages;
+//! - [`regular`]: the fully-regular paper's method (baseline, then
+//!   topological regularization);
+//! - [`driver`]: faces in parallel, curve refinement rounds, assembly;
+//! - [`options`], [`report`]: what a method takes and gives back.
+//!
+//! Coming methods get a file here each: `coarse` (coarse block layouts and
+//! high-order quads by ILP), `curves` (quads from closed 3D curve networks)
+//! and `spline` (trim-free spline patches); see ARCHITECTURE.md.
 
 pub mod baseline;
-pub mod pipeline;
+pub mod driver;
+pub mod options;
+pub mod quasi_structured;
+pub mod regular;
+pub mod report;
+pub mod unstructured;
+
 #[cfg(test)]
 pub(crate) mod test_grid;
-pub mod unstructured;
+#[cfg(test)]
+mod tests;
+
+use std::time::Instant;
+
+use geometry::{CornerId, Model};
+use mesh::QuadMesh;
+
+use crate::core::error::MeshError;
+use crate::core::options::resolve_size;
+use crate::topology::regularize::RegularizeOptions;
+use driver::{collapse_slivers, in_pool};
+use options::{MeshOptions, Stages};
+use report::MeshReport;
+
+/// A meshing method: which recipe [`mesh_model_with`] runs.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MeshMethod {
+    /// Triangulate each face in (u, v) and split every triangle into three
+    /// quads ([`baseline`]): always valid, about half the vertices irregular.
+    Baseline,
+    /// The quasi-structured meshing paper's §5 mesh alone: cross field and
+    /// size map, frontal points, recombination, subdivision, smoothing
+    /// ([`quasi_structured`] with [`Stages::NONE`], the plain preset).
+    Unstructured,
+    /// The quasi-structured method (the default): the §5 mesh, then the
+    /// topology stages of [`Stages`] ([`quasi_structured`]).
+    QuasiStructured(Stages),
+    /// The regular method: the baseline, then topological regularization
+    /// with these options ([`regular`]).
+    Regular(RegularizeOptions),
+}
+
+impl Default for MeshMethod {
+    /// [`MeshMethod::QuasiStructured`] with every stage.
+    fn default() -> Self {
+        MeshMethod::QuasiStructured(Stages::ALL)
+    }
+}
+
+/// Meshes every face of `model` with the default method (quasi-structured):
+/// an all-quad mesh, conforming across shared curves and seams, every node
+/// on the CAD and classified on its entity, every quad counter-clockwise
+/// seen from its face's oriented normal. Output is identical for any
+/// `threads`.
+///
+/// ```
+/// let model = geometry::primitives::square(1.0);
+/// let opts = quadrille::MeshOptions { threads: Some(1), ..Default::default() };
+/// let mesh = quadrille::mesh_model(&model, &opts).unwrap();
+/// assert!(!mesh.quads.is_empty());
+/// ```
+pub fn mesh_model(model: &Model, opts: &MeshOptions) -> Result<QuadMesh, MeshError> {
+    mesh_model_with(model, opts, MeshMethod::default()).map(|(m, _)| m)
+}
+
+/// [`mesh_model`] with a choice of method; also reports what each stage did
+/// (faces by pattern, faces that fell back to the baseline, stage times).
+/// Output is identical for any `threads`.
+///
+/// ```
+/// use quadrille::{mesh_model_with, MeshMethod, MeshOptions, Stages};
+/// let model = geometry::primitives::square(1.0);
+/// let opts = MeshOptions { threads: Some(1), ..Default::default() };
+/// let (mesh, report) = mesh_model_with(&model, &opts, MeshMethod::Unstructured).unwrap();
+/// assert!(!mesh.quads.is_empty());
+/// // no topology stage ran: no face by a pattern, no cavity
+/// assert!(report.patterns.is_empty() && report.cavities.replaced == [0; 4]);
+/// let no_cavities = MeshMethod::QuasiStructured(Stages { cavities: false, ..Stages::ALL });
+/// assert!(mesh_model_with(&model, &opts, no_cavities).is_ok());
+/// ```
+pub fn mesh_model_with(
+    model: &Model,
+    opts: &MeshOptions,
+    method: MeshMethod,
+) -> Result<(QuadMesh, MeshReport), MeshError> {
+    let started = Instant::now();
+    model.validate()?;
+    if model.faces.is_empty() {
+        return Err(MeshError::NoFaces);
+    }
+    let h = resolve_size(model, opts.size)?;
+    // the field-guided methods mesh sliver curves as points (their corners
+    // one node; ids kept); the baseline, the regular method's input, meshes
+    // the model as it is
+    let collapsed = match method {
+        MeshMethod::Unstructured | MeshMethod::QuasiStructured(_) => collapse_slivers(model),
+        MeshMethod::Baseline | MeshMethod::Regular(_) => None,
+    };
+    let (model, slivers) = match &collapsed {
+        Some((copy, list)) => (copy, list.as_slice()),
+        None => (model, &[][..]),
+    };
+    let merged: Vec<CornerId> = slivers
+        .iter()
+        .filter(|c| c.removed != c.kept)
+        .map(|c| c.removed)
+        .collect();
+    let merged = merged.as_slice();
+    let mut out = match &method {
+        MeshMethod::Baseline => in_pool(opts.threads, || {
+            baseline::mesh_baseline(model, h, opts, merged)
+        }),
+        MeshMethod::Unstructured => in_pool(opts.threads, || {
+            quasi_structured::mesh_quasi_structured(model, h, opts, Stages::NONE, merged)
+        }),
+        MeshMethod::QuasiStructured(stages) => in_pool(opts.threads, || {
+            quasi_structured::mesh_quasi_structured(model, h, opts, *stages, merged)
+        }),
+        MeshMethod::Regular(ropts) => regular::mesh_regular(model, h, opts, ropts),
+    }?;
+    out.1.times.total = started.elapsed();
+    out.1.slivers = slivers.iter().map(|c| (c.curve, c.length)).collect();
+    Ok(out)
+}

@@ -66,3 +66,12 @@ pub fn fields_and_curves(model: &Model, h: f64) -> (ModelFields, Vec<CurveMesh>)
     let cms = discretize_all(model, &plan_curves(model, h));
     (fields, cms)
 }
+
+/// The baseline method's mesh of `model` (a fixture for the stages that
+/// start from it).
+pub(crate) fn mesh_baseline(
+    model: &geometry::Model,
+    opts: &crate::MeshOptions,
+) -> Result<mesh::QuadMesh, crate::MeshError> {
+    crate::mesh_model_with(model, opts, crate::MeshMethod::Baseline).map(|(m, _)| m)
+}

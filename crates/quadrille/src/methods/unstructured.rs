@@ -25,7 +25,7 @@ use crate::curves::curve_mesh::CurveMesh;
 use crate::field::background::{Background, DirectionalRatios};
 use crate::field::crossfield::CrossField;
 use crate::frontal::insertion::{insert_frontal_points_directional, FrontalOptions, FrontalStats};
-use crate::methods::pipeline::StageTimes;
+use crate::methods::report::StageTimes;
 use crate::smoothing::{optimize, smooth_then_untangle, OptimizeOptions};
 use crate::topology::cavity::{remesh_cavities, CavityOptions, CavityReport};
 use crate::topology::defects::{remove_defects, DefectReport};
@@ -47,7 +47,7 @@ const FINAL_SWEEPS: usize = 20;
 /// leaves 713 irregular vertices on the 25 models instead of 682.)
 const GRADATION: f64 = f64::INFINITY;
 /// Size growth away from the boundary edges for the plain unstructured
-/// method ([`crate::methods::pipeline::Stages::NONE`]), whose mesh is final: half
+/// method ([`UnstructuredOptions::plain`]), whose mesh is final: half
 /// the curves' own grading ([`crate::curves::curve_mesh::GRADING`], on the coarse
 /// spacing), so the interior continues the spacing of curves refined at
 /// tight bends. On wing_surface, whose airfoils are spaced by their leading
@@ -136,8 +136,37 @@ impl Default for UnstructuredOptions {
     }
 }
 
+impl UnstructuredOptions {
+    /// The plain unstructured method's preset ([`crate::MeshMethod::default()`]):
+    /// its §5 mesh is the output, so its interior follows the curves'
+    /// spacing ([`PLAIN_GRADATION`], both [`FrontSpacing`]s, curvature
+    /// refinement by the size map, [`PLAIN_MIN_CURVE_CORNER_SICN`]) and no
+    /// topology stage runs.
+    pub fn plain() -> Self {
+        UnstructuredOptions {
+            gradation: PLAIN_GRADATION,
+            front_spacings: vec![FrontSpacing::BoundaryRatio, FrontSpacing::BoundarySpacing],
+            curvature_by_size_map: true,
+            min_curve_corner_sicn: PLAIN_MIN_CURVE_CORNER_SICN,
+            defects: false,
+            cavity: None,
+            ..Default::default()
+        }
+    }
+
+    /// The quasi-structured method's options: the defaults, with defect
+    /// removal and cavity remeshing as asked.
+    pub fn with_topology(defects: bool, cavities: bool) -> Self {
+        UnstructuredOptions {
+            defects,
+            cavity: cavities.then(CavityOptions::default),
+            ..Default::default()
+        }
+    }
+}
+
 /// Counts of one face's unstructured meshing.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct FaceReport {
     /// Frontal insertion counts.
     pub frontal: FrontalStats,
@@ -150,7 +179,7 @@ pub struct FaceReport {
     /// Nodes moved by the snapping repair.
     pub snapped: usize,
     /// Time of the stages: [`StageTimes::frontal`] (insertion, recombination,
-    /// subdivision) and [`StageTimes::smoothing`]; never part of equality.
+    /// subdivision) and [`StageTimes::smoothing`].
     pub times: StageTimes,
 }
 
@@ -915,7 +944,7 @@ mod tests {
 
     #[test]
     fn the_pipeline_method_meshes_primitives_without_fallback() {
-        use crate::methods::pipeline::{mesh_model_with, MeshMethod, MeshOptions};
+        use crate::{mesh_model_with, MeshMethod, MeshOptions};
         for m in [
             primitives::cylinder(1.0, 2.0),
             primitives::sphere(1.0),
@@ -923,7 +952,7 @@ mod tests {
             primitives::square(1.0),
         ] {
             let (mesh, report) =
-                mesh_model_with(&m, &MeshOptions::default(), MeshMethod::Unstructured).unwrap();
+                mesh_model_with(&m, &MeshOptions::default(), MeshMethod::default()).unwrap();
             assert!(report.fallback.is_empty(), "{:?}", report.fallback);
             let sicn = mesh::stats::quad_sicn_values(&mesh, Some(&m));
             assert!(!sicn.is_empty() && sicn.iter().all(|&s| s > 0.0));
@@ -943,11 +972,9 @@ mod tests {
             size: crate::core::options::Size::Absolute(-1.0),
             ..Default::default()
         };
-        assert!(mesh_model_with(&m, &bad, MeshMethod::Unstructured).is_err());
+        assert!(mesh_model_with(&m, &bad, MeshMethod::default()).is_err());
         let mut empty = m.clone();
         empty.faces.clear();
-        assert!(
-            mesh_model_with(&empty, &MeshOptions::default(), MeshMethod::Unstructured).is_err()
-        );
+        assert!(mesh_model_with(&empty, &MeshOptions::default(), MeshMethod::default()).is_err());
     }
 }

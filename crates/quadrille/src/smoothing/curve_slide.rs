@@ -644,7 +644,7 @@ fn sliders(model: &Model, mesh: &QuadMesh) -> Vec<Slider> {
 mod tests {
     use super::*;
     use crate::core::options::Size;
-    use crate::methods::pipeline::{mesh_model_with, MeshMethod, MeshOptions};
+    use crate::{mesh_model_with, MeshMethod, MeshOptions};
     use geometry::primitives;
 
     #[test]

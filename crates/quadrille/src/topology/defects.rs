@@ -50,6 +50,19 @@ pub struct DefectReport {
     pub boundary_replaced: usize,
 }
 
+impl DefectReport {
+    /// The counts of `self` and `o` added.
+    pub fn add(&self, o: &DefectReport) -> DefectReport {
+        DefectReport {
+            found: self.found + o.found,
+            replaced: self.replaced + o.replaced,
+            undone: self.undone + o.undone,
+            boundary_found: self.boundary_found + o.boundary_found,
+            boundary_replaced: self.boundary_replaced + o.boundary_replaced,
+        }
+    }
+}
+
 /// The ideal number of quads at corner vertex `v` of `p`: from the sum of
 /// its quads' angles there (`star`, its quads).
 fn corner_ideal(p: &QuadPatch, star: &[u32], v: u32) -> u8 {

@@ -197,18 +197,16 @@ pub fn check(model: &Model, mesh: &QuadMesh) -> Report {
         }
     }
     // sliver curves may be meshed as points (the default method does,
-    // `quadrille::methods::pipeline::SLIVER_LENGTH`): no edges, and their end corners
+    // `quadrille::SLIVER_LENGTH`): no edges, and their end corners
     // share one node; a sliver whose merged-away corner has a node of its own
     // was meshed as a curve and is checked like any other
-    let slivers: Vec<geometry::slivers::Collapsed> = geometry::slivers::collapse_short_curves(
-        model,
-        quadrille::methods::pipeline::SLIVER_LENGTH * diagonal,
-    )
-    .map(|(_, list)| list)
-    .unwrap_or_default()
-    .into_iter()
-    .filter(|c| !mesh.corner_nodes.iter().any(|&(_, k)| k == c.removed))
-    .collect();
+    let slivers: Vec<geometry::slivers::Collapsed> =
+        geometry::slivers::collapse_short_curves(model, quadrille::SLIVER_LENGTH * diagonal)
+            .map(|(_, list)| list)
+            .unwrap_or_default()
+            .into_iter()
+            .filter(|c| !mesh.corner_nodes.iter().any(|&(_, k)| k == c.removed))
+            .collect();
     let mut rep: Vec<usize> = (0..model.corners.len()).collect();
     for c in &slivers {
         rep[c.removed.idx()] = c.kept.idx();

@@ -1,0 +1,283 @@
+//! The driver every method shares: each face meshed in parallel by the
+//! method's per-face mesher, the curves around failed faces refined and
+//! those faces meshed again, then one global [`QuadMesh`] assembled in face
+//! order, so that the output is bit-identical for any thread count.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::OnceLock;
+use std::time::Instant;
+
+use geometry::{CornerId, CurveId, Face, FaceId, Model};
+use mesh::{NodeClass, QuadMesh};
+
+use crate::core::error::MeshError;
+use crate::core::options::ProgressFn;
+use crate::core::patch::{FaceFailure, NodeRef};
+use crate::core::queries::sharp_corners_of;
+use crate::curves::curve_mesh::{discretize_all, CurveMesh, CurvePlan};
+use crate::methods::report::{FaceOutcome, StageTimes};
+
+/// Sweeps of [`crate::smoothing::curve_slide::slide_curve_nodes`] over the assembled mesh.
+pub(crate) const CURVE_SLIDE_SWEEPS: usize = 10;
+/// Rounds of "refine the curves around failed faces and mesh them again".
+const CURVE_ROUNDS: usize = 6;
+/// Curves shorter than this share of the model's diagonal are slivers, meshed
+/// as a point ([`geometry::slivers`]): far below any mesh size (the default
+/// is 1/24 of the diagonal), and a quad edge that short is a degenerate quad.
+pub const SLIVER_LENGTH: f64 = 1e-5;
+
+/// The model [`crate::MeshMethod::Unstructured`] and
+/// [`crate::MeshMethod::QuasiStructured`] work on: `model` with its sliver
+/// curves (shorter than [`SLIVER_LENGTH`] of the diagonal) collapsed to
+/// points, same ids ([`geometry::slivers::collapse_short_curves`]); `None`
+/// when it has none. The baseline keeps them: its triangle split gives a
+/// sliver two short quad edges, which the regular method then works around.
+pub fn collapse_slivers(model: &Model) -> Option<(Model, Vec<geometry::slivers::Collapsed>)> {
+    geometry::slivers::collapse_short_curves(model, SLIVER_LENGTH * model.diagonal())
+}
+
+/// What a per-face mesher gets: the model, the face, the curve meshes, and
+/// the face's sharp corners computed once when first asked for.
+pub(crate) struct FaceContext<'a> {
+    /// The model.
+    pub model: &'a Model,
+    /// The face's id.
+    pub fid: FaceId,
+    /// The face.
+    pub face: &'a Face,
+    /// The meshes of every curve of the model.
+    pub cms: &'a [CurveMesh],
+    sharp: OnceLock<Vec<CornerId>>,
+}
+
+impl<'a> FaceContext<'a> {
+    /// The context of face `fid`.
+    pub fn new(model: &'a Model, fid: FaceId, cms: &'a [CurveMesh]) -> Self {
+        FaceContext {
+            model,
+            fid,
+            face: &model.faces[fid.idx()],
+            cms,
+            sharp: OnceLock::new(),
+        }
+    }
+
+    /// The face's corners too sharp for any good quad ([`sharp_corners_of`]).
+    pub fn sharp_corners(&self) -> &[CornerId] {
+        self.sharp
+            .get_or_init(|| sharp_corners_of(self.model, self.fid))
+    }
+}
+
+/// Runs `go` on a pool of `threads` threads, or on rayon's global pool.
+pub(crate) fn in_pool<T: Send>(
+    threads: Option<usize>,
+    go: impl FnOnce() -> Result<T, MeshError> + Send,
+) -> Result<T, MeshError> {
+    match threads {
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n.max(1))
+                .build()
+                .map_err(|e| MeshError::Threads {
+                    threads: n,
+                    reason: e.to_string(),
+                })?;
+            pool.install(go)
+        }
+        None => go(),
+    }
+}
+
+/// Per-face mesher of [`mesh_faces`]: meshes the face of `ctx`, adding
+/// its stage times to the second argument.
+pub(crate) type FaceMesher<'a> =
+    dyn Fn(&FaceContext<'_>, &mut StageTimes) -> Result<FaceOutcome, FaceFailure> + Sync + 'a;
+
+/// Meshes every face with `mesher`, refining the curves around faces that
+/// ask for it; returns the final curve meshes and the faces' outcomes.
+/// Adds the curve discretization to `times.curves`, the per-face phase to
+/// `times.faces` and every attempt's stage times (in face order) to the
+/// per-face stages of `times`.
+pub(crate) fn mesh_faces(
+    model: &Model,
+    mut plan: CurvePlan,
+    progress: Option<&ProgressFn>,
+    mesher: &FaceMesher<'_>,
+    times: &mut StageTimes,
+) -> Result<(Vec<CurveMesh>, Vec<Option<FaceOutcome>>), MeshError> {
+    let nf = model.faces.len();
+    let curve_faces = model.curve_faces();
+    let mut results: Vec<Option<FaceOutcome>> = vec![None; nf];
+    let mut pending: Vec<usize> = (0..nf).collect();
+    let done = AtomicUsize::new(0);
+    let mut cms: Vec<CurveMesh>;
+    let mut round = 0;
+    loop {
+        let t = Instant::now();
+        cms = discretize_all(model, &plan);
+        times.curves += t.elapsed();
+        let t = Instant::now();
+        crate::curves::curve_mesh::largest_faces_first(model, &cms, &mut pending);
+        type Attempt = (usize, Result<FaceOutcome, FaceFailure>, StageTimes);
+        let mut out: Vec<Attempt> = crate::core::work_queue::map_in_order(&pending, |&f| {
+            let started = Instant::now();
+            let ctx = FaceContext::new(model, FaceId(f as u32), &cms);
+            let _span = tracing::debug_span!("face", id = f + 1).entered();
+            let mut ft = StageTimes::default();
+            let r = mesher(&ctx, &mut ft);
+            if tracing::enabled!(tracing::Level::DEBUG) {
+                tracing::debug!(
+                    "face {} meshed in {:.4} s",
+                    f + 1,
+                    started.elapsed().as_secs_f64()
+                );
+            }
+            if r.is_ok() {
+                let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+                if let Some(p) = progress {
+                    p(d.min(nf), nf);
+                }
+            }
+            (f, r, ft)
+        });
+        out.sort_by_key(|(f, _, _)| *f);
+        times.faces += t.elapsed();
+        let mut refine: BTreeSet<CurveId> = BTreeSet::new();
+        let mut failed: BTreeMap<usize, String> = BTreeMap::new();
+        for (f, r, ft) in out {
+            times.add_face(&ft);
+            match r {
+                Ok(p) => results[f] = Some(p),
+                Err(FaceFailure::Fatal(reason)) => {
+                    return Err(MeshError::Face {
+                        face: FaceId(f as u32),
+                        reason,
+                    })
+                }
+                Err(FaceFailure::RefineCurves(cs, reason)) => {
+                    refine.extend(cs);
+                    failed.insert(f, reason);
+                }
+            }
+        }
+        if tracing::enabled!(tracing::Level::DEBUG) {
+            tracing::debug!(
+                "round {round}: {} faces meshed, failed {:?}, refine {:?}",
+                pending.len(),
+                failed,
+                refine
+            );
+        }
+        if failed.is_empty() {
+            break;
+        }
+        round += 1;
+        if round >= CURVE_ROUNDS || refine.is_empty() {
+            let (&f, reason) = failed.iter().next().ok_or(MeshError::NoFaces)?;
+            return Err(MeshError::Face {
+                face: FaceId(f as u32),
+                reason: reason.clone(),
+            });
+        }
+        let mut again: BTreeSet<usize> = failed.keys().copied().collect();
+        let mut doubled: BTreeSet<CurveId> = BTreeSet::new();
+        for &c in &refine {
+            if !doubled.contains(&c) {
+                doubled.extend(plan.refine(c));
+            }
+        }
+        for c in &doubled {
+            again.extend(curve_faces[c.idx()].iter().map(|f| f.idx()));
+        }
+        for &f in &again {
+            if results[f].take().is_some() {
+                done.fetch_sub(1, Ordering::Relaxed);
+            }
+        }
+        pending = again.into_iter().collect();
+    }
+    Ok((cms, results))
+}
+
+/// Builds the global mesh: corners (but the ones in `merged`, which no curve
+/// uses any more), then curve nodes by curve, then each face's interior
+/// nodes in face order; quads in face order.
+pub(crate) fn assemble(
+    model: &Model,
+    cms: &[CurveMesh],
+    results: &[Option<FaceOutcome>],
+    merged: &[CornerId],
+) -> Result<QuadMesh, MeshError> {
+    let mut m = QuadMesh::default();
+    let mut corner_node = vec![u32::MAX; model.corners.len()];
+    for (i, c) in model.corners.iter().enumerate() {
+        if merged.contains(&CornerId(i as u32)) {
+            continue;
+        }
+        corner_node[i] = m.nodes.len() as u32;
+        m.corner_nodes
+            .push((m.nodes.len() as u32, CornerId(i as u32)));
+        m.nodes.push(c.point);
+        m.node_class.push(NodeClass::Corner(CornerId(i as u32)));
+    }
+    let mut offset = vec![0u32; model.curves.len()];
+    for (ci, ce) in model.curves.iter().enumerate() {
+        if ce.degenerate {
+            continue;
+        }
+        let cm = &cms[ci];
+        let n = cm.params.len();
+        offset[ci] = m.nodes.len() as u32;
+        for i in 1..n - 1 {
+            m.nodes.push(cm.points[i]);
+            m.node_class
+                .push(NodeClass::Curve(CurveId(ci as u32), Some(cm.params[i])));
+        }
+        let id = |i: usize| {
+            if i == 0 {
+                corner_node[ce.start.idx()]
+            } else if i == n - 1 {
+                corner_node[ce.end.idx()]
+            } else {
+                offset[ci] + i as u32 - 1
+            }
+        };
+        for i in 0..n - 1 {
+            m.curve_edges.push(([id(i), id(i + 1)], CurveId(ci as u32)));
+        }
+    }
+    for (fi, r) in results.iter().enumerate() {
+        let fid = FaceId(fi as u32);
+        let p = &r
+            .as_ref()
+            .ok_or(MeshError::Face {
+                face: fid,
+                reason: "no mesh was produced".into(),
+            })?
+            .patch;
+        let mut map = vec![u32::MAX; p.nodes.len()];
+        for q in &p.quads {
+            let mut g = [0u32; 4];
+            for k in 0..4 {
+                let l = q[k] as usize;
+                if map[l] == u32::MAX {
+                    map[l] = match p.nodes[l].node {
+                        NodeRef::Corner(c) => corner_node[c.idx()],
+                        NodeRef::Curve(c, i) => offset[c.idx()] + i - 1,
+                        NodeRef::Interior => {
+                            m.nodes.push(p.pos[l]);
+                            m.node_class.push(NodeClass::Face(fid, Some(p.nodes[l].uv)));
+                            (m.nodes.len() - 1) as u32
+                        }
+                    };
+                }
+                g[k] = map[l];
+            }
+            m.quads.push(g);
+            m.quad_face.push(fid);
+        }
+    }
+    Ok(m)
+}
