@@ -1,4 +1,11 @@
+use super::growth::Role;
+use super::work::Kind;
 use super::*;
+use crate::combinatorics::patterns::{library, match_pattern_where, refine};
+use crate::field::singularities::SingularitySite;
+use crate::triangulate::face_triangulation::{LocalNode, NodeRef};
+use crate::triangulate::split::quad_quality;
+use geometry::vec3::{self, Vec3};
 use geometry::{primitives, CornerId, CurveId};
 
 /// An `n × n` grid on the unit square model's face (z = 0, uv = xy), with
