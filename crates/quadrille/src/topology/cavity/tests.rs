@@ -1,4 +1,11 @@
+use super::growth::Role;
+use super::work::Kind;
 use super::*;
+use crate::combinatorics::patterns::{library, match_pattern_where, refine};
+use crate::core::patch::{LocalNode, NodeRef};
+use crate::core::quality::quad_quality;
+use crate::field::singularities::SingularitySite;
+use geometry::vec3::{self, Vec3};
 use geometry::{primitives, CornerId, CurveId};
 
 /// An `n × n` grid on the unit square model's face (z = 0, uv = xy), with
