@@ -5,9 +5,9 @@
 use std::time::Instant;
 
 use anyhow::{bail, Result};
-use quadrille::field::field_report::{model_fields, FieldOptions, ModelFields};
-use quadrille::field::singularities::SingularitySite;
-use quadrille::field::size_map::SizeMapOptions;
+use quadrille::field::SingularitySite;
+use quadrille::field::SizeMapOptions;
+use quadrille::field::{model_fields, FieldOptions, ModelFields};
 use serde::Serialize;
 
 use crate::files;

@@ -74,12 +74,10 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         Method::QuasiStructured => quadrille::MeshMethod::QuasiStructured(stages),
         Method::Unstructured => quadrille::MeshMethod::Unstructured,
         Method::Baseline => quadrille::MeshMethod::Baseline,
-        Method::Regular => {
-            quadrille::MeshMethod::Regular(quadrille::topology::regularize::RegularizeOptions {
-                threads: args.threads,
-                ..Default::default()
-            })
-        }
+        Method::Regular => quadrille::MeshMethod::Regular(quadrille::topology::RegularizeOptions {
+            threads: args.threads,
+            ..Default::default()
+        }),
     };
     let (m, report) = quadrille::mesh_model_with(&model, &opts, method)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;

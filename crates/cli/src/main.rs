@@ -247,7 +247,7 @@ pub struct FieldArgs {
     #[arg(long)]
     size_factor: Option<f64>,
     /// Largest growth of the size map per unit of distance (Eq. 10 of the paper).
-    #[arg(long, default_value_t = quadrille::field::size_map::DEFAULT_GRADIENT)]
+    #[arg(long, default_value_t = quadrille::field::DEFAULT_GRADIENT)]
     size_gradient: f64,
     /// Do not shrink sizes at small CAD features (short curves, curves close to each other).
     #[arg(long)]
@@ -265,15 +265,15 @@ pub struct FieldArgs {
     /// A size on one entity, `KIND:ID=SIZE` with KIND `corner`, `curve` or
     /// `face` and ID 1-based as in `quadrille info` (repeatable), e.g. `curve:3=0.05`.
     #[arg(long = "entity-size", value_name = "KIND:ID=SIZE", value_parser = parse_entity_size)]
-    entity_sizes: Vec<(quadrille::field::size_map::Entity, f64)>,
+    entity_sizes: Vec<(quadrille::field::Entity, f64)>,
     /// No progress bar and no summary.
     #[arg(short, long)]
     quiet: bool,
 }
 
 /// Parses `KIND:ID=SIZE` (see `--entity-size`).
-fn parse_entity_size(text: &str) -> Result<(quadrille::field::size_map::Entity, f64), String> {
-    use quadrille::field::size_map::Entity;
+fn parse_entity_size(text: &str) -> Result<(quadrille::field::Entity, f64), String> {
+    use quadrille::field::Entity;
     let bad = || format!("`{text}` is not KIND:ID=SIZE (e.g. curve:3=0.05)");
     let (entity, size) = text.split_once('=').ok_or_else(bad)?;
     let (kind, id) = entity.split_once(':').ok_or_else(bad)?;

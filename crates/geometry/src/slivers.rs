@@ -28,7 +28,7 @@ pub struct Collapsed {
     pub removed: CornerId,
 }
 
-/// Length of curve `c` on a polyline of [`LENGTH_SAMPLES`] segments (`None`
+/// Length of curve `c` on a polyline of `LENGTH_SAMPLES` (32) segments (`None`
 /// for a curve without 3D geometry).
 pub fn curve_length(model: &Model, c: CurveId) -> Option<f64> {
     let ce = &model.curves[c.idx()];

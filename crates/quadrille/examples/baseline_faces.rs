@@ -5,8 +5,8 @@
 use std::time::Instant;
 
 use geometry::FaceId;
-use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
-use quadrille::methods::baseline::mesh_face;
+use quadrille::curves::{discretize_all, plan_curves};
+use quadrille::methods::mesh_face;
 
 /// The baseline method's mesh of `model`.
 fn mesh_baseline(
@@ -90,15 +90,10 @@ fn main() {
     }
 }
 
-fn dump(
-    model: &geometry::Model,
-    f: usize,
-    cms: &[quadrille::curves::curve_mesh::CurveMesh],
-    h: f64,
-) {
-    use quadrille::core::quality::quad_quality;
-    use quadrille::triangulate::face_triangulation::FaceTriangulation;
-    use quadrille::triangulate::split::split_triangles;
+fn dump(model: &geometry::Model, f: usize, cms: &[quadrille::curves::CurveMesh], h: f64) {
+    use quadrille::core::quad_quality;
+    use quadrille::triangulate::split_triangles;
+    use quadrille::triangulate::FaceTriangulation;
     let face = &model.faces[f];
     let b = face.uv_bounds;
     for (i, j) in [(0.5, 0.5), (0.0, 0.0), (1.0, 1.0)] {

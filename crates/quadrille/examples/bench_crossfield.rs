@@ -17,14 +17,12 @@
 use std::time::Instant;
 
 use faer::c64;
-use quadrille::field::crossfield::assembly::{assemble, cr_stiffness};
-use quadrille::field::crossfield::linsolve::{LowerPattern, SparseSpd};
-use quadrille::field::crossfield::topology::NONE;
-use quadrille::field::crossfield::{
-    compute_cross_field, fixtures, CrossFieldOptions, FaceTopology,
-};
-use quadrille::field::scaling::conformal_scaling;
-use quadrille::field::singularities::extract_singularities;
+use quadrille::field::conformal_scaling;
+use quadrille::field::extract_singularities;
+use quadrille::field::NONE;
+use quadrille::field::{assemble, cr_stiffness};
+use quadrille::field::{compute_cross_field, fixtures, CrossFieldOptions, FaceTopology};
+use quadrille::field::{LowerPattern, SparseSpd};
 
 /// Best time of `runs` runs of `f`, with the output of that run.
 fn best_of<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {
@@ -133,7 +131,7 @@ fn reference_scalar(topo: &FaceTopology, fixed: &[bool]) -> f64 {
 /// Linear-algebra micro benchmark on `mesh` (operator `M + αK` at the final
 /// α): fill, symbolic, numeric and solve times (best of 3 / 3 / 30 runs) for
 /// each ordering (geometric nested dissection, AMD) and factorization kind.
-fn solve_bench(mesh: &quadrille::field::crossfield::FaceMesh) {
+fn solve_bench(mesh: &quadrille::field::FaceMesh) {
     use faer::sparse::linalg::SupernodalThreshold;
     let field = compute_cross_field(
         mesh,

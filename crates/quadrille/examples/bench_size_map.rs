@@ -1,7 +1,7 @@
 //! Size map and curve quantization on every CAD model of a folder: for each
 //! model, the time of the cross fields with the conformal scalings
-//! ([`quadrille::field::field_report::model_fields`]), the time of the size map
-//! alone ([`quadrille::field::size_map::build_size_map`], rebuilt from those fields),
+//! ([`quadrille::field::model_fields`]), the time of the size map
+//! alone ([`quadrille::field::build_size_map`], rebuilt from those fields),
 //! the size range relative to the requested size, and the curve edges of the
 //! uniform plan against those of the plan quantized on the size map.
 //!
@@ -11,9 +11,9 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use quadrille::curves::curve_mesh::plan_curves;
-use quadrille::field::field_report::{model_fields, FieldOptions};
-use quadrille::field::size_map::{build_size_map, FaceBackground, SizeMapOptions};
+use quadrille::curves::plan_curves;
+use quadrille::field::{build_size_map, FaceBackground, SizeMapOptions};
+use quadrille::field::{model_fields, FieldOptions};
 
 fn main() {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "data/cad".into()));

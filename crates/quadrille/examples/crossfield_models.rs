@@ -1,7 +1,7 @@
 //! Relation (2) of the paper on every face of every CAD model in a folder:
 //! imports each model (OpenCASCADE), and for each face computes the cross
 //! field on the baseline background triangulation and its singularities
-//! ([`quadrille::field::field_report::model_fields`], the routine behind
+//! ([`quadrille::field::model_fields`], the routine behind
 //! `quadrille field`), and checks `Σ singularity indices = 4χ − Σ_corners (2 − n̄)`.
 //!
 //! Run: `cargo run --release -p quadrille --example crossfield_models [dir] [refine]`
@@ -11,7 +11,7 @@
 
 use std::path::PathBuf;
 
-use quadrille::field::field_report::{model_fields, FieldOptions, BACKGROUND_REFINE};
+use quadrille::field::{model_fields, FieldOptions, BACKGROUND_REFINE};
 
 fn main() {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "data/cad".into()));

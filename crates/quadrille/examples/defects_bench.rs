@@ -1,4 +1,4 @@
-//! Defect removal ([`quadrille::topology::defects::remove_defects`]) on the baseline
+//! Defect removal ([`quadrille::topology::remove_defects`]) on the baseline
 //! mesher's faces (triangle split: about half the interior vertices have
 //! valence 6): per model, interior vertices of valence ≥ 6 or ≤ 2 before and
 //! after, irregular interior share, worst SICN, and time.
@@ -9,12 +9,12 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use geometry::FaceId;
-use quadrille::core::patch::NodeRef;
-use quadrille::core::patch::QuadPatch;
-use quadrille::core::quality::quad_quality;
-use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
-use quadrille::methods::baseline::mesh_face;
-use quadrille::topology::defects::remove_defects;
+use quadrille::core::quad_quality;
+use quadrille::core::NodeRef;
+use quadrille::core::QuadPatch;
+use quadrille::curves::{discretize_all, plan_curves};
+use quadrille::methods::mesh_face;
+use quadrille::topology::remove_defects;
 
 /// (interior vertices, irregular ones, defects) of a patch.
 fn counts(p: &QuadPatch) -> (usize, usize, usize) {

@@ -3,7 +3,7 @@
 //!
 //! Run: `cargo run --release -p quadrille --example disk_table [max_boundary] [max_interior]`
 //! (default 12 and 4, the table the mesher uses). With `--write` (default
-//! sizes only) it also rewrites `crates/quadrille/src/disk_quads/table.txt`.
+//! sizes only) it also rewrites `crates/quadrille/src/combinatorics/disk_quads/table.txt`.
 
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -13,11 +13,11 @@ fn main() {
     let args: Vec<String> = std::env::args().filter(|a| a != "--write").collect();
     let arg = |i: usize, d: usize| args.get(i).and_then(|a| a.parse().ok()).unwrap_or(d);
     let (b, i) = (
-        arg(1, quadrille::combinatorics::disk_quads::TABLE_MAX_BOUNDARY),
-        arg(2, quadrille::combinatorics::disk_quads::TABLE_MAX_INTERIOR),
+        arg(1, quadrille::combinatorics::TABLE_MAX_BOUNDARY),
+        arg(2, quadrille::combinatorics::TABLE_MAX_INTERIOR),
     );
     let t = Instant::now();
-    let disks = quadrille::combinatorics::disk_quads::enumerate(b, i);
+    let disks = quadrille::combinatorics::enumerate(b, i);
     let secs = t.elapsed().as_secs_f64();
     let mut counts: BTreeMap<(usize, usize), usize> = BTreeMap::new();
     for d in &disks {
@@ -42,20 +42,20 @@ fn main() {
         disks.len()
     );
     if write {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/src/disk_quads/table.txt");
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/src/combinatorics/disk_quads/table.txt"
+        );
         if (b, i)
             != (
-                quadrille::combinatorics::disk_quads::TABLE_MAX_BOUNDARY,
-                quadrille::combinatorics::disk_quads::TABLE_MAX_INTERIOR,
+                quadrille::combinatorics::TABLE_MAX_BOUNDARY,
+                quadrille::combinatorics::TABLE_MAX_INTERIOR,
             )
         {
             eprintln!("--write needs the default sizes");
             std::process::exit(2);
         }
-        if let Err(e) = std::fs::write(
-            path,
-            quadrille::combinatorics::disk_quads::format_table(&disks),
-        ) {
+        if let Err(e) = std::fs::write(path, quadrille::combinatorics::format_table(&disks)) {
             eprintln!("{path}: {e}");
             std::process::exit(1);
         }

@@ -1,5 +1,5 @@
 //! Which faces of each CAD model a pattern meshes directly
-//! ([`quadrille::direct::pattern_face::mesh_face_pattern`], paper §6.1.2): curves
+//! ([`quadrille::direct::mesh_face_pattern`], paper §6.1.2): curves
 //! planned at the default size, then every face tried. Prints a Markdown
 //! table: faces, faces meshed by a pattern (by pattern name), the worst SICN
 //! of those meshes, and the reasons the others were not.
@@ -10,9 +10,9 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use geometry::FaceId;
-use quadrille::core::quality::quad_quality;
-use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
-use quadrille::direct::pattern_face::mesh_face_pattern;
+use quadrille::core::quad_quality;
+use quadrille::curves::{discretize_all, plan_curves};
+use quadrille::direct::mesh_face_pattern;
 
 fn main() {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "data/cad".into()));

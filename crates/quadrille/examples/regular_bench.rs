@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use mesh::stats::MeshStats;
-use quadrille::topology::regularize::{regularize_mesh, RegularizeOptions};
+use quadrille::topology::{regularize_mesh, RegularizeOptions};
 use quadrille::MeshOptions;
 
 /// The baseline method's mesh of `model`.
@@ -113,8 +113,8 @@ fn main() {
                 .ok()
                 .and_then(|v| v.parse::<f64>().ok())
             {
-                Some(r) if r > 0.0 => quadrille::topology::regularize::QuadTarget::Ratio(r),
-                Some(_) => quadrille::topology::regularize::QuadTarget::Off,
+                Some(r) if r > 0.0 => quadrille::topology::QuadTarget::Ratio(r),
+                Some(_) => quadrille::topology::QuadTarget::Off,
                 None => d.quad_target,
             },
             prefer_interior: std::env::var("QR_PREFER_INTERIOR").is_ok() || d.prefer_interior,
@@ -223,7 +223,7 @@ fn main() {
 /// ones by sign of (valence − ideal), and how many interior valence-3 vertices
 /// have a boundary-excess vertex among their links.
 fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
-    use quadrille::core::face_quads::extract::{extract_face, quads_by_face};
+    use quadrille::core::{extract_face, quads_by_face};
     use std::collections::BTreeMap;
     let mut hist: BTreeMap<String, usize> = BTreeMap::new();
     let (mut floor, mut irr, mut nv) = (0i64, 0usize, 0usize);
@@ -259,13 +259,11 @@ fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
                 interior,
                 index,
                 boundary_loops(&fq),
-                quadrille::topology::regularize::QuadTarget::BoundarySpacing.quads_for(&fq)
+                quadrille::topology::QuadTarget::BoundarySpacing.quads_for(&fq)
             );
             if let Some(sides) = four_sides(&fq) {
                 eprintln!("     sides {sides:?}");
-            } else if let Some(lp) =
-                quadrille::topology::regularize::grid::single_boundary_loop(&fq)
-            {
+            } else if let Some(lp) = quadrille::topology::single_boundary_loop(&fq) {
                 let ideals: String = lp
                     .iter()
                     .map(|&v| {
@@ -405,7 +403,7 @@ fn diagnose(model: &geometry::Model, mesh: &mesh::QuadMesh) {
 /// magenta: two or more more).
 fn face_pictures(model: &geometry::Model, mesh: &mesh::QuadMesh, dir: &Path, name: &str) {
     use mesh::render::{Overlay, OverlayPoint, RenderOptions};
-    use quadrille::core::face_quads::extract::{extract_face, quads_by_face};
+    use quadrille::core::{extract_face, quads_by_face};
     let _ = std::fs::create_dir_all(dir);
     for (fid, qids) in quads_by_face(mesh) {
         let Ok(fq) = extract_face(model, mesh, fid, &qids) else {
@@ -458,7 +456,7 @@ fn face_pictures(model: &geometry::Model, mesh: &mesh::QuadMesh, dir: &Path, nam
 }
 
 /// Number of boundary loops of a face's quads (edges of a single live quad).
-fn boundary_loops(fq: &quadrille::core::face_quads::FaceQuads) -> usize {
+fn boundary_loops(fq: &quadrille::core::FaceQuads) -> usize {
     use std::collections::{BTreeMap, BTreeSet};
     let mut directed = BTreeSet::new();
     for q in fq.live_quads() {
@@ -493,16 +491,16 @@ fn boundary_loops(fq: &quadrille::core::face_quads::FaceQuads) -> usize {
 }
 
 /// Edge counts of the 4 sides of a single-loop face with 4 corners (ideal 2).
-fn four_sides(fq: &quadrille::core::face_quads::FaceQuads) -> Option<[usize; 4]> {
-    quadrille::topology::regularize::grid::four_side_counts(fq)
+fn four_sides(fq: &quadrille::core::FaceQuads) -> Option<[usize; 4]> {
+    quadrille::topology::four_side_counts(fq)
 }
 
 /// The quads of the regularized mesh outside the base angle window
 /// (`QR_INVALID`): face, angles, and the classification of each corner.
 fn list_invalid(model: &geometry::Model, mesh: &mesh::QuadMesh) {
-    use quadrille::core::face_quads::extract::{extract_face, quads_by_face};
-    use quadrille::topology::regularize::validity::{quad_angles, quad_valid};
-    use quadrille::topology::regularize::AngleWindow;
+    use quadrille::core::{extract_face, quads_by_face};
+    use quadrille::topology::AngleWindow;
+    use quadrille::topology::{quad_angles, quad_valid};
     for (fid, qids) in quads_by_face(mesh) {
         let Ok(fq) = extract_face(model, mesh, fid, &qids) else {
             continue;

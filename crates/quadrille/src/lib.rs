@@ -1,28 +1,39 @@
-//! Quadrille's meshing methods, one module per stage, and the pipeline
-//! functions that chain them.
+//! Quadrille's meshing methods, as layered stage folders and the method
+//! recipes that chain them.
 //!
-//! The first end-to-end method is the **baseline all-quad mesher**
-//! ([`mesh_model`]): every CAD curve is discretized once (shared by its faces),
-//! each face is triangulated in its parameter plane (constrained Delaunay with
-//! refinement to the 3D size), every triangle is split into three quads and the
-//! new nodes are placed on the CAD surface. Later methods build on its stages.
+//! Start with [`mesh_model`] (the default, quasi-structured method) or
+//! [`mesh_model_with`] and a [`MeshMethod`]:
 //!
-//! Stages:
-//! - [`curve_mesh`]: curve discretization (2n points per curve, shared by faces);
-//! - [`face_triangulation`]: constrained Delaunay triangulation of one face in
-//!   (u, v), refined to the 3D size;
-//! - [`split`]: triangle → 3 quads, placement on the CAD, validity repair;
-//! - [`smoothing`]: light uv-Laplacian smoothing with rollback;
-//! - [`pipeline`]: options, parallel per-face meshing, deterministic assembly;
-//! - [`size_map`]: the model's size map (conformal size, small features,
-//!   gradation, user sizes) on the background triangulations;
-//! - [`field_report`]: the cross field, singularities and size map of every
-//!   face of a model on its background triangulation (`quadrille field`);
-//! - the unstructured method ([`MeshMethod::Unstructured`]): [`background`]
-//!   (point location and field interpolation), [`frontal`] (frontal point
-//!   insertion), [`recombine`] (greedy triangle pairing), [`subdivide`]
-//!   (midpoint subdivision on the CAD), driven per face by [`unstructured`],
-//!   whose topology is then improved by [`defects`] and [`cavity`].
+//! ```
+//! use quadrille::{mesh_model_with, MeshMethod, MeshOptions, Size};
+//! let model = geometry::primitives::cylinder(1.0, 2.0);
+//! let opts = MeshOptions { size: Size::Factor(1.0), threads: Some(1), ..Default::default() };
+//! let (mesh, report) = mesh_model_with(&model, &opts, MeshMethod::default()).unwrap();
+//! assert!(!mesh.quads.is_empty() && report.fallback.is_empty());
+//! ```
+//!
+//! The folders, bottom to top; each imports only the ones before it (checked
+//! by `tests/layers.rs`; ARCHITECTURE.md says what each holds):
+//!
+//! - [`core`]: the per-face quad patch, quad quality, valence rules, geometry
+//!   queries, options and errors, hashing and the work queue;
+//! - [`combinatorics`]: pattern library and disk quadrangulations, as tables;
+//! - [`curves`]: the mesh of every CAD curve;
+//! - [`triangulate`]: triangulation of a face in (u, v), triangles to quads;
+//! - [`field`]: cross field, singularities, scaling and size map;
+//! - [`smoothing`]: node placement with fixed topology;
+//! - [`direct`]: simple faces meshed by a pattern;
+//! - [`frontal`]: frontal points along the cross field;
+//! - [`topology`]: defects, cavities, regularization;
+//! - [`methods`]: the recipes ([`MeshMethod`]) and the driver.
+//!
+//! Each folder exposes the items other crates use (re-exported in its
+//! `mod.rs`); its modules are private to the crate.
+
+// Public items document the stages they call, which are private to the
+// crate: the links resolve with `cargo doc --document-private-items`, the
+// documentation for the people who work on the mesher.
+#![allow(rustdoc::private_intra_doc_links)]
 
 pub mod combinatorics;
 pub mod core;

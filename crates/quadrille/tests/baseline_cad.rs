@@ -140,7 +140,7 @@ fn every_cad_model_meshes_validly() {
             ));
         }
         // opposite sides of 4-sided faces: equal counts unless very different (spec §6.3)
-        let plan = quadrille::curves::curve_mesh::plan_curves(
+        let plan = quadrille::curves::plan_curves(
             &model,
             quadrille::resolve_size(&model, Size::Factor(factor)).unwrap(),
         );
@@ -148,13 +148,13 @@ fn every_cad_model_meshes_validly() {
         for (_, c) in &mesh.curve_edges {
             edges_per_curve[c.idx()] += 1;
         }
-        for [a, b] in quadrille::curves::curve_chords::opposite_pairs(&model) {
+        for [a, b] in quadrille::curves::opposite_pairs(&model) {
             let (ia, ib) = (
                 plan.ideal(geometry::CurveId(a as u32)),
                 plan.ideal(geometry::CurveId(b as u32)),
             );
             opposite_pairs += 1;
-            if (ia - ib).abs() <= quadrille::curves::curve_chords::CHORD_TOLERANCE * ia.max(ib) {
+            if (ia - ib).abs() <= quadrille::curves::CHORD_TOLERANCE * ia.max(ib) {
                 opposite_close += 1;
                 if edges_per_curve[a] != edges_per_curve[b] {
                     bad.push(format!(

@@ -44,8 +44,10 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 /// True for a file that holds only tests or test fixtures.
 fn is_test_file(rel: &Path) -> bool {
     let name = rel.file_name().and_then(|n| n.to_str()).unwrap_or("");
-    matches!(name, "tests.rs" | "test_support.rs" | "test_grid.rs" | "fixtures.rs")
-        || rel.components().any(|c| c.as_os_str() == "tests")
+    matches!(
+        name,
+        "tests.rs" | "test_support.rs" | "test_grid.rs" | "fixtures.rs"
+    ) || rel.components().any(|c| c.as_os_str() == "tests")
 }
 
 /// The lines of `text` before its first `#[cfg(test)]` line.
@@ -117,7 +119,11 @@ fn violations() -> Vec<String> {
 #[test]
 fn folders_import_only_the_layers_below_them() {
     let bad = violations();
-    assert!(bad.is_empty(), "imports against the layer order:\n{}", bad.join("\n"));
+    assert!(
+        bad.is_empty(),
+        "imports against the layer order:\n{}",
+        bad.join("\n")
+    );
 }
 
 #[test]
@@ -126,7 +132,10 @@ fn the_layer_check_sees_an_upward_import() {
         crate_paths("use crate::methods::driver::X; // crate::core"),
         vec!["methods".to_string()]
     );
-    assert_eq!(crate_paths("let x = $crate::a + quadrille::b;"), Vec::<String>::new());
+    assert_eq!(
+        crate_paths("let x = $crate::a + quadrille::b;"),
+        Vec::<String>::new()
+    );
     assert_eq!(
         non_test_lines("a\n#[cfg(test)]\nuse crate::methods;"),
         vec!["a"]
@@ -163,5 +172,9 @@ fn lib_rs_is_the_only_file_at_the_top_and_no_file_is_too_long() {
             (n > MAX_LINES).then(|| format!("{}: {n} lines", f.display()))
         })
         .collect();
-    assert!(long.is_empty(), "files over {MAX_LINES} lines:\n{}", long.join("\n"));
+    assert!(
+        long.is_empty(),
+        "files over {MAX_LINES} lines:\n{}",
+        long.join("\n")
+    );
 }

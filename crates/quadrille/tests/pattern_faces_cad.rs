@@ -8,12 +8,12 @@ use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
 
 use geometry::FaceId;
-use quadrille::combinatorics::patterns::library;
-use quadrille::core::patch::NodeRef;
-use quadrille::core::quality::quad_quality;
-use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
-use quadrille::direct::holed_face::HOLED_GRID;
-use quadrille::direct::pattern_face::{mesh_face_pattern, MIN_PATTERN_SICN, O_GRID};
+use quadrille::combinatorics::library;
+use quadrille::core::quad_quality;
+use quadrille::core::NodeRef;
+use quadrille::curves::{discretize_all, plan_curves};
+use quadrille::direct::HOLED_GRID;
+use quadrille::direct::{mesh_face_pattern, MIN_PATTERN_SICN, O_GRID};
 
 fn model(name: &str) -> geometry::Model {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -131,7 +131,7 @@ fn a_plate_with_one_round_hole_is_a_holed_grid() {
         .iter()
         .map(|u| u.curve.idx())
         .collect();
-    let pairs = quadrille::curves::curve_chords::opposite_pairs(&m);
+    let pairs = quadrille::curves::opposite_pairs(&m);
     assert!(pairs.contains(&[outer[0], outer[2]]) && pairs.contains(&[outer[1], outer[3]]));
     // on the hole: four nodes on three quads, the others on two
     let mut val = vec![0usize; patch.nodes.len()];

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use mesh::stats::MeshStats;
-use quadrille::topology::regularize::{regularize_mesh, RegularizeOptions};
+use quadrille::topology::{regularize_mesh, RegularizeOptions};
 use quadrille::MeshOptions;
 
 /// The baseline method's mesh of `model`.

@@ -9,8 +9,8 @@
 use std::time::Instant;
 
 use geometry::FaceId;
-use quadrille::curves::curve_mesh::{discretize_all, plan_curves};
-use quadrille::methods::baseline::mesh_face;
+use quadrille::curves::{discretize_all, plan_curves};
+use quadrille::methods::mesh_face;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();

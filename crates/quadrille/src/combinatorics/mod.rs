@@ -5,5 +5,8 @@
 //! - [`disk_quads`]: every quadrangulation of a small disk with given boundary
 //!   valences (the paper's §6.3 disk quadrangulations, tabulated here).
 
-pub mod disk_quads;
-pub mod patterns;
+pub(crate) mod disk_quads;
+pub(crate) mod patterns;
+
+pub use disk_quads::{enumerate, format_table, TABLE_MAX_BOUNDARY, TABLE_MAX_INTERIOR};
+pub use patterns::library;

@@ -7,12 +7,17 @@
 //! - [`face_quads`]: the editable quads of one face with an edit journal and
 //!   checkpoints (exact rollback), used by the topology stages.
 
-pub mod error;
-pub mod face_quads;
-pub mod fast_hash;
-pub mod options;
-pub mod patch;
-pub mod quality;
-pub mod queries;
-pub mod valence;
-pub mod work_queue;
+pub(crate) mod error;
+pub(crate) mod face_quads;
+pub(crate) mod fast_hash;
+pub(crate) mod options;
+pub(crate) mod patch;
+pub(crate) mod quality;
+pub(crate) mod queries;
+pub(crate) mod valence;
+pub(crate) mod work_queue;
+
+pub use face_quads::extract::{extract_face, quads_by_face};
+pub use face_quads::FaceQuads;
+pub use patch::{NodeRef, QuadPatch};
+pub use quality::quad_quality;

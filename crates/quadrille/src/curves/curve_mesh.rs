@@ -394,23 +394,6 @@ fn profile(
     Profile { ts, cum, budget }
 }
 
-/// Length of every curve (0 for degenerate curves), measured on a fine polyline.
-pub fn curve_lengths(model: &Model) -> Vec<f64> {
-    let min_len = min_sample_length(model);
-    (0..model.curves.len())
-        .map(|i| {
-            if model.curves[i].degenerate {
-                return 0.0;
-            }
-            let (_, pts) = sample(model, CurveId(i as u32), min_len);
-            pts.windows(2)
-                .map(|w| vec3::dist(w[0], w[1]))
-                .filter(|l| l.is_finite())
-                .sum()
-        })
-        .collect()
-}
-
 /// Plans the curves for target final edge length `h`: each curve's ideal
 /// coarse count is its segment budget ∫ ds / spacing (about `length / 2h` on
 /// a gently curved curve); counts are the rounded chord means

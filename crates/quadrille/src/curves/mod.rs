@@ -6,6 +6,9 @@
 //!   (ours: chords of opposite curves, pattern-friendly side counts);
 //! - [`cusps`]: curve spacing near cusp corners (ours).
 
-pub mod curve_chords;
-pub mod curve_mesh;
-pub mod cusps;
+pub(crate) mod curve_chords;
+pub(crate) mod curve_mesh;
+pub(crate) mod cusps;
+
+pub use curve_chords::{opposite_pairs, CHORD_TOLERANCE};
+pub use curve_mesh::{discretize_all, plan_curves, CurveMesh};

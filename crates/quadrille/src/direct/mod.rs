@@ -5,6 +5,9 @@
 //! - [`holed_face`]: a plate with one hole as a grid with a rectangular hole (ours);
 //! - [`sphere_face`]: a full sphere as a cube projected onto it (ours).
 
-pub mod holed_face;
-pub mod pattern_face;
-pub mod sphere_face;
+pub(crate) mod holed_face;
+pub(crate) mod pattern_face;
+pub(crate) mod sphere_face;
+
+pub use holed_face::HOLED_GRID;
+pub use pattern_face::{mesh_face_pattern, MIN_PATTERN_SICN, O_GRID};

@@ -49,11 +49,6 @@ pub struct ConformalScaling {
 }
 
 impl ConformalScaling {
-    /// `H` at an **input** vertex of the face mesh (through the welding map).
-    pub fn at_input_vertex(&self, topo: &FaceTopology, i: usize) -> f64 {
-        self.h[topo.vertex_map[i] as usize]
-    }
-
     /// The size `h = e^{H + c}` at welded vertex `v`, with `c` from [`scaling_constant`].
     pub fn size(&self, v: usize, c: f64) -> f64 {
         (self.h[v] + c).exp()

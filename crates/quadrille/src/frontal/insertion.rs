@@ -44,7 +44,7 @@ use crate::triangulate::face_triangulation::FaceTriangulation;
 /// frontal exclusion zone"); the fronts meet with fewer holes between them.
 pub const KAPPA: f64 = 0.65;
 
-/// Parameters of [`insert_frontal_points`].
+/// Parameters of [`insert_frontal_points_directional`].
 #[derive(Clone, Debug)]
 pub struct FrontalOptions {
     /// Spacing of the points as a multiple of the size map (2 under the
@@ -66,7 +66,7 @@ impl Default for FrontalOptions {
     }
 }
 
-/// What [`insert_frontal_points`] did.
+/// What [`insert_frontal_points_directional`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct FrontalStats {
     /// Points inserted into the triangulation.
@@ -192,18 +192,8 @@ pub fn uv_step(face: &Face, uv: [f64; 2], w: Vec3) -> Option<[f64; 2]> {
 
 /// Runs frontal insertion on `ft` (which holds only its boundary nodes, or
 /// more), guided by the cross field and size map of `bg`. Every node already
-/// in `ft` is a seed and blocks proposals near it.
-pub fn insert_frontal_points(
-    ft: &mut FaceTriangulation<'_>,
-    face: &Face,
-    bg: &Background<'_>,
-    opts: &FrontalOptions,
-) -> FrontalStats {
-    insert_frontal_points_directional(ft, face, bg, opts, None)
-}
-
-/// [`insert_frontal_points`] with a spacing of its own along each cross
-/// branch where `ratios` is given ([`Background::sample_directional`]): the
+/// in `ft` is a seed and blocks proposals near it. Where `ratios` is given,
+/// with a spacing of its own along each cross branch ([`Background::sample_directional`]): the
 /// steps along `±d₁` and `±d₂` and the exclusion box's half-widths follow
 /// them.
 pub fn insert_frontal_points_directional(
@@ -323,7 +313,13 @@ mod tests {
         let mut ft = FaceTriangulation::new(&model, FaceId(0), &cms, 2.0 * h).unwrap();
         let nb = ft.nodes.len();
         assert_eq!(nb, 40);
-        let st = insert_frontal_points(&mut ft, &model.faces[0], &bg, &FrontalOptions::default());
+        let st = insert_frontal_points_directional(
+            &mut ft,
+            &model.faces[0],
+            &bg,
+            &FrontalOptions::default(),
+            None,
+        );
         // a 10 × 10 grid has 9 × 9 = 81 interior points
         assert!((70..=95).contains(&st.inserted), "{st:?}");
         // interior points sit near grid positions: valence 4 in the

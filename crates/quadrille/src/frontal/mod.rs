@@ -3,4 +3,4 @@
 //!
 //! - [`insertion`]: frontal point insertion into the face triangulation.
 
-pub mod insertion;
+pub(crate) mod insertion;

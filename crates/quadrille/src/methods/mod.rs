@@ -14,16 +14,16 @@
 //! - [`options`], [`report`]: what a method takes and gives back.
 //!
 //! Coming methods get a file here each: `coarse` (coarse block layouts and
-//! high-order quads by ILP), `curves` (quads from closed 3D curve networks)
+//! high-order quads by ILP), `curvenet` (quads from closed 3D curve networks)
 //! and `spline` (trim-free spline patches); see ARCHITECTURE.md.
 
-pub mod baseline;
-pub mod driver;
-pub mod options;
-pub mod quasi_structured;
-pub mod regular;
-pub mod report;
-pub mod unstructured;
+pub(crate) mod baseline;
+pub(crate) mod driver;
+pub(crate) mod options;
+pub(crate) mod quasi_structured;
+pub(crate) mod regular;
+pub(crate) mod report;
+pub(crate) mod unstructured;
 
 #[cfg(test)]
 pub(crate) mod test_grid;
@@ -142,3 +142,5 @@ pub fn mesh_model_with(
     out.1.slivers = slivers.iter().map(|c| (c.curve, c.length)).collect();
     Ok(out)
 }
+
+pub use baseline::mesh_face;

@@ -11,7 +11,7 @@
 //! 4. quads below the quality bar untangled once more (ours);
 //! 5. the regular method's operations on what the cavities left (ours,
 //!    [`crate::topology::regular_pass`]);
-//! 6. the face's average quality raised (§6.4 kernels, ours: average SICN
+//! 6. the face's average quality raised (§5.3 kernels, ours: average SICN
 //!    ascent);
 //!
 //! and on the assembled mesh: faces with a quad the mesh statistics find
@@ -37,9 +37,7 @@ use crate::methods::baseline::mesh_face;
 use crate::methods::driver::{assemble, mesh_faces, FaceContext, CURVE_SLIDE_SWEEPS};
 use crate::methods::options::{MeshOptions, Stages};
 use crate::methods::report::{FaceOutcome, MadeBy, MeshReport, StageTimes};
-use crate::methods::unstructured::{
-    improve_face_timed, mesh_face_unstructured, UnstructuredOptions,
-};
+use crate::methods::unstructured::{improve_face, mesh_face_unstructured, UnstructuredOptions};
 use crate::topology::regular_pass::{reduce_irregular, RegularPassOptions};
 
 /// Sweeps of [`crate::smoothing::raise_average`] on every face of the
@@ -163,7 +161,7 @@ pub(crate) fn mesh_quasi_structured(
                 ft.frontal += fr.times.frontal;
                 ft.smoothing += fr.times.smoothing;
                 // very irregular vertices out (paper §6.3), then cavity remeshing (§6.2)
-                let r = improve_face_timed(face, &mut p, &ff.singularities.list, &uopts, ft);
+                let r = improve_face(face, &mut p, &ff.singularities.list, &uopts, ft);
                 // quads left below the quality bar: one more untangling pass
                 let t = Instant::now();
                 crate::smoothing::lift_poor_quads(

@@ -37,7 +37,7 @@ pub struct StageTimes {
     /// The regular method's operations after the cavities (sum over faces).
     pub regular_pass: Duration,
     /// Baseline meshing: the faces that fell back to it, or every face of
-    /// [`MeshMethod::Baseline`] (sum over faces).
+    /// [`crate::MeshMethod::Baseline`] (sum over faces).
     pub fallback: Duration,
     /// Assembly of the global mesh and the final SICN check.
     pub assembly: Duration,

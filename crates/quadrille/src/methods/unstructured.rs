@@ -137,7 +137,7 @@ impl Default for UnstructuredOptions {
 }
 
 impl UnstructuredOptions {
-    /// The plain unstructured method's preset ([`crate::MeshMethod::default()`]):
+    /// The plain unstructured method's preset ([`crate::MeshMethod::Unstructured`]):
     /// its §5 mesh is the output, so its interior follows the curves'
     /// spacing ([`PLAIN_GRADATION`], both [`FrontSpacing`]s, curvature
     /// refinement by the size map, [`PLAIN_MIN_CURVE_CORNER_SICN`]) and no
@@ -414,19 +414,9 @@ fn front_mesh(
 /// quadrangulations (paper §6.3), then, unless `opts.cavity` is `None`,
 /// cavity remeshing around the unnecessary irregular vertices, keeping the
 /// ones matched to the face's cross-field `singularities` (paper §6.2). Every
-/// change is kept only if the quads stay valid.
+/// change is kept only if the quads stay valid. Adds the time of the two
+/// stages to [`StageTimes::defects`] and [`StageTimes::cavities`] of `times`.
 pub fn improve_face(
-    face: &geometry::Face,
-    p: &mut QuadPatch,
-    singularities: &[crate::field::singularities::Singularity],
-    opts: &UnstructuredOptions,
-) -> (DefectReport, CavityReport) {
-    improve_face_timed(face, p, singularities, opts, &mut StageTimes::default())
-}
-
-/// [`improve_face`], adding the time of its two stages to
-/// [`StageTimes::defects`] and [`StageTimes::cavities`] of `times`.
-pub fn improve_face_timed(
     face: &geometry::Face,
     p: &mut QuadPatch,
     singularities: &[crate::field::singularities::Singularity],
@@ -917,13 +907,20 @@ mod tests {
             ..Default::default()
         };
         let (mut without, mut with) = (p.clone(), p);
-        let (_, none) = improve_face(face, &mut without, &ff.singularities.list, &off);
+        let (_, none) = improve_face(
+            face,
+            &mut without,
+            &ff.singularities.list,
+            &off,
+            &mut StageTimes::default(),
+        );
         assert_eq!(none, CavityReport::default());
         let (_, r) = improve_face(
             face,
             &mut with,
             &ff.singularities.list,
             &UnstructuredOptions::default(),
+            &mut StageTimes::default(),
         );
         assert_eq!(invalid_quads(face, &with), 0);
         assert_eq!(r.irregular_after, irregular(&with));

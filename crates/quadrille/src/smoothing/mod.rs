@@ -1,15 +1,15 @@
 //! Smoothing: node placement with fixed topology.
 //!
-//! - [`kernels`]: the quasi-structured meshing paper's 3D kernels (§6.4:
+//! - [`kernels`]: the quasi-structured meshing paper's 3D kernels (§5.3:
 //!   Winslow on regular nodes, angle-based on irregular ones) and the
 //!   smoothing loop, with the average-SICN ascent (ours);
 //! - [`repair`]: Laplacian smoothing with rollback and untangling (ours);
 //! - [`curve_slide`]: curve nodes slid along their curves on the assembled
 //!   mesh (ours).
 
-pub mod curve_slide;
-pub mod kernels;
-pub mod repair;
+pub(crate) mod curve_slide;
+pub(crate) mod kernels;
+pub(crate) mod repair;
 
 pub use kernels::{optimize, optimize_nodes, raise_average, OptimizeOptions, OptimizeReport};
 pub use repair::{

@@ -9,7 +9,15 @@
 //! - [`regular_pass`]: those operations as the quasi-structured method's
 //!   last topological pass (ours).
 
-pub mod cavity;
-pub mod defects;
-pub mod regular_pass;
-pub mod regularize;
+pub(crate) mod cavity;
+pub(crate) mod defects;
+pub(crate) mod regular_pass;
+pub(crate) mod regularize;
+
+pub use defects::remove_defects;
+pub use regularize::grid::{four_side_counts, single_boundary_loop};
+pub use regularize::validity::{quad_angles, quad_valid};
+pub use regularize::{
+    regularize_mesh, regularize_mesh_with_progress, AngleWindow, QuadTarget, RegularizeError,
+    RegularizeOptions, RegularizeReport,
+};

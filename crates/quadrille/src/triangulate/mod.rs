@@ -9,7 +9,10 @@
 //! - [`subdivide`]: midpoint subdivision of the quad-dominant mesh into
 //!   all-quads on the CAD (paper §5.2).
 
-pub mod face_triangulation;
-pub mod recombine;
-pub mod split;
-pub mod subdivide;
+pub(crate) mod face_triangulation;
+pub(crate) mod recombine;
+pub(crate) mod split;
+pub(crate) mod subdivide;
+
+pub use face_triangulation::FaceTriangulation;
+pub use split::split_triangles;

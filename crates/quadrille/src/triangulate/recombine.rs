@@ -37,14 +37,6 @@ pub struct MinSicn {
     pub curve_corner: f64,
 }
 
-impl MinSicn {
-    /// The paper's threshold on every corner.
-    pub const PAPER: MinSicn = MinSicn {
-        quad: MIN_SICN,
-        curve_corner: MIN_SICN,
-    };
-}
-
 /// A quad-dominant mesh of one face on local nodes, counter-clockwise in (u, v).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct QuadDominant {
@@ -260,6 +252,14 @@ fn subdivided_curve_corners(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    impl MinSicn {
+        /// The paper's threshold on every corner.
+        const PAPER: MinSicn = MinSicn {
+            quad: MIN_SICN,
+            curve_corner: MIN_SICN,
+        };
+    }
     use crate::core::patch::NodeRef;
     use geometry::primitives;
 

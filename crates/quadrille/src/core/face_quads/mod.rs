@@ -331,22 +331,6 @@ impl FaceQuads {
         out
     }
 
-    /// The state of vertex `v` at checkpoint `cp` (`None` if it did not exist).
-    pub fn vertex_at(&self, cp: Checkpoint, v: u32) -> Option<&QVertex> {
-        if v as usize >= cp.nv {
-            return None;
-        }
-        // the first journal entry for v after cp holds its state at cp
-        for u in &self.log[cp.log.min(self.log.len())..] {
-            if let Undo::Vertex(w, old) = u {
-                if *w == v {
-                    return Some(old);
-                }
-            }
-        }
-        Some(&self.verts[v as usize])
-    }
-
     /// Quads changed, created or deleted since `cp` (sorted).
     pub fn quads_touched_since(&self, cp: Checkpoint) -> Vec<u32> {
         let mut out: Vec<u32> = self.log[cp.log.min(self.log.len())..]

@@ -38,7 +38,6 @@ mod refine;
 
 use plane::segments_touch;
 pub use plane::{centroid_uv, edge_mid_uv};
-pub use refine::LAYER_TURN;
 use refine::{CHORD_RATIO, NORMAL_COS};
 
 /// The midpoint node of a boundary edge.
