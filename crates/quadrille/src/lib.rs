@@ -46,7 +46,7 @@ pub mod smoothing;
 pub mod topology;
 pub mod triangulate;
 
-pub use core::error::MeshError;
+pub use core::error::{FaceError, MeshError};
 pub use core::options::{default_size, resolve_size, ProgressFn, Size, DEFAULT_DIVISIONS};
 pub use methods::driver::SLIVER_LENGTH;
 pub use methods::options::{MeshOptions, Stages, DEFAULT_QUADS_PER_TURN};

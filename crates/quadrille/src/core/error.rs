@@ -37,3 +37,77 @@ pub enum MeshError {
         reason: String,
     },
 }
+
+/// Why a method could not mesh one face, so that the face fell back to the
+/// baseline ([`crate::MeshReport::fallback`]). The text of each variant is
+/// what `quadrille mesh` prints.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FaceError {
+    /// The face id is not in the model (1-based).
+    #[error("no face {0}")]
+    NoSuchFace(u32),
+    /// The face's cross field, size map or background failed.
+    #[error("{0}")]
+    Field(String),
+    /// The boundary polygon could not be triangulated in (u, v).
+    #[error("boundary: {0}")]
+    Boundary(String),
+    /// The triangulation could not be refined to the size.
+    #[error("refinement: {0}")]
+    Refinement(String),
+    /// The triangulation holds no triangle.
+    #[error("the triangulation is empty")]
+    EmptyTriangulation,
+    /// Edges of these curves (1-based) are missing from the triangulation.
+    #[error("boundary edges of curves {0:?} left out of the triangulation")]
+    MissingBoundaryEdges(Vec<u32>),
+    /// No way of stepping the front was given.
+    #[error("no front spacing to try")]
+    NoFrontSpacing,
+    /// Quads stayed inverted after smoothing and untangling (their count).
+    #[error("{0} quads stay inverted")]
+    InvertedQuads(usize),
+    /// The face's mesh had quads that the mesh statistics find inverted
+    /// once assembled with its neighbours.
+    #[error("inverted quads in the assembled mesh")]
+    InvertedInAssembly,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn face_errors_read_as_the_cli_prints_them() {
+        assert_eq!(FaceError::NoSuchFace(3).to_string(), "no face 3");
+        assert_eq!(
+            FaceError::MissingBoundaryEdges(vec![2, 7]).to_string(),
+            "boundary edges of curves [2, 7] left out of the triangulation"
+        );
+        assert_eq!(
+            FaceError::InvertedQuads(4).to_string(),
+            "4 quads stay inverted"
+        );
+        assert_eq!(
+            FaceError::Refinement("Fatal(\"x\")".into()).to_string(),
+            "refinement: Fatal(\"x\")"
+        );
+        assert_eq!(
+            FaceError::InvertedInAssembly.to_string(),
+            "inverted quads in the assembled mesh"
+        );
+    }
+
+    #[test]
+    fn mesh_errors_name_the_face_one_based() {
+        let e = MeshError::Face {
+            face: FaceId(4),
+            reason: "x".into(),
+        };
+        assert_eq!(e.to_string(), "face 5 could not be meshed: x");
+        assert_eq!(
+            MeshError::Regularize("y".into()).to_string(),
+            "regularization: y"
+        );
+    }
+}

@@ -10,8 +10,6 @@
 
 use std::collections::BTreeSet;
 
-use std::time::Instant;
-
 use geometry::{CornerId, CurveId, FaceId, Model};
 use mesh::QuadMesh;
 
@@ -19,7 +17,7 @@ use crate::core::error::MeshError;
 use crate::curves::curve_mesh::plan_curves;
 use crate::methods::driver::{assemble, mesh_faces, FaceContext};
 use crate::methods::options::MeshOptions;
-use crate::methods::report::{FaceOutcome, MadeBy, MeshReport, StageTimes};
+use crate::methods::report::{timed, FaceOutcome, MadeBy, MeshReport, StageTimes};
 
 use crate::core::patch::FaceFailure;
 use crate::core::patch::QuadPatch;
@@ -46,14 +44,12 @@ pub(crate) fn mesh_baseline(
     merged: &[CornerId],
 ) -> Result<(QuadMesh, MeshReport), MeshError> {
     let mut times = StageTimes::default();
-    let t = Instant::now();
-    let plan = plan_curves(model, h);
-    times.curves += t.elapsed();
+    let plan = timed(&mut times.curves, "curve plan", || plan_curves(model, h));
     let face_mesher = |ctx: &FaceContext<'_>, ft: &mut StageTimes| {
-        let t = Instant::now();
-        let r = mesh_face(ctx.model, ctx.fid, ctx.cms, 2.0 * h);
-        ft.fallback += t.elapsed();
-        r.map(|p| FaceOutcome::new(p, MadeBy::Method))
+        timed(&mut ft.fallback, "baseline", || {
+            mesh_face(ctx.model, ctx.fid, ctx.cms, 2.0 * h)
+        })
+        .map(|p| FaceOutcome::new(p, MadeBy::Method))
     };
     let (cms, results) = mesh_faces(
         model,
@@ -62,9 +58,9 @@ pub(crate) fn mesh_baseline(
         &face_mesher,
         &mut times,
     )?;
-    let t = Instant::now();
-    let m = assemble(model, &cms, &results, merged)?;
-    times.assembly = t.elapsed();
+    let m = timed(&mut times.assembly, "assembly", || {
+        assemble(model, &cms, &results, merged)
+    })?;
     Ok((
         m,
         MeshReport {

@@ -27,7 +27,7 @@ use geometry::{CornerId, FaceId, Model};
 use mesh::QuadMesh;
 use rayon::prelude::*;
 
-use crate::core::error::MeshError;
+use crate::core::error::{FaceError, MeshError};
 use crate::core::options::{default_size, Size};
 use crate::core::patch::FaceFailure;
 use crate::direct::pattern_face::mesh_face_pattern;
@@ -36,7 +36,7 @@ use crate::field::size_map::SizeMapOptions;
 use crate::methods::baseline::mesh_face;
 use crate::methods::driver::{assemble, mesh_faces, FaceContext, CURVE_SLIDE_SWEEPS};
 use crate::methods::options::{MeshOptions, Stages};
-use crate::methods::report::{FaceOutcome, MadeBy, MeshReport, StageTimes};
+use crate::methods::report::{timed, FaceOutcome, MadeBy, MeshReport, StageTimes};
 use crate::methods::unstructured::{improve_face, mesh_face_unstructured, UnstructuredOptions};
 use crate::topology::regular_pass::{reduce_irregular, RegularPassOptions};
 
@@ -108,23 +108,21 @@ pub(crate) fn mesh_quasi_structured(
     }
     let mut times = StageTimes::default();
     // the size map, bounded so that faces, curves and the baseline fallback agree
-    let t = Instant::now();
     let sizing = SizeMapOptions {
         min_size: Some(size_map_floor(model, h)),
         max_size: Some(SIZE_MAP_MAX * h),
         quads_per_turn: (opts.quads_per_turn > 0.0).then_some(opts.quads_per_turn),
         ..Default::default()
     };
-    let fields = model_fields(
-        model,
-        &FieldOptions {
-            size: Size::Absolute(h),
-            sizing,
-            refine: background_refine(stages),
-            ..Default::default()
-        },
-    )?;
-    times.fields = t.elapsed();
+    let field_options = FieldOptions {
+        size: Size::Absolute(h),
+        sizing,
+        refine: background_refine(stages),
+        ..Default::default()
+    };
+    let fields = timed(&mut times.fields, "fields", || {
+        model_fields(model, &field_options)
+    })?;
     let uopts = if stages == Stages::NONE {
         UnstructuredOptions::plain()
     } else {
@@ -137,19 +135,19 @@ pub(crate) fn mesh_quasi_structured(
         |ctx: &FaceContext<'_>, ft: &mut StageTimes| -> Result<FaceOutcome, FaceFailure> {
             let (model, fid, face) = (ctx.model, ctx.fid, ctx.face);
             if stages.patterns {
-                let t = Instant::now();
-                let r = mesh_face_pattern(model, fid, ctx.cms);
-                ft.patterns += t.elapsed();
+                let r = timed(&mut ft.patterns, "patterns", || {
+                    mesh_face_pattern(model, fid, ctx.cms)
+                });
                 match r {
                     Ok((p, name)) => return Ok(FaceOutcome::new(p, MadeBy::Pattern(name))),
                     Err(why) => tracing::debug!("face {}: no pattern: {why}", fid.0 + 1),
                 }
             }
-            let attempt = (|| -> Result<FaceOutcome, String> {
+            let attempt = (|| -> Result<FaceOutcome, FaceError> {
                 let ff = fields.faces[fid.idx()]
                     .outcome
                     .as_ref()
-                    .map_err(|e| e.to_string())?;
+                    .map_err(|e| FaceError::Field(e.to_string()))?;
                 let topo_n = ff.field.topology.positions.len();
                 // without a size map, the uniform size
                 let size: Vec<f64> = match &ff.size {
@@ -163,14 +161,14 @@ pub(crate) fn mesh_quasi_structured(
                 // very irregular vertices out (paper §6.3), then cavity remeshing (§6.2)
                 let r = improve_face(face, &mut p, &ff.singularities.list, &uopts, ft);
                 // quads left below the quality bar: one more untangling pass
-                let t = Instant::now();
-                crate::smoothing::lift_poor_quads(
-                    face,
-                    &mut p,
-                    crate::smoothing::POOR_SICN,
-                    ctx.sharp_corners(),
-                );
-                ft.smoothing += t.elapsed();
+                timed(&mut ft.smoothing, "lift poor quads", || {
+                    crate::smoothing::lift_poor_quads(
+                        face,
+                        &mut p,
+                        crate::smoothing::POOR_SICN,
+                        ctx.sharp_corners(),
+                    )
+                });
                 tracing::debug!(
                     "face {}: {} quads ({} triangles, {} left), {} singularities, {:?}, {:?}",
                     fid.0 + 1,
@@ -188,9 +186,9 @@ pub(crate) fn mesh_quasi_structured(
             match attempt {
                 Ok(o) => Ok(o),
                 Err(reason) => {
-                    let t = Instant::now();
-                    let r = mesh_face(model, fid, ctx.cms, 2.0 * h);
-                    ft.fallback += t.elapsed();
+                    let r = timed(&mut ft.fallback, "fallback", || {
+                        mesh_face(model, fid, ctx.cms, 2.0 * h)
+                    });
                     r.map(|p| FaceOutcome::new(p, MadeBy::Fallback(reason)))
                 }
             }
@@ -203,17 +201,18 @@ pub(crate) fn mesh_quasi_structured(
             // the regular method's operations on what the cavities left
             let by_pattern = matches!(outcome.made_by, MadeBy::Pattern(_));
             if stages.regular_pass && !by_pattern {
-                let t = Instant::now();
-                let rep = reduce_irregular(ctx.face, ctx.fid, p, ctx.sharp_corners(), &pass_opts);
+                let rep = timed(&mut ft.regular_pass, "regular pass", || {
+                    reduce_irregular(ctx.face, ctx.fid, p, ctx.sharp_corners(), &pass_opts)
+                });
                 tracing::debug!("face {}: regular pass {rep:?}", ctx.fid.0 + 1);
                 if rep.tried {
                     outcome.regular_pass = Some(rep);
                 }
-                ft.regular_pass += t.elapsed();
             }
             // last, the face's average quality (square quads, sizes free)
-            let t = Instant::now();
-            let rep = crate::smoothing::raise_average(ctx.face, &mut outcome.patch, ASCENT_SWEEPS);
+            let rep = timed(&mut ft.smoothing, "raise average", || {
+                crate::smoothing::raise_average(ctx.face, &mut outcome.patch, ASCENT_SWEEPS)
+            });
             tracing::debug!(
                 "face {}: average SICN {:?} → {:?} sweeps {} moves {}",
                 ctx.fid.0 + 1,
@@ -222,13 +221,10 @@ pub(crate) fn mesh_quasi_structured(
                 rep.sweeps,
                 rep.moves
             );
-            ft.smoothing += t.elapsed();
             Ok(outcome)
         };
     // curves quantized against the size map (paper §4.3)
-    let t = Instant::now();
-    let plan = fields.curve_plan(model);
-    times.curves += t.elapsed();
+    let plan = timed(&mut times.curves, "curve plan", || fields.curve_plan(model));
     let (cms, mut results) = mesh_faces(
         model,
         plan,
@@ -268,7 +264,7 @@ pub(crate) fn mesh_quasi_structured(
             if let Ok(p) = r {
                 results[f] = Some(FaceOutcome::new(
                     p,
-                    MadeBy::Fallback("inverted quads in the assembled mesh".into()),
+                    MadeBy::Fallback(FaceError::InvertedInAssembly),
                 ));
             }
         }
@@ -276,11 +272,10 @@ pub(crate) fn mesh_quasi_structured(
         times.assembly += t.elapsed();
     }
     // last, curve nodes slide along their curves (on every face that uses them)
-    let t = Instant::now();
-    let rep =
-        crate::smoothing::curve_slide::slide_curve_nodes(model, &mut mesh, CURVE_SLIDE_SWEEPS);
+    let rep = timed(&mut times.curve_slide, "curve slide", || {
+        crate::smoothing::curve_slide::slide_curve_nodes(model, &mut mesh, CURVE_SLIDE_SWEEPS)
+    });
     tracing::debug!("curve nodes slid: {rep:?}");
-    times.curve_slide = t.elapsed();
     let mut report = MeshReport::from_faces(&results);
     report.times = times;
     Ok((mesh, report))

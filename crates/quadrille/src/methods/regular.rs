@@ -4,8 +4,6 @@
 //! regularization face by face ([`crate::topology::regularize`]: swaps,
 //! collapses and splits toward valence 4, quads kept within the angle window).
 
-use std::time::Instant;
-
 use geometry::Model;
 use mesh::QuadMesh;
 
@@ -13,7 +11,7 @@ use crate::core::error::MeshError;
 use crate::methods::baseline::mesh_baseline;
 use crate::methods::driver::in_pool;
 use crate::methods::options::MeshOptions;
-use crate::methods::report::MeshReport;
+use crate::methods::report::{timed, MeshReport};
 use crate::topology::regularize::{regularize_mesh_with_progress, RegularizeOptions};
 
 /// The regular method at target size `h`: [`mesh_baseline`] on `opts.threads`
@@ -26,11 +24,10 @@ pub(crate) fn mesh_regular(
     ropts: &RegularizeOptions,
 ) -> Result<(QuadMesh, MeshReport), MeshError> {
     let (mut mesh, mut report) = in_pool(opts.threads, || mesh_baseline(model, h, opts, &[]))?;
-    let t = Instant::now();
-    let rep =
+    let rep = timed(&mut report.times.regularize, "regularize", || {
         regularize_mesh_with_progress(model, &mut mesh, ropts, opts.regularize_progress.as_ref())
-            .map_err(|e| MeshError::Regularize(e.to_string()))?;
-    report.times.regularize = t.elapsed();
+    })
+    .map_err(|e| MeshError::Regularize(e.to_string()))?;
     report.regularize = Some(rep);
     Ok((mesh, report))
 }

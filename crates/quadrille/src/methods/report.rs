@@ -2,10 +2,11 @@
 //! what each stage did ([`FaceOutcome`]); for the model, their sums and the
 //! stage times ([`MeshReport`]).
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use geometry::{CurveId, FaceId};
 
+use crate::core::error::FaceError;
 use crate::core::patch::QuadPatch;
 use crate::topology::cavity::CavityReport;
 use crate::topology::defects::DefectReport;
@@ -68,7 +69,7 @@ impl StageTimes {
 pub struct MeshReport {
     /// Faces meshed with the baseline because the requested method failed on
     /// them, with the reason, in face order.
-    pub fallback: Vec<(FaceId, String)>,
+    pub fallback: Vec<(FaceId, FaceError)>,
     /// Faces meshed directly by a pattern ([`crate::direct::pattern_face`]), with the
     /// pattern's name, in face order.
     pub patterns: Vec<(FaceId, String)>,
@@ -98,7 +99,7 @@ pub enum MadeBy {
     /// A pattern of the library ([`crate::direct::pattern_face`]), by name.
     Pattern(String),
     /// The baseline, because the method failed on the face (the reason).
-    Fallback(String),
+    Fallback(FaceError),
 }
 
 /// One face's mesh and what the stages did to it: the unit that the driver
@@ -177,4 +178,15 @@ impl MeshReport {
         }
         r
     }
+}
+
+/// Runs `work` inside a `tracing` span named `stage` (with the stage's
+/// `name`, so a log shows which face and stage an event comes from) and adds
+/// its wall time to `slot`: the one way the methods time their stages.
+pub(crate) fn timed<T>(slot: &mut Duration, name: &'static str, work: impl FnOnce() -> T) -> T {
+    let _span = tracing::debug_span!("stage", name).entered();
+    let started = Instant::now();
+    let out = work();
+    *slot += started.elapsed();
+    out
 }

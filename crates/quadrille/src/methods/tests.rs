@@ -6,6 +6,7 @@ use geometry::{primitives, CornerId, FaceId};
 use mesh::NodeClass;
 
 use super::*;
+use crate::core::error::FaceError;
 use crate::core::options::{default_size, Size, DEFAULT_DIVISIONS};
 use crate::core::patch::QuadPatch;
 use crate::methods::report::{FaceOutcome, MadeBy};
@@ -162,7 +163,10 @@ fn the_report_sums_the_outcomes_of_the_faces_whose_method_mesh_was_kept() {
     second.topology = Some((defects(4), Default::default()));
     second.regular_pass = Some(pass(false, (6, 6)));
     // a fallback face's reports are not counted, whatever it holds
-    let mut fallen = FaceOutcome::new(patch.clone(), MadeBy::Fallback("why".into()));
+    let mut fallen = FaceOutcome::new(
+        patch.clone(),
+        MadeBy::Fallback(FaceError::EmptyTriangulation),
+    );
     fallen.topology = Some((defects(100), Default::default()));
     let outcomes = vec![
         Some(by_method),
@@ -176,17 +180,19 @@ fn the_report_sums_the_outcomes_of_the_faces_whose_method_mesh_was_kept() {
     ];
     let r = MeshReport::from_faces(&outcomes);
     assert_eq!(r.patterns, vec![(FaceId(1), "grid".to_string())]);
-    assert_eq!(r.fallback, vec![(FaceId(2), "why".to_string())]);
+    assert_eq!(r.fallback, vec![(FaceId(2), FaceError::EmptyTriangulation)]);
     assert_eq!((r.defects.found, r.defects.replaced), (7, 2));
     // tried on two faces, kept on one, 5 - 2 irregular vertices removed there
     assert_eq!(r.regular_pass, (2, 1, 3));
 }
 
 #[test]
-fn error_names_the_face() {
-    let e = MeshError::Face {
-        face: FaceId(4),
-        reason: "x".into(),
-    };
-    assert_eq!(e.to_string(), "face 5 could not be meshed: x");
+fn a_timed_stage_adds_its_time_and_returns_its_value() {
+    let mut slot = Duration::from_millis(5);
+    let v = crate::methods::report::timed(&mut slot, "test", || {
+        std::thread::sleep(Duration::from_millis(2));
+        7
+    });
+    assert_eq!(v, 7);
+    assert!(slot >= Duration::from_millis(7), "{slot:?}");
 }

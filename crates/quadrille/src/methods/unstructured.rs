@@ -18,6 +18,7 @@
 use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
+use crate::core::error::FaceError;
 use crate::core::patch::NodeRef;
 use crate::core::patch::QuadPatch;
 use crate::core::quality::quad_quality;
@@ -25,7 +26,7 @@ use crate::curves::curve_mesh::CurveMesh;
 use crate::field::background::{Background, DirectionalRatios};
 use crate::field::crossfield::CrossField;
 use crate::frontal::insertion::{insert_frontal_points_directional, FrontalOptions, FrontalStats};
-use crate::methods::report::StageTimes;
+use crate::methods::report::{timed, StageTimes};
 use crate::smoothing::{optimize, smooth_then_untangle, OptimizeOptions};
 use crate::topology::cavity::{remesh_cavities, CavityOptions, CavityReport};
 use crate::topology::defects::{remove_defects, DefectReport};
@@ -223,13 +224,13 @@ pub fn mesh_face_unstructured(
     field: &CrossField,
     size: &[f64],
     opts: &UnstructuredOptions,
-) -> Result<(QuadPatch, FaceReport), String> {
+) -> Result<(QuadPatch, FaceReport), FaceError> {
     let face = model
         .faces
         .get(fid.idx())
-        .ok_or_else(|| format!("no face {}", fid.0 + 1))?;
+        .ok_or(FaceError::NoSuchFace(fid.0 + 1))?;
     // validates the size array
-    Background::new(field, size).map_err(|e| e.to_string())?;
+    Background::new(field, size).map_err(|e| FaceError::Field(e.to_string()))?;
     let started = Instant::now();
     let max_size = size.iter().cloned().fold(0.0, f64::max);
     let boundary = FaceTriangulation::new(
@@ -238,11 +239,11 @@ pub fn mesh_face_unstructured(
         cms,
         REFINE_SLACK * opts.frontal.factor * max_size,
     )
-    .map_err(|e| format!("boundary: {e:?}"))?;
+    .map_err(|e| FaceError::Boundary(format!("{e:?}")))?;
     let graded = graded_sizes(&boundary, field, size, opts.gradation);
-    let bg = Background::new(field, &graded).map_err(|e| e.to_string())?;
+    let bg = Background::new(field, &graded).map_err(|e| FaceError::Field(e.to_string()))?;
     let mut meshes: Vec<FrontMesh> = Vec::new();
-    let mut why = String::from("no front spacing to try");
+    let mut why = FaceError::NoFrontSpacing;
     let spacings: &[FrontSpacing] = if opts.front_spacings.is_empty() {
         &[FrontSpacing::Size]
     } else {
@@ -259,7 +260,7 @@ pub fn mesh_face_unstructured(
     // (no later one can do better): on one worker the later runs are not
     // made at all, on more they run side by side (a large face left last
     // does not keep one worker alone) and are dropped, so the output is the same
-    let runs: Vec<Result<FrontMesh, String>> = if rayon::current_num_threads() > 1 {
+    let runs: Vec<Result<FrontMesh, FaceError>> = if rayon::current_num_threads() > 1 {
         spacings.par_iter().map(|&s| run(s)).collect()
     } else {
         let mut runs = Vec::new();
@@ -327,7 +328,7 @@ pub fn mesh_face_unstructured(
                 }
             }
         }
-        why = format!("{bad} quads stay inverted");
+        why = FaceError::InvertedQuads(bad);
     }
     Err(why)
 }
@@ -350,7 +351,7 @@ fn front_mesh(
     front: &Front<'_>,
     opts: &UnstructuredOptions,
     spacing: FrontSpacing,
-) -> Result<FrontMesh, String> {
+) -> Result<FrontMesh, FaceError> {
     let mut report = FaceReport::default();
     let bg = front.bg;
     let ratios = boundary_spacing_ratios(&ft, front.field, front.size, front.graded, spacing)?;
@@ -361,16 +362,16 @@ fn front_mesh(
     if opts.curvature_by_size_map {
         ft.curvature_by_size_map();
     }
-    ft.refine().map_err(|e| format!("refinement: {e:?}"))?;
+    ft.refine()
+        .map_err(|e| FaceError::Refinement(format!("{e:?}")))?;
     let mut tris = ft.triangles();
     if tris.is_empty() {
-        return Err("the triangulation is empty".into());
+        return Err(FaceError::EmptyTriangulation);
     }
     let missing = ft.missing_boundary_edges(&tris);
     if !missing.is_empty() {
-        return Err(format!(
-            "boundary edges of curves {:?} left out of the triangulation",
-            missing.iter().map(|c| c.0 + 1).collect::<Vec<_>>()
+        return Err(FaceError::MissingBoundaryEdges(
+            missing.iter().map(|c| c.0 + 1).collect(),
         ));
     }
     report.triangles = tris.len();
@@ -425,15 +426,13 @@ pub fn improve_face(
 ) -> (DefectReport, CavityReport) {
     let mut defects = DefectReport::default();
     if opts.defects {
-        let started = Instant::now();
-        defects = remove_defects(face, p);
-        times.defects += started.elapsed();
+        defects = timed(&mut times.defects, "defects", || remove_defects(face, p));
     }
     let mut cavities = CavityReport::default();
     if let Some(c) = &opts.cavity {
-        let started = Instant::now();
-        cavities = remesh_cavities(face, p, singularities, c);
-        times.cavities += started.elapsed();
+        cavities = timed(&mut times.cavities, "cavities", || {
+            remesh_cavities(face, p, singularities, c)
+        });
     }
     (defects, cavities)
 }
@@ -511,14 +510,14 @@ pub fn boundary_spacing_ratios(
     size: &[f64],
     graded: &[f64],
     spacing: FrontSpacing,
-) -> Result<Option<DirectionalRatios>, String> {
+) -> Result<Option<DirectionalRatios>, FaceError> {
     // what each edge carries: ln(h / s), or ln h
     let relative = match spacing {
         FrontSpacing::Size => return Ok(None),
         FrontSpacing::BoundaryRatio => true,
         FrontSpacing::BoundarySpacing => false,
     };
-    let bg = Background::new(field, size).map_err(|e| e.to_string())?;
+    let bg = Background::new(field, size).map_err(|e| FaceError::Field(e.to_string()))?;
     let mut keys: Vec<&(u32, u32)> = ft.boundary_mid.keys().collect();
     keys.sort();
     // (midpoint, unit direction, spacing, ln(spacing / size) or ln(spacing))
