@@ -21,8 +21,9 @@ use quadrille::field::conformal_scaling;
 use quadrille::field::extract_singularities;
 use quadrille::field::NONE;
 use quadrille::field::{assemble, cr_stiffness};
-use quadrille::field::{compute_cross_field, fixtures, CrossFieldOptions, FaceTopology};
+use quadrille::field::{compute_cross_field, CrossFieldOptions, FaceTopology};
 use quadrille::field::{LowerPattern, SparseSpd};
+use quadrille::fixtures::crossfield_meshes as fixtures;
 
 /// Best time of `runs` runs of `f`, with the output of that run.
 fn best_of<T>(runs: usize, mut f: impl FnMut() -> T) -> (f64, T) {

@@ -40,6 +40,8 @@ pub mod core;
 pub mod curves;
 pub mod direct;
 pub mod field;
+#[cfg(any(test, feature = "fixtures"))]
+pub mod fixtures;
 pub mod frontal;
 pub mod methods;
 pub mod smoothing;

@@ -22,7 +22,7 @@ pub(crate) mod size_map;
 pub use crossfield::assembly::{assemble, cr_stiffness};
 pub use crossfield::linsolve::{LowerPattern, SparseSpd};
 pub use crossfield::topology::NONE;
-pub use crossfield::{compute_cross_field, fixtures, CrossFieldOptions, FaceMesh, FaceTopology};
+pub use crossfield::{compute_cross_field, CrossFieldOptions, FaceMesh, FaceTopology};
 pub use field_report::{model_fields, FieldOptions, ModelFields, BACKGROUND_REFINE};
 pub use scaling::conformal_scaling;
 pub use singularities::{extract_singularities, SingularitySite};

@@ -219,7 +219,8 @@ pub fn scaling_constant(topo: &FaceTopology, h: &[f64], n_quads: f64) -> Result<
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::field::crossfield::{compute_cross_field, fixtures, CrossFieldOptions};
+    use crate::field::crossfield::{compute_cross_field, CrossFieldOptions};
+    use crate::fixtures::crossfield_meshes as fixtures;
 
     #[test]
     fn square_scaling_is_uniform() {

@@ -259,7 +259,8 @@ pub fn extract_singularities(field: &CrossField) -> Singularities {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::field::crossfield::{compute_cross_field, fixtures, CrossFieldOptions};
+    use crate::field::crossfield::{compute_cross_field, CrossFieldOptions};
+    use crate::fixtures::crossfield_meshes as fixtures;
 
     fn singularities_of(mesh: &crate::field::crossfield::FaceMesh) -> Singularities {
         let f = compute_cross_field(mesh, &CrossFieldOptions::default()).expect("cross field");

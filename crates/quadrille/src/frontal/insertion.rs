@@ -306,7 +306,7 @@ mod tests {
         // unit square, final size 0.05: coarse spacing 0.1, a 10 × 10 grid of cells
         let h = 0.05;
         let model = primitives::square(1.0);
-        let (fields, cms) = crate::methods::test_grid::fields_and_curves(&model, h);
+        let (fields, cms) = crate::fixtures::grids::fields_and_curves(&model, h);
         let ff = fields.faces[0].outcome.as_ref().unwrap();
         let size = ff.size.as_ref().unwrap();
         let bg = Background::new(&ff.field, size).unwrap();

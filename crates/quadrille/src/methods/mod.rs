@@ -26,8 +26,6 @@ pub(crate) mod report;
 pub(crate) mod unstructured;
 
 #[cfg(test)]
-pub(crate) mod test_grid;
-#[cfg(test)]
 mod tests;
 
 use std::time::Instant;

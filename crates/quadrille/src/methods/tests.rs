@@ -27,7 +27,7 @@ fn sizes_resolve_against_the_default() {
 #[test]
 fn nodes_are_numbered_corners_then_curves_then_faces() {
     let m = primitives::cylinder(1.0, 1.0);
-    let mesh = crate::methods::test_grid::mesh_baseline(&m, &MeshOptions::default()).unwrap();
+    let mesh = crate::fixtures::grids::mesh_baseline(&m, &MeshOptions::default()).unwrap();
     let rank = |c: &NodeClass| match c {
         NodeClass::Corner(_) => 0,
         NodeClass::Curve(..) => 1,

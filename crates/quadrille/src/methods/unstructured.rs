@@ -604,7 +604,7 @@ mod tests {
     use geometry::primitives;
 
     fn run(model: &Model, h: f64) -> Vec<(QuadPatch, FaceReport)> {
-        let (fields, cms) = crate::methods::test_grid::fields_and_curves(model, h);
+        let (fields, cms) = crate::fixtures::grids::fields_and_curves(model, h);
         (0..model.faces.len())
             .map(|f| {
                 let ff = fields.faces[f].outcome.as_ref().unwrap();
@@ -628,7 +628,7 @@ mod tests {
     fn square_with_rounded_sides() -> (Model, Vec<CurveMesh>, CrossField, Vec<f64>) {
         let h = 0.05;
         let model = primitives::square(1.0);
-        let (fields, cms) = crate::methods::test_grid::fields_and_curves(&model, h);
+        let (fields, cms) = crate::fixtures::grids::fields_and_curves(&model, h);
         let field = fields.faces[0].outcome.as_ref().unwrap().field.clone();
         let size = vec![0.06; field.topology.positions.len()];
         (model, cms, field, size)
@@ -854,7 +854,7 @@ mod tests {
     fn boundary_grading_limits_the_size() {
         let h = 0.05;
         let m = primitives::square(1.0);
-        let (fields, cms) = crate::methods::test_grid::fields_and_curves(&m, h);
+        let (fields, cms) = crate::fixtures::grids::fields_and_curves(&m, h);
         let ff = fields.faces[0].outcome.as_ref().unwrap();
         let ft = FaceTriangulation::new(&m, FaceId(0), &cms, 2.0 * h).unwrap();
         let n = ff.field.topology.positions.len();
@@ -877,7 +877,7 @@ mod tests {
     fn cavity_remeshing_keeps_faces_valid_and_never_adds_irregular_vertices() {
         let m = primitives::sphere(1.0);
         let h = 0.125;
-        let (fields, cms) = crate::methods::test_grid::fields_and_curves(&m, h);
+        let (fields, cms) = crate::fixtures::grids::fields_and_curves(&m, h);
         let ff = fields.faces[0].outcome.as_ref().unwrap();
         let size = ff.size.clone().unwrap();
         let (p, _) = mesh_face_unstructured(

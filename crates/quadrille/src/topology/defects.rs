@@ -540,8 +540,8 @@ mod tests {
     /// that it ends at the corner. Returns the patch and the corner's id.
     fn corner_with_two_quads() -> (QuadPatch, u32) {
         let n = 4;
-        let id = |x: usize, y: usize| crate::methods::test_grid::grid_id(n, x, y);
-        let mut p = crate::methods::test_grid::square_grid(n, |x, y| y == 0 && x < 2);
+        let id = |x: usize, y: usize| crate::fixtures::grids::grid_id(n, x, y);
+        let mut p = crate::fixtures::grids::square_grid(n, |x, y| y == 0 && x < 2);
         let (a, b, e) = (id(0, 0), id(1, 0), id(2, 0));
         let (d, c, f) = (id(0, 1), id(1, 1), id(2, 1));
         p.quads.push([a, b, e, f]);

@@ -573,6 +573,4 @@ impl FaceQuads {
 }
 
 #[cfg(test)]
-pub(crate) mod test_support;
-#[cfg(test)]
 mod tests;

@@ -4,8 +4,8 @@
 use geometry::FaceId;
 use mesh::NodeClass;
 
-use super::test_support::{grid, plane, Patch};
 use super::*;
+use crate::fixtures::face_quads::{grid, plane, Patch};
 
 #[test]
 fn grid_is_regular_with_boundary_ideals_from_angles() {

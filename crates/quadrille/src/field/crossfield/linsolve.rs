@@ -567,7 +567,7 @@ mod tests {
     /// A Hermitian positive definite matrix on the edge graph of a disk
     /// (the cross-field operator `M + αK`), its pattern and values.
     fn disk_system(rings: usize) -> (LowerPattern, Vec<c64>, Vec<[f64; 3]>) {
-        let mesh = super::super::fixtures::disk(rings);
+        let mesh = crate::fixtures::crossfield_meshes::disk(rings);
         let topo = super::super::FaceTopology::build(&mesh).unwrap();
         let fixed = topo.feature.clone();
         let u = vec![[1.0, 0.0]; topo.edges.len()];

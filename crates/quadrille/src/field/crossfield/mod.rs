@@ -28,7 +28,6 @@
 //! a deterministic non-trivial field ([`mbo::closed_surface_start`]).
 
 pub mod assembly;
-pub mod fixtures;
 pub mod linsolve;
 pub mod mbo;
 pub mod topology;

@@ -2,6 +2,7 @@
 
 use super::assembly::cr_stiffness;
 use super::*;
+use crate::fixtures::crossfield_meshes as fixtures;
 
 fn cot(x: f64) -> f64 {
     x.cos() / x.sin()

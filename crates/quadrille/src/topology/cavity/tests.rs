@@ -13,8 +13,8 @@ use geometry::{primitives, CornerId, CurveId};
 /// `c` get valence 3, the new edge's ends `d`, `e` valence 5 (two +1/−1
 /// pairs). Returns the patch and `[b, c, d, e]`.
 fn rotated_grid(n: usize, i: usize, j: usize) -> (QuadPatch, [u32; 4]) {
-    let id = |x: usize, y: usize| crate::methods::test_grid::grid_id(n, x, y);
-    let mut p = crate::methods::test_grid::square_grid(n, |x, y| y == j && (x == i || x == i + 1));
+    let id = |x: usize, y: usize| crate::fixtures::grids::grid_id(n, x, y);
+    let mut p = crate::fixtures::grids::square_grid(n, |x, y| y == j && (x == i || x == i + 1));
     let (a, b, e) = (id(i, j), id(i + 1, j), id(i + 2, j));
     let (d, c, f) = (id(i, j + 1), id(i + 1, j + 1), id(i + 2, j + 1));
     p.quads.push([d, a, b, e]);

@@ -4,7 +4,7 @@ use geometry::primitives::square;
 use geometry::FaceId;
 
 use super::*;
-use crate::methods::test_grid::square_grid;
+use crate::fixtures::grids::square_grid;
 use crate::topology::regularize::ops::{apply, Op};
 
 /// The 8 × 8 grid with the edge between cells (3, 3) and (4, 3) swapped

@@ -11,8 +11,8 @@ use super::driver::Regularizer;
 use super::ops::{apply, apply_topology, effect, score_delta, Effect, Op};
 use super::validity::{quad_angles, quad_valid, AngleWindow};
 use super::*;
-use crate::core::face_quads::test_support::{grid, planar, plane, split_in_quads, split_patch};
 use crate::core::face_quads::FaceQuads;
+use crate::fixtures::face_quads::{grid, planar, plane, split_in_quads, split_patch};
 
 mod stars;
 
@@ -438,7 +438,7 @@ fn regularizing_a_triangle_split_patch_removes_most_irregular_vertices() {
 #[test]
 fn regularize_mesh_keeps_the_boundary_and_validity_of_a_meshed_model() {
     let model = primitives::square(2.0);
-    let mut mesh = crate::methods::test_grid::mesh_baseline(
+    let mut mesh = crate::fixtures::grids::mesh_baseline(
         &model,
         &crate::MeshOptions {
             size: crate::Size::Absolute(0.2),
@@ -1143,7 +1143,7 @@ fn boundary_angles_at_the_225_degree_threshold_count_as_straight() {
 fn regularize_progress_counts_every_face_once() {
     use std::sync::atomic::{AtomicUsize, Ordering};
     let model = primitives::cylinder(1.0, 2.0);
-    let mut mesh = crate::methods::test_grid::mesh_baseline(
+    let mut mesh = crate::fixtures::grids::mesh_baseline(
         &model,
         &crate::MeshOptions {
             size: crate::Size::Absolute(0.3),

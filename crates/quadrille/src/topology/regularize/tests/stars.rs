@@ -31,7 +31,7 @@
 //! adjacent quads).
 
 use super::*;
-use crate::core::face_quads::test_support::Patch;
+use crate::fixtures::face_quads::Patch;
 use crate::topology::regularize::ops::hexagon;
 
 /// The valences of `vs`.
