@@ -47,10 +47,10 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 /// True for a file that holds only tests or test fixtures.
 fn is_test_file(rel: &Path) -> bool {
     let name = rel.file_name().and_then(|n| n.to_str()).unwrap_or("");
-    matches!(
-        name,
-        "tests.rs" | "test_support.rs" | "test_grid.rs" | "fixtures.rs"
-    ) || rel.components().any(|c| c.as_os_str() == "tests")
+    name == "tests.rs"
+        || rel
+            .components()
+            .any(|c| c.as_os_str() == "tests" || c.as_os_str() == FIXTURES)
 }
 
 /// The lines of `text` before its first `#[cfg(test)]` line.
