@@ -17,7 +17,7 @@ use crate::field::crossfield::{CrossField, FaceTopology};
 /// Cells per triangle in the grid (on average).
 const CELLS_PER_TRIANGLE: f64 = 0.5;
 /// Upper bound on the cells along one axis.
-const MAX_CELLS_PER_AXIS: usize = 512;
+const MAX_GRID_CELLS_PER_AXIS: usize = 512;
 
 /// What the background says at a point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -118,12 +118,12 @@ impl<'a> Background<'a> {
                 .cbrt();
         let mut cell = vol_cell
             .max(mean_edge)
-            .max(diag / MAX_CELLS_PER_AXIS as f64);
+            .max(diag / MAX_GRID_CELLS_PER_AXIS as f64);
         if !(cell.is_finite() && cell > 0.0) {
             cell = diag;
         }
         let dims =
-            [0, 1, 2].map(|k| ((ext[k] / cell).floor() as usize + 1).min(MAX_CELLS_PER_AXIS));
+            [0, 1, 2].map(|k| ((ext[k] / cell).floor() as usize + 1).min(MAX_GRID_CELLS_PER_AXIS));
         let mut bg = Background {
             field,
             size,

@@ -79,7 +79,7 @@ pub struct FrontalStats {
 }
 
 /// Cells per axis above which a query moves to a coarser level.
-const MAX_CELLS_PER_AXIS: i64 = 6;
+const MAX_QUERY_CELLS_PER_AXIS: i64 = 6;
 /// Ratio of the cell sizes of successive levels.
 const LEVEL_RATIO: f64 = 4.0;
 /// Levels of the point grid.
@@ -143,10 +143,10 @@ impl PointGrid {
         for level in 0..LEVELS {
             let lo = self.key(level, vec3::sub(p, [reach; 3]));
             let hi = self.key(level, vec3::add(p, [reach; 3]));
-            if (0..3).any(|k| hi[k] - lo[k] + 1 > MAX_CELLS_PER_AXIS) && level + 1 < LEVELS {
+            if (0..3).any(|k| hi[k] - lo[k] + 1 > MAX_QUERY_CELLS_PER_AXIS) && level + 1 < LEVELS {
                 continue;
             }
-            if (0..3).any(|k| hi[k] - lo[k] + 1 > MAX_CELLS_PER_AXIS) {
+            if (0..3).any(|k| hi[k] - lo[k] + 1 > MAX_QUERY_CELLS_PER_AXIS) {
                 // larger than every level: scan all points
                 return (0..self.pts.len() as u32).any(|q| self.blocks(q, p, normal, frame, r));
             }

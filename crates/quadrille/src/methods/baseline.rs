@@ -31,7 +31,7 @@ use crate::triangulate::split::split_triangles;
 /// once instead of asking for finer curves.
 const MAX_REFINABLE_BAD: usize = 16;
 /// Smoothing sweeps per face.
-const SMOOTHING_SWEEPS: usize = 4;
+const BASELINE_LAPLACIAN_SWEEPS: usize = 4;
 
 /// The baseline method: curves planned at the target size `h`, every face
 /// meshed by [`mesh_face`] (triangles at twice `h`, split into quads of
@@ -217,7 +217,7 @@ fn mesh_face_once(
         ));
     }
     let mut patch = split_triangles(face, &ft.nodes, &ft.pos, &tris, &ft.boundary_mid);
-    smooth_then_untangle(model, fid, &mut patch, SMOOTHING_SWEEPS);
+    smooth_then_untangle(model, fid, &mut patch, BASELINE_LAPLACIAN_SWEEPS);
     let bad = bad_triangles(face, &patch);
     Ok((patch, tris, bad, ft.boundary_mid))
 }

@@ -37,7 +37,7 @@ use rayon::prelude::*;
 use std::time::Instant;
 
 /// Smoothing sweeps after subdivision.
-const SMOOTHING_SWEEPS: usize = 12;
+const SUBDIVISION_LAPLACIAN_SWEEPS: usize = 12;
 /// Sweeps of the Winslow / angle-based smoothing that ends the face (20:
 /// within 0.002 of the average SICN of 30 on the wing, 8 % faster).
 const FINAL_SWEEPS: usize = 20;
@@ -126,7 +126,7 @@ impl Default for UnstructuredOptions {
             frontal: FrontalOptions::default(),
             min_sicn: MIN_SICN,
             min_curve_corner_sicn: MIN_SICN,
-            smoothing_sweeps: SMOOTHING_SWEEPS,
+            smoothing_sweeps: SUBDIVISION_LAPLACIAN_SWEEPS,
             gradation: GRADATION,
             augment_path: AUGMENT_PATH,
             front_spacings: vec![FrontSpacing::Size],

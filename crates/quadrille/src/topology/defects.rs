@@ -31,7 +31,7 @@ use crate::core::quality::quad_quality;
 use crate::smoothing::kernels::one_ring;
 
 /// Laplacian sweeps over the moved vertices after a replacement.
-const SMOOTHING_SWEEPS: usize = 30;
+const REPLACEMENT_LAPLACIAN_SWEEPS: usize = 30;
 /// A replacement must keep the worst quad around it at least this share of the previous worst.
 const KEEP_QUALITY: f64 = 0.5;
 
@@ -326,7 +326,7 @@ pub fn remove_defects(face: &Face, p: &mut QuadPatch) -> DefectReport {
             ns
         };
         let nbrs: Vec<Vec<u32>> = movable.iter().map(|&m| neighbours(p, &at, m)).collect();
-        for _ in 0..SMOOTHING_SWEEPS {
+        for _ in 0..REPLACEMENT_LAPLACIAN_SWEEPS {
             for (&m, ns) in movable.iter().zip(&nbrs) {
                 if ns.is_empty() {
                     continue;

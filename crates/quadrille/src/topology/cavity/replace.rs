@@ -23,12 +23,12 @@ use super::{CavityReport, AVG_SLACK};
 /// irregular share falls (2.9 → 2.1 %) while its average SICN drops by
 /// 0.012; at size factor 0.0625 the cavity stage of i01o_m1 takes a quarter
 /// less time (BENCHMARKS.md).
-const SMOOTHING_SWEEPS: usize = 8;
+const CAVITY_KERNEL_SWEEPS: usize = 8;
 /// Work units charged per vertex of a smoothed cavity (the per-face cap,
 /// [`default_work_cap`](super::default_work_cap), was calibrated with this charge).
 const SMOOTHING_WORK: usize = 30;
 /// Quads below this SICN after the kernels get the untangler.
-const UNTANGLE_BELOW: f64 = 0.2;
+const CAVITY_UNTANGLE_BELOW: f64 = 0.2;
 
 impl Work<'_> {
     // ---- replacement --------------------------------------------------
@@ -412,7 +412,7 @@ impl Work<'_> {
             self.face,
             &mut sub,
             &crate::smoothing::OptimizeOptions {
-                max_sweeps: SMOOTHING_SWEEPS,
+                max_sweeps: CAVITY_KERNEL_SWEEPS,
                 ..Default::default()
             },
         );
@@ -421,8 +421,8 @@ impl Work<'_> {
             .iter()
             .map(|q| quad_quality(self.face, &sub.nodes, &sub.pos, q))
             .fold(f64::INFINITY, f64::min);
-        if worst < UNTANGLE_BELOW {
-            crate::smoothing::untangle(self.face, &mut sub, UNTANGLE_BELOW, 4, 5000, &[]);
+        if worst < CAVITY_UNTANGLE_BELOW {
+            crate::smoothing::untangle(self.face, &mut sub, CAVITY_UNTANGLE_BELOW, 4, 5000, &[]);
         }
         self.units += (movable.len() * SMOOTHING_WORK) as u64 + quads.len() as u64;
         for (i, &v) in back.iter().enumerate() {
