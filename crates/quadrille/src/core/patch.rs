@@ -44,16 +44,8 @@ impl LocalNode {
     pub fn uv_toward(&self, other: [f64; 2]) -> [f64; 2] {
         match self.pole {
             None => self.uv,
-            Some([p, q]) => {
-                let d = [q[0] - p[0], q[1] - p[1]];
-                let dd = d[0] * d[0] + d[1] * d[1];
-                let s = if dd > 0.0 {
-                    (((other[0] - p[0]) * d[0] + (other[1] - p[1]) * d[1]) / dd).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                [p[0] + s * d[0], p[1] + s * d[1]]
-            }
+            // the nearest point of the pole's segment, as the CAD normals take it
+            Some(seg) => geometry::CornerUv::Pole(seg).toward(other),
         }
     }
 
