@@ -91,19 +91,83 @@ impl QuadPatch {
         })
     }
 
-    /// Face-interior nodes with other than four quads (nodes in no quad are
-    /// not counted).
-    pub fn interior_irregular(&self) -> usize {
-        let mut deg = vec![0u32; self.nodes.len()];
+    /// The number of quads at each local node (0 for a node in no quad).
+    pub fn valences(&self) -> Vec<usize> {
+        let mut deg = vec![0usize; self.nodes.len()];
         for q in &self.quads {
             for &v in q {
                 deg[v as usize] += 1;
             }
         }
+        deg
+    }
+
+    /// Face-interior nodes with other than four quads (nodes in no quad are
+    /// not counted).
+    pub fn interior_irregular(&self) -> usize {
+        let deg = self.valences();
         self.nodes
             .iter()
             .zip(&deg)
             .filter(|(n, &d)| n.node == NodeRef::Interior && d > 0 && d != 4)
             .count()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 2 × 2 grid of quads on 3 × 3 nodes, the middle one interior.
+    fn grid() -> QuadPatch {
+        let node = |i: u32| LocalNode {
+            uv: [(i % 3) as f64, (i / 3) as f64],
+            node: if i == 4 {
+                NodeRef::Interior
+            } else {
+                NodeRef::Curve(CurveId(0), i + 1)
+            },
+            pole: None,
+        };
+        QuadPatch {
+            nodes: (0..9).map(node).collect(),
+            pos: (0..9)
+                .map(|i| [(i % 3) as f64, (i / 3) as f64, 0.0])
+                .collect(),
+            quads: vec![[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]],
+            quad_tri: vec![0, 1, 2, 3],
+        }
+    }
+
+    #[test]
+    fn valences_count_quads_per_node_and_only_interior_nodes_are_irregular() {
+        let mut p = grid();
+        assert_eq!(p.valences(), vec![1, 2, 1, 2, 4, 2, 1, 2, 1]);
+        assert_eq!(p.interior_irregular(), 0);
+        p.quads.pop();
+        assert_eq!(p.valences(), vec![1, 2, 1, 2, 3, 1, 1, 1, 0]);
+        assert_eq!(p.interior_irregular(), 1);
+    }
+
+    #[test]
+    fn a_quad_on_two_instances_of_one_curve_node_repeats_it() {
+        let mut p = grid();
+        assert!(!p.repeats_a_node(&[0, 1, 4, 3]));
+        p.nodes[3].node = p.nodes[1].node;
+        assert!(p.repeats_a_node(&[0, 1, 4, 3]));
+        assert!(p.repeats_a_node(&[0, 1, 1, 3]));
+    }
+
+    #[test]
+    fn a_pole_is_seen_from_its_neighbour_at_the_nearest_point_of_its_segment() {
+        let n = LocalNode {
+            uv: [0.0, 0.0],
+            node: NodeRef::Corner(CornerId(0)),
+            pole: Some([[0.0, 1.0], [2.0, 1.0]]),
+        };
+        assert_eq!(n.uv_toward([1.5, 3.0]), [1.5, 1.0]);
+        assert_eq!(n.uv_toward([-4.0, 0.0]), [0.0, 1.0]);
+        let plain = LocalNode { pole: None, ..n };
+        assert_eq!(plain.uv_toward([1.5, 3.0]), [0.0, 0.0]);
     }
 }

@@ -588,13 +588,7 @@ mod tests {
     use geometry::primitives;
 
     fn valences(p: &QuadPatch) -> Vec<usize> {
-        let mut v = vec![0; p.nodes.len()];
-        for q in &p.quads {
-            for &x in q {
-                v[x as usize] += 1;
-            }
-        }
-        v
+        p.valences()
     }
 
     #[test]

@@ -812,12 +812,7 @@ mod tests {
             p.quads.len()
         );
         // interior irregular nodes are few on a square
-        let mut val = vec![0usize; p.nodes.len()];
-        for q in &p.quads {
-            for &i in q {
-                val[i as usize] += 1;
-            }
-        }
+        let val = p.valences();
         let interior: Vec<usize> = (0..p.nodes.len())
             .filter(|&i| p.nodes[i].node == NodeRef::Interior && val[i] > 0)
             .collect();
@@ -889,17 +884,7 @@ mod tests {
             &UnstructuredOptions::default(),
         )
         .unwrap();
-        let irregular = |p: &QuadPatch| {
-            let mut val = vec![0usize; p.nodes.len()];
-            for q in &p.quads {
-                for &i in q {
-                    val[i as usize] += 1;
-                }
-            }
-            (0..p.nodes.len())
-                .filter(|&i| p.nodes[i].node == NodeRef::Interior && val[i] > 0 && val[i] != 4)
-                .count()
-        };
+        let irregular = |p: &QuadPatch| p.interior_irregular();
         let face = &m.faces[0];
         let off = UnstructuredOptions {
             cavity: None,

@@ -34,20 +34,11 @@ fn edge_key(a: u32, b: u32) -> (u32, u32) {
 }
 
 fn valences(p: &QuadPatch) -> Vec<usize> {
-    let mut val = vec![0; p.nodes.len()];
-    for q in &p.quads {
-        for &v in q {
-            val[v as usize] += 1;
-        }
-    }
-    val
+    p.valences()
 }
 
 fn inner_irregular(p: &QuadPatch) -> usize {
-    let val = valences(p);
-    (0..p.nodes.len())
-        .filter(|&v| p.nodes[v].node == NodeRef::Interior && val[v] > 0 && val[v] != 4)
-        .count()
+    p.interior_irregular()
 }
 
 fn assert_valid_disk(face: &Face, p: &QuadPatch) {
