@@ -126,6 +126,11 @@ pub struct MeshArgs {
     /// Write binary MSH instead of ASCII.
     #[arg(long)]
     binary: bool,
+    /// MSH: also write the parametric coordinates of curve and face nodes
+    /// (as Gmsh's `Mesh.SaveParametric`). Off by default: meshio cannot read
+    /// them; entities and node classification are written either way.
+    #[arg(long)]
+    parametric: bool,
     /// No progress bar and no summary.
     #[arg(short, long)]
     quiet: bool,
