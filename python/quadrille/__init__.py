@@ -16,6 +16,10 @@ Meshing runs in Rust with the interpreter free (other Python threads run);
 Ctrl-C raises KeyboardInterrupt at once.
 """
 
+# the arrays' module, imported with the package rather than inside the first
+# call that returns an array (its import takes tens of milliseconds)
+import numpy as _numpy  # noqa: F401
+
 from ._quadrille import (
     Error,
     FileError,

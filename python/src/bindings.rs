@@ -150,11 +150,13 @@ fn wait_for<T: Send + 'static>(
             return Err(e);
         }
     };
+    // the last state, even when the work ended before the first poll
+    let now = job.progress().get();
+    if now != shown && now.1 > 0 {
+        shown = now;
+        progress.show(label, now.0, now.1)?;
+    }
     if shown.1 != usize::MAX {
-        let now = job.progress().get();
-        if now != shown {
-            progress.show(label, now.0, now.1)?;
-        }
         progress.end()?;
     }
     match outcome {
@@ -434,7 +436,8 @@ fn model_of(py: Python<'_>, model_or_path: &Bound<'_, PyAny>) -> PyResult<Py<Mod
 ///   "regular" (as `quadrille mesh --method`).
 /// - threads: worker threads (None: all cores); the mesh is the same for any count.
 /// - progress: True prints "meshing: done/total faces" on stderr; a callable
-///   is called as progress(done, total).
+///   is called as progress(done, total) (from the calling thread, at most
+///   every 0.1 s, and once at the end).
 /// - patterns, defects, cavities, regular_pass: the quasi-structured
 ///   method's steps (False switches one off, as --no-patterns etc.).
 /// - quads_per_turn: quads per full turn of the normal on curved faces (0: off).

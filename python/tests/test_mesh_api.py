@@ -115,6 +115,10 @@ def test_progress_callable_and_stderr(capsys):
     quadrille.mesh(path, progress=True)
     err = capsys.readouterr().err
     assert "meshing: 42/42 faces" in err and err.endswith("\n")
+    # a mesh done before the first poll still reports its end
+    calls.clear()
+    quadrille.mesh(CAD / "s17o_sphere.stp", size_factor=4, progress=lambda d, t: calls.append((d, t)))
+    assert calls == [(1, 1)]
 
 
 def test_a_raising_progress_callable_stops_meshing():
