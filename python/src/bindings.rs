@@ -202,8 +202,10 @@ impl Model {
     }
     /// Axis-aligned bounding box `((xmin, ymin, zmin), (xmax, ymax, zmax))`.
     #[getter]
-    fn bounding_box(&self) -> ([f64; 3], [f64; 3]) {
-        self.bbox
+    #[allow(clippy::type_complexity)]
+    fn bounding_box(&self) -> ((f64, f64, f64), (f64, f64, f64)) {
+        let t = |p: [f64; 3]| (p[0], p[1], p[2]);
+        (t(self.bbox.0), t(self.bbox.1))
     }
     /// Length of the bounding-box diagonal (the default quad size is 1/24 of it).
     #[getter]

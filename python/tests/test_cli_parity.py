@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import quadrille
-from conftest import MODELS, need
+from conftest import MODELS, assert_same_quads, need
 
 
 @pytest.mark.parametrize("path", MODELS, ids=lambda p: p.stem)
@@ -28,8 +28,7 @@ def test_arrays_equal_the_cli_file(path, cli, tmp_path):
     # meshio reads the command's default file as the same mesh
     meshio = need("meshio")
     mm = meshio.read(out)
-    np.testing.assert_array_equal(mm.points, m.nodes)
-    np.testing.assert_array_equal(mm.cells_dict["quad"], m.quads)
+    assert_same_quads(mm.points, mm.cells_dict["quad"], m.nodes, m.quads)
 
 
 def test_model_counts_equal_info(cli_json):
@@ -37,7 +36,10 @@ def test_model_counts_equal_info(cli_json):
         model = quadrille.load(path)
         info = cli_json("info", path, "--json")
         assert (model.faces, model.curves, model.corners) == (info["faces"], info["curves"], info["corners"])
-        np.testing.assert_allclose(model.bounding_box, info["bounding_box"], rtol=0, atol=1e-12)
+        lo, hi = model.bounding_box
+        assert isinstance(lo, tuple) and len(lo) == len(hi) == 3
+        np.testing.assert_allclose([lo, hi], info["bounding_box"], rtol=0, atol=1e-12)
+        assert model.path.name == path.name
         assert model.diagonal == pytest.approx(info["diagonal"], rel=1e-12)
         assert model.warnings == []
 

@@ -14,21 +14,25 @@ import numpy as np
 import pytest
 
 import quadrille
-from conftest import CAD, METHODS, MODELS, SMALL, need
+from conftest import CAD, METHODS, MODELS, SMALL, assert_same_quads, need
+
+
+#: QUADRILLE_PYTEST_ALL=1: every bundled model (several minutes: the regular
+#: method takes up to 20 s a model), not only the small ones.
+EVERY_MODEL = os.environ.get("QUADRILLE_PYTEST_ALL") == "1"
 
 
 @pytest.mark.parametrize("method", METHODS)
 def test_meshio_reads_every_methods_default_msh(method, tmp_path):
     meshio = need("meshio")
-    for path in SMALL:
+    for path in MODELS if EVERY_MODEL else SMALL:
         m = quadrille.mesh(path, method=method)
         assert m.report["method"] == method
         for binary in (False, True):
             out = tmp_path / f"{path.stem}-{binary}.msh"
             m.write(out, binary=binary)
             mm = meshio.read(out)
-            np.testing.assert_array_equal(mm.points, m.nodes)
-            np.testing.assert_array_equal(mm.cells_dict["quad"], m.quads)
+            assert_same_quads(mm.points, mm.cells_dict["quad"], m.nodes, m.quads)
             tags = np.concatenate(
                 [t for c, t in zip(mm.cells, mm.cell_data["gmsh:geometrical"]) if c.type == "quad"]
             )
