@@ -185,7 +185,15 @@ fn report(args: &FieldArgs, model: &geometry::Model, fields: &ModelFields) -> Re
 /// the VTU (and PNG), prints the JSON report and a summary.
 pub fn run(args: &FieldArgs) -> Result<()> {
     // Everything that can be checked before the long work is checked first.
-    files::check_output(&args.output, &["vtu"])?;
+    if args.output.is_none() && args.png.is_none() && args.size_png.is_none() && !args.json {
+        bail!(
+            "{}: nothing to do: give -o FIELD.vtu, --png, --size-png or --json",
+            args.model.display()
+        );
+    }
+    if let Some(out) = &args.output {
+        files::check_output(out, &["vtu"])?;
+    }
     for png in args.png.iter().chain(&args.size_png) {
         files::check_output(png, &["png"])?;
     }
@@ -227,13 +235,16 @@ pub fn run(args: &FieldArgs) -> Result<()> {
         );
     }
 
-    mesh::vtu::write_field_vtu(&field_mesh, &args.output)?;
+    let mut written = Vec::new();
+    if let Some(out) = &args.output {
+        mesh::vtu::write_field_vtu(&field_mesh, out)?;
+        written.push(out.clone());
+    }
     let name = args
         .model
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let mut written = vec![args.output.clone()];
     let mut pictures = || -> Result<(), mesh::render::RenderError> {
         if let Some(png) = &args.png {
             let title = format!(
@@ -274,7 +285,7 @@ pub fn run(args: &FieldArgs) -> Result<()> {
         let t = &rep.totals;
         eprintln!(
             "{}: {} faces, Eq. (2) holds on {} ({:.1} %), {} failed; {} background triangles; singularities +1: {}, -1: {}; {:.2} s",
-            args.output.display(),
+            args.output.as_ref().unwrap_or(&args.model).display(),
             t.faces,
             t.faces_euler_ok,
             100.0 * t.euler_ok_share,

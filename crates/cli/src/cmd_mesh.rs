@@ -142,7 +142,8 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             } else {
                 mesh::msh::MshEncoding::Ascii
             };
-            mesh::msh::write_msh(&args.output, &m, Some(&model), enc)?
+            let opts = mesh::msh::MshWriteOptions::new(enc).with_parametric(args.parametric);
+            mesh::msh::write_msh(&args.output, &m, Some(&model), opts)?
         }
         "vtu" => mesh::vtu::write_vtu(&m, Some(&sicn), &args.output)?,
         "obj" => mesh::obj::write_obj(&m, &args.output)?,

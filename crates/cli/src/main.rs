@@ -25,12 +25,15 @@ Examples:
   quadrille mesh part.step -o part.msh --png part.png
   quadrille mesh part.step -o part.msh --size-factor 0.5 --threads 2
   quadrille mesh part.step -o part.msh --no-cavities --timings
+  quadrille mesh scan.stl -o scan.msh --feature-angle 40
   quadrille stats part.msh --cad part.step
   quadrille stats other_mesher.msh --json
   quadrille render part.msh -o part.png --sicn
-  quadrille field part.step -o field.vtu --png field.png --json";
+  quadrille field part.step -o field.vtu --png field.png --json
+  quadrille field part.step --json > field.json";
 
-/// Quadrilateral meshes of CAD models.
+/// Quadrilateral meshes of CAD models (STEP, IGES, BREP) and of triangle
+/// meshes (STL, OBJ, PLY, MSH), read as a B-rep of feature curves and faces.
 #[derive(Parser, Debug)]
 #[command(name = "quadrille", version, about, after_help = EXAMPLES)]
 struct Cli {
@@ -40,12 +43,14 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Show what a CAD model holds: corners, curves, faces, loops, seams.
-    #[command(after_help = "Example:\n  quadrille info part.step --json")]
-    Info(InfoArgs),
-    /// Mesh a CAD model (STEP, IGES, BREP) with quads and write MSH, VTU or OBJ.
+    /// Show what a model (CAD or triangle mesh) holds: corners, curves, faces, loops, seams.
     #[command(
-        after_help = "Examples:\n  quadrille mesh part.step -o part.msh\n  quadrille mesh part.step -o part.vtu --size 2.5 --png part.png\n  quadrille mesh part.step -o part.msh --method unstructured --timings\n  quadrille mesh part.step -o part.msh --no-patterns --no-cavities"
+        after_help = "Examples:\n  quadrille info part.step --json\n  quadrille info scan.stl --feature-angle 40"
+    )]
+    Info(InfoArgs),
+    /// Mesh a CAD model (STEP, IGES, BREP) or a triangle mesh (STL, OBJ, PLY, MSH) with quads and write MSH, VTU or OBJ.
+    #[command(
+        after_help = "Examples:\n  quadrille mesh part.step -o part.msh\n  quadrille mesh scan.stl -o scan.msh --feature-angle 40\n  quadrille mesh part.step -o part.vtu --size 2.5 --png part.png\n  quadrille mesh part.step -o part.msh --method unstructured --timings\n  quadrille mesh part.step -o part.msh --no-patterns --no-cavities"
     )]
     Mesh(MeshArgs),
     /// Quality statistics of a mesh (MSH 4.1 or 2.2): SICN, valences, irregular vertices, open edges.
@@ -59,14 +64,14 @@ enum Command {
     /// Cross field of every face on its background triangulation: VTU file,
     /// optional picture, singularities and the check of Eq. (2) of the paper.
     #[command(
-        long_about = "Computes the boundary-aligned cross field of every face of a CAD model on the \
+        long_about = "Computes the boundary-aligned cross field of every face of a model (CAD or triangle mesh) on the \
 background triangulation the mesher uses (3 times finer than the quad size), its singularities \
 and the check of relation (2) of the quasi-structured paper: the singularity indices plus the \
 corner indices (2 - ideal valence) of a face add up to 4 times its Euler characteristic.\n\n\
 The VTU file holds the background triangles, then one vertex cell per singularity, with \
 cell data cad_face, cross (one unit branch of the cross, for glyphs), size (the conformal \
 size map) and singularity_index (0 on triangles, +1 or -1 on singularities).",
-        after_help = "Examples:\n  quadrille field part.step -o field.vtu --png field.png\n  quadrille field part.step -o field.vtu --json --size-factor 0.5 --quiet\n  quadrille field part.step -o field.vtu --size-png size.png --entity-size curve:3=0.05"
+        after_help = "Examples:\n  quadrille field part.step -o field.vtu --png field.png\n  quadrille field part.step --json > field.json\n  quadrille field part.step -o field.vtu --json --size-factor 0.5 --quiet\n  quadrille field part.step -o field.vtu --size-png size.png --entity-size curve:3=0.05"
     )]
     Field(FieldArgs),
 }
@@ -126,6 +131,11 @@ pub struct MeshArgs {
     /// Write binary MSH instead of ASCII.
     #[arg(long)]
     binary: bool,
+    /// MSH: also write the parametric coordinates of curve and face nodes
+    /// (as Gmsh's `Mesh.SaveParametric`). Off by default: meshio cannot read
+    /// them; entities and node classification are written either way.
+    #[arg(long)]
+    parametric: bool,
     /// No progress bar and no summary.
     #[arg(short, long)]
     quiet: bool,
@@ -226,9 +236,10 @@ pub struct FieldArgs {
     model: PathBuf,
     #[command(flatten)]
     import: ImportArgs,
-    /// Output field file (.vtu).
+    /// Output field file (.vtu). Optional: `--json` alone prints the report
+    /// and writes nothing (one of -o, --png, --size-png, --json is needed).
     #[arg(short, long)]
-    output: PathBuf,
+    output: Option<PathBuf>,
     /// Also draw the field to this PNG picture: shaded triangulation, cross
     /// glyphs, singularities coloured by index.
     #[arg(long)]

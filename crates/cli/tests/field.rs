@@ -307,6 +307,31 @@ fn missing_model_and_bad_size_give_clear_errors() {
 }
 
 #[test]
+fn json_alone_writes_no_file_and_no_output_at_all_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = cad("s17o_sphere.stp");
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_quadrille"))
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .unwrap()
+    };
+    let r = run(&["field", model.to_str().unwrap(), "--json", "--quiet"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let json: Value = serde_json::from_slice(&r.stdout).expect("JSON on stdout");
+    // the same report as with -o: the sphere's eight +1 singularities
+    assert_eq!(json["totals"]["singularities_plus"], 8);
+    assert_eq!(json["totals"]["faces_euler_ok"], 1);
+    // nothing asked for but the computation: refused before any work
+    let r = run(&["field", model.to_str().unwrap(), "--quiet"]);
+    let err = assert_clean_failure(&r, "s17o_sphere.stp");
+    assert!(err.contains("nothing to do"), "{err}");
+    let left = std::fs::read_dir(dir.path()).unwrap().count();
+    assert_eq!(left, 0, "no file may be written");
+}
+
+#[test]
 fn help_has_an_example() {
     let r = quadrille(&["field", "--help"]);
     assert!(r.status.success());

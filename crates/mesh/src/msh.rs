@@ -1,6 +1,8 @@
 //! Gmsh's MSH format: a writer for MSH 4.1 (ASCII and binary) that keeps the
 //! classification of every node and element on the model's entities, and a
 //! reader for MSH 4.1 (ASCII and binary) and MSH 2.2 (ASCII) that restores it.
+//! Parametric coordinates are written only on request ([`MshWriteOptions`]):
+//! without them every reader (Gmsh, meshio) takes the file.
 //!
 //! Entity tags are `id + 1` (a corner is a point entity, a curve a curve
 //! entity, a face a surface entity), so Gmsh and meshio see our meshes with
@@ -12,7 +14,7 @@ mod write;
 use std::path::PathBuf;
 
 pub use read::{read_msh, read_msh_bytes, MshRead};
-pub use write::{write_msh, write_msh_to, MshEncoding};
+pub use write::{write_msh, write_msh_to, MshEncoding, MshWriteOptions};
 
 /// Everything that can go wrong reading or writing an MSH file.
 #[derive(Debug, thiserror::Error)]

@@ -325,6 +325,8 @@ struct CadNormals<'a> {
     /// The model's bounding-box diagonal (scale of the projection tolerance).
     diagonal: f64,
     projected: HashMap<(u32, FaceId), Option<[f64; 2]>>,
+    /// Curve parameters recovered for curve nodes read without them.
+    curve_params: HashMap<u32, Option<f64>>,
     /// Corners on a CAD curve measured with their quad's centre normal
     /// because the surface folds back inside the quad ([`Face::corner_normal`]).
     folds: usize,
@@ -338,6 +340,7 @@ impl<'a> CadNormals<'a> {
             model,
             diagonal,
             projected: HashMap::new(),
+            curve_params: HashMap::new(),
             folds: 0,
         }
     }
@@ -355,23 +358,63 @@ impl<'a> CadNormals<'a> {
         }
     }
 
+    /// The parameter of curve node `v` on its curve `c`: from the mesh, else
+    /// (a file written without parametric coordinates) the node projected on
+    /// the curve, kept when it lands on it (cached).
+    fn curve_param(&mut self, v: u32, c: geometry::CurveId, t: Option<f64>) -> Option<f64> {
+        if t.is_some() {
+            return t;
+        }
+        if let Some(&t) = self.curve_params.get(&v) {
+            return t;
+        }
+        let p = self.mesh.nodes[v as usize];
+        let on_curve = 1e-6 * self.diagonal;
+        let t = self
+            .model
+            .curves
+            .get(c.idx())
+            .and_then(|ce| {
+                let (t, q) = ce.geom.as_ref()?.project(p, None)?;
+                let (lo, hi) = ce.range;
+                let tol = 1e-9 * (hi - lo).abs();
+                (vec3::dist(p, q) <= on_curve && t >= lo - tol && t <= hi + tol).then_some(t)
+            })
+            .filter(|t| t.is_finite());
+        self.curve_params.insert(v, t);
+        t
+    }
+
     /// Candidate (u, v) of node `v` on face `f` from its classification: the
-    /// face (u, v), the pcurves at a curve parameter or at a corner (two on a seam).
-    fn classified_uvs(&self, v: u32, f: FaceId) -> Vec<[f64; 2]> {
-        let Some(face) = self.model.faces.get(f.idx()) else {
+    /// face (u, v), the pcurves at a curve parameter or at a corner (two on a
+    /// seam). A curve node read without its parameter gets it by projection
+    /// on its curve, so that a node on a seam still gets both sides.
+    fn classified_uvs(&mut self, v: u32, f: FaceId) -> Vec<[f64; 2]> {
+        let model = self.model;
+        let Some(face) = model.faces.get(f.idx()) else {
             return Vec::new();
         };
-        match self.mesh.node_class.get(v as usize) {
+        let class = self.mesh.node_class.get(v as usize).copied();
+        let curve_t = match class {
+            Some(NodeClass::Curve(c, t)) if face.curve_uses().any(|u| u.curve == c) => {
+                self.curve_param(v, c, t)
+            }
+            _ => None,
+        };
+        match &class {
             Some(NodeClass::Face(g, Some(uv))) if *g == f => vec![*uv],
-            Some(NodeClass::Curve(c, Some(t))) => face
-                .curve_uses()
-                .filter(|u| u.curve == *c)
-                .map(|u| u.pcurve.eval(*t))
-                .collect(),
+            Some(NodeClass::Curve(c, _)) => match curve_t {
+                Some(t) => face
+                    .curve_uses()
+                    .filter(|u| u.curve == *c)
+                    .map(|u| u.pcurve.eval(t))
+                    .collect(),
+                None => Vec::new(),
+            },
             Some(NodeClass::Corner(k)) => {
                 let mut out = Vec::new();
                 for u in face.curve_uses() {
-                    let Some(c) = self.model.curves.get(u.curve.idx()) else {
+                    let Some(c) = model.curves.get(u.curve.idx()) else {
                         continue;
                     };
                     if c.start == *k {
@@ -448,6 +491,17 @@ impl<'a> CadNormals<'a> {
         let mut uvs: [Option<[f64; 2]>; 4] =
             [0, 1, 2, 3].map(|k| (cands[k].len() == 1).then(|| cands[k][0]));
         let mut hint = uvs.iter().flatten().copied().find(regular);
+        if hint.is_none() {
+            // no corner with one (u, v) (a file without parametric
+            // coordinates): the face nodes' projections first, so that a
+            // seam node takes their side rather than an arbitrary one
+            for k in 0..4 {
+                if uvs[k].is_none() && poles[k].is_empty() && cands[k].is_empty() {
+                    uvs[k] = self.projected_uv(q[k], f, None);
+                    hint = hint.or(uvs[k].filter(regular));
+                }
+            }
+        }
         for k in 0..4 {
             if uvs[k].is_none() && !cands[k].is_empty() {
                 let h = hint.unwrap_or(cands[k][0]);

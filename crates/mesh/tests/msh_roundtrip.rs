@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use mesh::fixtures::{cube, square_grid};
-use mesh::msh::{read_msh, read_msh_bytes, write_msh, write_msh_to, MshEncoding};
+use mesh::msh::{read_msh, read_msh_bytes, write_msh, write_msh_to, MshEncoding, MshWriteOptions};
 use mesh::stats::MeshStats;
 use mesh::{NodeClass, QuadMesh};
 
@@ -46,7 +46,9 @@ fn ascii_and_binary_round_trips_keep_everything() {
         for enc in [MshEncoding::Ascii, MshEncoding::Binary] {
             for with_model in [true, false] {
                 let path = dir.join(format!("{name}-{enc:?}-{with_model}.msh"));
-                write_msh(&path, &mesh, with_model.then_some(&model), enc).unwrap();
+                // with parameters: the file keeps everything the mesh holds
+                let opts = MshWriteOptions::new(enc).with_parametric(true);
+                write_msh(&path, &mesh, with_model.then_some(&model), opts).unwrap();
                 let r = read_msh(&path).unwrap();
                 assert_eq!(r.version, "4.1");
                 assert_eq!(r.binary, enc == MshEncoding::Binary);
@@ -67,7 +69,8 @@ fn ascii_and_binary_round_trips_keep_everything() {
 fn read_back_cube_is_closed_with_euler_two() {
     let (model, mesh) = cube(2.0, 4);
     let mut bytes = Vec::new();
-    write_msh_to(&mut bytes, &mesh, Some(&model), MshEncoding::Binary).unwrap();
+    let opts = MshWriteOptions::new(MshEncoding::Binary);
+    write_msh_to(&mut bytes, &mesh, Some(&model), opts).unwrap();
     let r = read_msh_bytes(&bytes, Path::new("cube.msh")).unwrap();
     let s = MeshStats::compute(&r.mesh, Some(&model));
     assert_eq!(s.open_edges, 0);
@@ -97,7 +100,8 @@ fn mixed_unclassified_and_parameterless_nodes() {
     mesh.triangle_face.push(geometry::FaceId(0));
     for enc in [MshEncoding::Ascii, MshEncoding::Binary] {
         let mut bytes = Vec::new();
-        write_msh_to(&mut bytes, &mesh, Some(&model), enc).unwrap();
+        let opts = MshWriteOptions::new(enc).with_parametric(true);
+        write_msh_to(&mut bytes, &mesh, Some(&model), opts).unwrap();
         let r = read_msh_bytes(&bytes, Path::new("mixed.msh")).unwrap();
         assert_eq!(r.mesh.nodes, mesh.nodes);
         assert_eq!(r.mesh.triangles, mesh.triangles);
@@ -127,9 +131,11 @@ fn mixed_unclassified_and_parameterless_nodes() {
 #[test]
 fn truncated_and_corrupted_files_give_errors_not_panics() {
     let (model, mesh) = cube(1.0, 2);
-    for enc in [MshEncoding::Ascii, MshEncoding::Binary] {
+    let encodings = [MshEncoding::Ascii, MshEncoding::Binary];
+    for (enc, parametric) in encodings.into_iter().flat_map(|e| [(e, false), (e, true)]) {
         let mut bytes = Vec::new();
-        write_msh_to(&mut bytes, &mesh, Some(&model), enc).unwrap();
+        let opts = MshWriteOptions::new(enc).with_parametric(parametric);
+        write_msh_to(&mut bytes, &mesh, Some(&model), opts).unwrap();
         let name = Path::new("broken.msh");
         // every truncation point short of the final "$EndElements" fails
         let end = bytes.len() - "$EndElements\n".len();
@@ -169,7 +175,7 @@ fn missing_file_is_an_io_error_naming_it() {
         Path::new("/nonexistent/dir/y.msh"),
         &mesh,
         None,
-        MshEncoding::Ascii,
+        MshWriteOptions::default(),
     )
     .unwrap_err();
     assert!(

@@ -2,14 +2,20 @@
 //!
 //! Layout written: `$MeshFormat`, `$Entities` (points, curves and surfaces
 //! with bounding boxes and bounding entities), `$Nodes` in one block per
-//! entity (with parametric coordinates when every node of the block has
-//! them), `$Elements` in blocks per entity and type (points on corners, lines
+//! entity, `$Elements` in blocks per entity and type (points on corners, lines
 //! on curves, quads and triangles on faces). Node tag = node index + 1.
 //!
 //! Elements are grouped by entity in increasing id order (points, then lines,
 //! then per face quads and triangles), keeping their relative order within an
 //! entity: a mesh whose element lists are already grouped that way reads back
 //! with the same order.
+//!
+//! Parametric coordinates (the curve parameter of a curve node, the (u, v)
+//! of a face node) are written only when [`MshWriteOptions::parametric`] asks
+//! for them, and then on the blocks whose every node has them: Gmsh itself
+//! writes them only with `Mesh.SaveParametric`, and some readers (meshio)
+//! refuse files that have them. Without them the entities and the
+//! classification of every node are still written.
 
 use std::collections::{BTreeMap, BTreeSet, HashSet};
 use std::io::{self, Write};
@@ -30,6 +36,40 @@ pub enum MshEncoding {
     Binary,
 }
 
+/// How [`write_msh`] and [`write_msh_to`] write a file: ASCII or binary, with
+/// or without parametric coordinates. The default (ASCII, no parametric
+/// coordinates) is the file every MSH reader takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MshWriteOptions {
+    /// ASCII or binary.
+    pub encoding: MshEncoding,
+    /// Write the parametric coordinates of curve and face nodes (parametric
+    /// flag 1 on the node blocks whose every node has finite parameters). Off
+    /// by default: meshio, for one, cannot read such files.
+    pub parametric: bool,
+}
+
+impl Default for MshWriteOptions {
+    fn default() -> Self {
+        MshWriteOptions::new(MshEncoding::Ascii)
+    }
+}
+
+impl MshWriteOptions {
+    /// `encoding`, without parametric coordinates.
+    pub const fn new(encoding: MshEncoding) -> Self {
+        MshWriteOptions {
+            encoding,
+            parametric: false,
+        }
+    }
+
+    /// The same options with parametric coordinates on or off.
+    pub const fn with_parametric(self, parametric: bool) -> Self {
+        MshWriteOptions { parametric, ..self }
+    }
+}
+
 /// Writes `mesh` to `path` as MSH 4.1. With `model`, every model entity is
 /// listed in `$Entities` with its true bounding entities (curve ends, face
 /// loops); without it, the entities and their adjacency are derived from the
@@ -42,13 +82,13 @@ pub fn write_msh(
     path: &Path,
     mesh: &QuadMesh,
     model: Option<&Model>,
-    encoding: MshEncoding,
+    options: MshWriteOptions,
 ) -> Result<(), MshError> {
     validate(mesh).map_err(|message| MshError::InvalidMesh {
         path: path.to_path_buf(),
         message,
     })?;
-    write_atomically::<io::Error, _>(path, |w| write_body(w, mesh, model, encoding)).map_err(
+    write_atomically::<io::Error, _>(path, |w| write_body(w, mesh, model, options)).map_err(
         |source| MshError::Io {
             path: path.to_path_buf(),
             source,
@@ -62,10 +102,10 @@ pub fn write_msh_to<W: Write>(
     w: &mut W,
     mesh: &QuadMesh,
     model: Option<&Model>,
-    encoding: MshEncoding,
+    options: MshWriteOptions,
 ) -> io::Result<()> {
     validate(mesh).map_err(|m| io::Error::new(io::ErrorKind::InvalidInput, m))?;
-    write_body(w, mesh, model, encoding)
+    write_body(w, mesh, model, options)
 }
 
 /// Checks lengths, node references, ids and coordinates.
@@ -392,9 +432,9 @@ fn write_body<W: Write>(
     w: &mut W,
     mesh: &QuadMesh,
     model: Option<&Model>,
-    encoding: MshEncoding,
+    options: MshWriteOptions,
 ) -> io::Result<()> {
-    let binary = encoding == MshEncoding::Binary;
+    let binary = options.encoding == MshEncoding::Binary;
     let lay = layout(mesh, model);
     let mut e = Emitter {
         w,
@@ -450,7 +490,8 @@ fn write_body<W: Write>(
                 _ => None,
             }
         };
-        let parametric = dim > 0
+        let parametric = options.parametric
+            && dim > 0
             && nodes
                 .iter()
                 .all(|&v| params(v).is_some_and(|p| p.iter().all(|x| x.is_finite())));
@@ -539,7 +580,7 @@ mod tests {
     fn ascii_layout_of_a_square() {
         let (model, mesh) = fixtures::square_grid(1.0, 1);
         let mut out = Vec::new();
-        write_msh_to(&mut out, &mesh, Some(&model), MshEncoding::Ascii).unwrap();
+        write_msh_to(&mut out, &mesh, Some(&model), MshWriteOptions::default()).unwrap();
         let text = String::from_utf8(out).unwrap();
         assert!(
             text.starts_with("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n4 4 1 0\n"),
@@ -560,7 +601,7 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("quadrille-msh-bad-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("bad.msh");
-        let err = write_msh(&path, &mesh, None, MshEncoding::Ascii).unwrap_err();
+        let err = write_msh(&path, &mesh, None, MshWriteOptions::default()).unwrap_err();
         assert!(
             err.to_string().contains("quad 0 refers to a missing node"),
             "{err}"
@@ -568,6 +609,78 @@ mod tests {
         assert!(!path.exists());
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// `(dim, tag, parametric flag)` of every node block of an ASCII file.
+    fn node_block_flags(text: &str) -> Vec<(i32, i64, i32)> {
+        let nodes = text
+            .split("$Nodes\n")
+            .nth(1)
+            .and_then(|s| s.split("$EndNodes").next())
+            .expect("a $Nodes section");
+        let mut lines = nodes.lines();
+        let head: Vec<usize> = lines
+            .next()
+            .unwrap()
+            .split(' ')
+            .map(|t| t.parse().unwrap())
+            .collect();
+        let mut out = Vec::new();
+        for _ in 0..head[0] {
+            let b: Vec<i64> = lines
+                .next()
+                .unwrap()
+                .split(' ')
+                .map(|t| t.parse().unwrap())
+                .collect();
+            out.push((b[0] as i32, b[1], b[2] as i32));
+            // tags, then coordinates (and parameters)
+            for _ in 0..2 * b[3] {
+                lines.next().unwrap();
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn parametric_coordinates_only_on_request() {
+        let (model, mesh) = fixtures::cube(2.0, 3);
+        let write = |opts: MshWriteOptions| {
+            let mut out = Vec::new();
+            write_msh_to(&mut out, &mesh, Some(&model), opts).unwrap();
+            out
+        };
+        let plain = String::from_utf8(write(MshWriteOptions::default())).unwrap();
+        let flags = node_block_flags(&plain);
+        // corners, curves and faces all have node blocks, none with parameters
+        for dim in 0..3 {
+            assert!(flags.iter().any(|f| f.0 == dim), "{flags:?}");
+        }
+        assert!(flags.iter().all(|f| f.2 == 0), "{flags:?}");
+        // every node line holds its three coordinates only
+        let param = MshWriteOptions::default().with_parametric(true);
+        let with = String::from_utf8(write(param)).unwrap();
+        let flags = node_block_flags(&with);
+        for (dim, tag, flag) in &flags {
+            assert_eq!(*flag, (*dim > 0) as i32, "block {dim}:{tag}");
+        }
+        assert!(with.len() > plain.len());
+        // both encodings: the reader sees parameters exactly when asked for
+        for enc in [MshEncoding::Ascii, MshEncoding::Binary] {
+            for parametric in [false, true] {
+                let opts = MshWriteOptions::new(enc).with_parametric(parametric);
+                let r = crate::msh::read_msh_bytes(&write(opts), Path::new("p.msh")).unwrap();
+                assert_eq!(r.mesh.nodes, mesh.nodes);
+                for (got, want) in r.mesh.node_class.iter().zip(&mesh.node_class) {
+                    let expected = match *want {
+                        NodeClass::Curve(c, t) => NodeClass::Curve(c, t.filter(|_| parametric)),
+                        NodeClass::Face(f, uv) => NodeClass::Face(f, uv.filter(|_| parametric)),
+                        other => other,
+                    };
+                    assert_eq!(*got, expected, "{enc:?} parametric {parametric}");
+                }
+            }
+        }
     }
 
     #[test]
