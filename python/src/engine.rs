@@ -662,12 +662,7 @@ fn field_data(
     let fields = model_fields(model, &opts).map_err(|e| meshing_error(path, e))?;
     let fm = fields.to_field_mesh(model);
     if fm.triangles.is_empty() {
-        let why = fields
-            .faces
-            .iter()
-            .find_map(|f| f.outcome.as_ref().err())
-            .map(|e| e.to_string())
-            .unwrap_or_default();
+        let why = fields.first_failure().unwrap_or_default();
         return Err(Error::meshing(format!(
             "{path}: no face could be given a cross field ({why})"
         )));

@@ -223,12 +223,7 @@ pub fn run(args: &FieldArgs) -> Result<()> {
     let fields = fields?;
     let field_mesh = fields.to_field_mesh(&model);
     if field_mesh.triangles.is_empty() {
-        let why = fields
-            .faces
-            .iter()
-            .find_map(|f| f.outcome.as_ref().err())
-            .map(|e| e.to_string())
-            .unwrap_or_default();
+        let why = fields.first_failure().unwrap_or_default();
         bail!(
             "{}: no face could be given a cross field ({why})",
             args.model.display()

@@ -44,6 +44,28 @@ print("JSON" + json.dumps(out))
 "#;
 
 /// The Python that has gmsh: `QUADRILLE_PYTHON` (set by `run-tests`), else `python3`.
+/// Runs the Python `script` (`tool` names it in the failure) on `args` and
+/// returns the JSON it prints on its line starting with `JSON`.
+fn script_json(tool: &str, script: &str, args: &[&std::ffi::OsStr]) -> Value {
+    let out = Command::new(python())
+        .arg("-c")
+        .arg(script)
+        .args(args)
+        .output()
+        .expect("python runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{tool} failed on {args:?}: {}\n{stdout}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("JSON"))
+        .expect("the script prints its JSON");
+    serde_json::from_str(json).unwrap()
+}
+
 fn python() -> String {
     std::env::var("QUADRILLE_PYTHON")
         .ok()
@@ -83,25 +105,11 @@ fn gmsh_reads_our_msh_with_the_same_counts_entities_and_classification() {
         write_msh(&path, &mesh, Some(&model), opts).unwrap();
         let back = dir.join(format!("cube-{enc:?}-{parametric}-by-gmsh.msh"));
         let binary = if enc == MshEncoding::Binary { "1" } else { "0" };
-        let out = Command::new(python())
-            .arg("-c")
-            .arg(SCRIPT)
-            .arg(&path)
-            .arg(&back)
-            .arg(binary)
-            .output()
-            .expect("python runs");
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        assert!(
-            out.status.success(),
-            "gmsh failed on {path:?}: {}\n{stdout}",
-            String::from_utf8_lossy(&out.stderr)
+        let v = script_json(
+            "gmsh",
+            SCRIPT,
+            &[path.as_os_str(), back.as_os_str(), binary.as_ref()],
         );
-        let json = stdout
-            .lines()
-            .find_map(|l| l.strip_prefix("JSON"))
-            .expect("the script prints its JSON");
-        let v: Value = serde_json::from_str(json).unwrap();
         println!(
             "{enc:?} (parametric {parametric}): gmsh sees {} nodes, elements {}, entities {}",
             v["nodes"], v["elements"], v["entities"]
@@ -237,23 +245,7 @@ fn meshio_reads_our_default_msh() {
     for enc in [MshEncoding::Ascii, MshEncoding::Binary] {
         let path = dir.join(format!("cube-{enc:?}.msh"));
         write_msh(&path, &mesh, Some(&model), MshWriteOptions::new(enc)).unwrap();
-        let out = Command::new(python())
-            .arg("-c")
-            .arg(MESHIO_SCRIPT)
-            .arg(&path)
-            .output()
-            .expect("python runs");
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        assert!(
-            out.status.success(),
-            "meshio failed on {path:?}: {}\n{stdout}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let json = stdout
-            .lines()
-            .find_map(|l| l.strip_prefix("JSON"))
-            .expect("the script prints its JSON");
-        let v: Value = serde_json::from_str(json).unwrap();
+        let v = script_json("meshio", MESHIO_SCRIPT, &[path.as_os_str()]);
         println!(
             "{enc:?}: meshio sees {} points, cells {}",
             v["points"], v["cells"]

@@ -196,6 +196,16 @@ pub struct ModelFields {
 }
 
 impl ModelFields {
+    /// Why the first face without a field has none (`None` when every
+    /// face has one): what a command says when no face could be given a
+    /// cross field.
+    pub fn first_failure(&self) -> Option<String> {
+        self.faces
+            .iter()
+            .find_map(|f| f.outcome.as_ref().err())
+            .map(|e| e.to_string())
+    }
+
     /// Number of faces whose field satisfies relation (2).
     pub fn faces_euler_ok(&self) -> usize {
         self.faces.iter().filter(|f| f.euler_ok()).count()
