@@ -243,16 +243,7 @@ impl MeshRequest {
             )));
         }
         let s = self.stages;
-        let off: Vec<&str> = [
-            (s.patterns, "patterns"),
-            (s.defects, "defects"),
-            (s.cavities, "cavities"),
-            (s.regular_pass, "regular_pass"),
-        ]
-        .iter()
-        .filter(|(on, _)| !on)
-        .map(|(_, name)| *name)
-        .collect();
+        let off = s.switched_off();
         if self.method != Method::QuasiStructured && !off.is_empty() {
             return Err(Error::option(format!(
                 "{}=False only applies to method=\"quasi-structured\" (the default); method {:?} has no such step",
@@ -264,10 +255,7 @@ impl MeshRequest {
             Method::QuasiStructured => MeshMethod::QuasiStructured(s),
             Method::Unstructured => MeshMethod::Unstructured,
             Method::Baseline => MeshMethod::Baseline,
-            Method::Regular => MeshMethod::Regular(quadrille::topology::RegularizeOptions {
-                threads: self.threads,
-                ..Default::default()
-            }),
+            Method::Regular => MeshMethod::regular(self.threads),
         };
         let opts = MeshOptions {
             size,

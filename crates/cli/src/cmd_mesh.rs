@@ -11,23 +11,19 @@ use crate::{MeshArgs, Method};
 
 /// The topology stages the arguments ask for, or why the combination is refused.
 fn stages(args: &MeshArgs) -> Result<quadrille::Stages> {
-    let off: Vec<&str> = [
-        (args.no_patterns, "--no-patterns"),
-        (args.no_defects, "--no-defects"),
-        (args.no_cavities, "--no-cavities"),
-        (args.no_regular_pass, "--no-regular-pass"),
-    ]
-    .iter()
-    .filter(|(on, _)| *on)
-    .map(|(_, name)| *name)
-    .collect();
+    let asked = quadrille::Stages {
+        patterns: !args.no_patterns,
+        defects: !args.no_defects,
+        cavities: !args.no_cavities,
+        regular_pass: !args.no_regular_pass,
+    };
+    let off: Vec<String> = asked
+        .switched_off()
+        .iter()
+        .map(|name| format!("--no-{}", name.replace('_', "-")))
+        .collect();
     match args.method {
-        Method::QuasiStructured => Ok(quadrille::Stages {
-            patterns: !args.no_patterns,
-            defects: !args.no_defects,
-            cavities: !args.no_cavities,
-            regular_pass: !args.no_regular_pass,
-        }),
+        Method::QuasiStructured => Ok(asked),
         _ if !off.is_empty() => bail!(
             "{} only applies to --method quasi-structured (the default); --method {} has no such step",
             off.join(", "),
@@ -74,10 +70,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         Method::QuasiStructured => quadrille::MeshMethod::QuasiStructured(stages),
         Method::Unstructured => quadrille::MeshMethod::Unstructured,
         Method::Baseline => quadrille::MeshMethod::Baseline,
-        Method::Regular => quadrille::MeshMethod::Regular(quadrille::topology::RegularizeOptions {
-            threads: args.threads,
-            ..Default::default()
-        }),
+        Method::Regular => quadrille::MeshMethod::regular(args.threads),
     };
     let (m, report) = quadrille::mesh_model_with(&model, &opts, method)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;

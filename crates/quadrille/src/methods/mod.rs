@@ -58,6 +58,17 @@ pub enum MeshMethod {
     Regular(RegularizeOptions),
 }
 
+impl MeshMethod {
+    /// [`MeshMethod::Regular`] with the default regularization on `threads`
+    /// threads (`None`: rayon's pool), as the front ends ask for it.
+    pub fn regular(threads: Option<usize>) -> Self {
+        MeshMethod::Regular(RegularizeOptions {
+            threads,
+            ..Default::default()
+        })
+    }
+}
+
 impl Default for MeshMethod {
     /// [`MeshMethod::QuasiStructured`] with every stage.
     fn default() -> Self {

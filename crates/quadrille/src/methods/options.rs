@@ -86,6 +86,29 @@ pub struct Stages {
 }
 
 impl Stages {
+    /// The names of the stages switched off, in the order of the fields
+    /// (`patterns`, `defects`, `cavities`, `regular_pass`): what a front end
+    /// names when it refuses them for a method without topology stages.
+    ///
+    /// ```
+    /// use quadrille::Stages;
+    /// let s = Stages { defects: false, regular_pass: false, ..Stages::ALL };
+    /// assert_eq!(s.switched_off(), ["defects", "regular_pass"]);
+    /// assert!(Stages::ALL.switched_off().is_empty());
+    /// ```
+    pub fn switched_off(&self) -> Vec<&'static str> {
+        [
+            (self.patterns, "patterns"),
+            (self.defects, "defects"),
+            (self.cavities, "cavities"),
+            (self.regular_pass, "regular_pass"),
+        ]
+        .into_iter()
+        .filter(|(on, _)| !on)
+        .map(|(_, name)| name)
+        .collect()
+    }
+
     /// Every stage: the quasi-structured method.
     pub const ALL: Stages = Stages {
         patterns: true,
