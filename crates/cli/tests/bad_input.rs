@@ -183,3 +183,28 @@ fn missing_mesh_error_says_its_cause_once() {
         "cause repeated: {stderr}"
     );
 }
+
+#[test]
+fn topology_switches_are_refused_for_a_method_without_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.msh");
+    let r = quadrille(&[
+        "mesh",
+        cad("s15o_cylinder.stp").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--method",
+        "baseline",
+        "--no-regular-pass",
+        "--no-patterns",
+    ]);
+    assert!(!r.status.success());
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        stderr.contains(
+            "--no-patterns, --no-regular-pass only applies to --method quasi-structured (the default); --method baseline has no such step"
+        ),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+}
