@@ -3,6 +3,7 @@
 
 pub mod atomic;
 pub mod field;
+pub mod high_order;
 pub mod fixtures;
 pub mod msh;
 pub mod obj;
@@ -12,4 +13,5 @@ pub mod render;
 pub mod stats;
 pub mod vtu;
 
+pub use high_order::HighOrderQuadMesh;
 pub use quadmesh::{NodeClass, QuadMesh};

@@ -35,6 +35,7 @@
 // documentation for the people who work on the mesher.
 #![allow(rustdoc::private_intra_doc_links)]
 
+pub mod coarse;
 pub mod combinatorics;
 pub mod core;
 pub mod curves;

@@ -9,7 +9,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The folders of `src`, bottom to top (ARCHITECTURE.md, "The `quadrille` crate").
-const LAYERS: [&str; 10] = [
+const LAYERS: [&str; 11] = [
     "core",
     "combinatorics",
     "curves",
@@ -19,6 +19,7 @@ const LAYERS: [&str; 10] = [
     "direct",
     "frontal",
     "topology",
+    "coarse",
     "methods",
 ];
 
