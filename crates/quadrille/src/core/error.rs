@@ -25,6 +25,10 @@ pub enum MeshError {
     /// The size-map options are invalid (bad gradient, bounds or entity sizes).
     #[error("size map: {0}")]
     Sizing(String),
+    /// The coarse method cannot run on this input (a triangle, a non-manifold
+    /// edge, an option out of range), naming the entity or option.
+    #[error("coarse method: {0}")]
+    Coarse(String),
     /// Topological regularization failed (the regular method).
     #[error("regularization: {0}")]
     Regularize(String),

@@ -1,0 +1,498 @@
+//! From a quantization to the coarse block layout (paper §IV.A–C, spec
+//! §5.1–5.3). Splitting and merging are one union–find over *points*: T-mesh
+//! nodes, the `q − 1` inner points of every arc, the `(Q1 + 1) × (Q2 + 1)`
+//! points of every grid patch quantized to `Q1 × Q2`, and the input nodes of
+//! frozen patches. A patch's boundary points are its arcs' points; an arc of
+//! length 0 joins its two ends, and a patch of zero width joins its opposite
+//! sides point by point — the "1 × 0 patches merged along their long sides".
+//! Each unit cell left is a block; each group of points a layout vertex,
+//! centred on a CAD corner, else a CAD-curve node, else its lowest node.
+//! Edges follow the CAD curve they lie on, else the shortest input-mesh path
+//! inside the block's face.
+
+use super::block_layout::{Block, BlockLayout, LayoutEdge};
+use super::connectivity::Connectivity;
+use super::tmesh::{PatchShape, SideArc, TMesh};
+use geometry::{vec3, CurveId, FaceId};
+use mesh::{NodeClass, QuadMesh};
+use std::cmp::Reverse;
+use std::collections::{BTreeMap, BinaryHeap, HashMap, HashSet};
+
+/// Why a quantization gave no usable layout, with the arcs to hold at their
+/// input length in the next round.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct LayoutFailure {
+    /// What went wrong (first few, for the log).
+    pub reasons: Vec<String>,
+    /// Arcs near the failures.
+    pub arcs: HashSet<u32>,
+}
+
+/// The anchor of a point that stands for no input node of its own.
+const NO_ANCHOR: u32 = u32::MAX;
+
+/// The points of the union–find and what they came from.
+struct Points {
+    parent: Vec<u32>,
+    /// The input node each point stands for before merging ([`NO_ANCHOR`]
+    /// for a grid patch's boundary points).
+    anchor: Vec<u32>,
+    /// The point of each T-mesh node (by input node).
+    node_point: HashMap<u32, u32>,
+    /// First inner point of each arc (`q ≥ 2`).
+    arc_base: Vec<u32>,
+}
+
+impl Points {
+    fn push(&mut self, anchor: u32) -> u32 {
+        let id = self.parent.len() as u32;
+        self.parent.push(id);
+        self.anchor.push(anchor);
+        id
+    }
+
+    fn find(&mut self, mut i: u32) -> u32 {
+        while self.parent[i as usize] != i {
+            let g = self.parent[self.parent[i as usize] as usize];
+            self.parent[i as usize] = g;
+            i = g;
+        }
+        i
+    }
+
+    fn union(&mut self, a: u32, b: u32) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            self.parent[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
+
+    /// Point `k` of arc `a` (0 and `q` are its end nodes).
+    fn arc_point(&self, tm: &TMesh, q: &[u32], a: u32, k: u32) -> u32 {
+        let arc = &tm.arcs[a as usize];
+        if k == 0 {
+            self.node_point[&arc.nodes[0]]
+        } else if k == q[a as usize] {
+            self.node_point[arc.nodes.last().expect("arc nodes")]
+        } else {
+            self.arc_base[a as usize] + k - 1
+        }
+    }
+}
+
+/// Input position along a side of quantized position `t` (piecewise linear
+/// per arc, rounded).
+fn side_input_position(tm: &TMesh, q: &[u32], side: &[SideArc], t: u32) -> u32 {
+    let (mut cq, mut cl) = (0u32, 0u32);
+    for &(a, _) in side {
+        let (qa, la) = (q[a as usize], tm.arcs[a as usize].len());
+        if qa > 0 && t <= cq + qa {
+            return cl + ((t - cq) as f64 * la as f64 / qa as f64).round() as u32;
+        }
+        cq += qa;
+        cl += la;
+    }
+    cl
+}
+
+/// One cell before the layout is numbered: corner points, face, and for each
+/// side the CAD curve it lies on.
+struct Cell {
+    points: [u32; 4],
+    face: FaceId,
+    side_curve: [Option<u32>; 4],
+    patch: u32,
+}
+
+/// Builds the block layout of arc lengths `q` (per arc).
+pub(crate) fn build_layout(
+    mesh: &QuadMesh,
+    conn: &Connectivity,
+    tm: &TMesh,
+    q: &[u32],
+) -> Result<BlockLayout, LayoutFailure> {
+    let mut pts =
+        Points { parent: Vec::new(), anchor: Vec::new(), node_point: HashMap::new(), arc_base: Vec::new() };
+    for v in 0..mesh.nodes.len() as u32 {
+        if tm.is_node[v as usize] {
+            let p = pts.push(v);
+            pts.node_point.insert(v, p);
+        }
+    }
+    for (a, arc) in tm.arcs.iter().enumerate() {
+        let qa = q[a];
+        pts.arc_base.push(pts.parent.len() as u32);
+        for k in 1..qa.max(1) {
+            let at = (k as f64 * arc.len() as f64 / qa as f64).round() as usize;
+            pts.push(arc.nodes[at]);
+        }
+        if qa == 0 {
+            let (s, e) = (pts.node_point[&arc.nodes[0]], pts.node_point[arc.nodes.last().unwrap()]);
+            pts.union(s, e);
+        }
+    }
+    let mut cells: Vec<Cell> = Vec::new();
+    let mut frozen_point: HashMap<u32, u32> = HashMap::new();
+    for (pi, patch) in tm.patches.iter().enumerate() {
+        match &patch.shape {
+            PatchShape::Grid { sides, dims, grid } => {
+                let sq = |s: usize| sides[s].iter().map(|&(a, _)| q[a as usize]).sum::<u32>();
+                let (q1, q2) = (sq(0), sq(1));
+                let w = q1 as usize + 1;
+                let base = pts.parent.len() as u32;
+                // inner points anchor on the grid; boundary points take their
+                // arc point's anchor through the union below
+                for j in 0..=q2 {
+                    let jj = side_input_position(tm, q, &sides[1], j);
+                    for i in 0..=q1 {
+                        let ii = side_input_position(tm, q, &sides[0], i);
+                        let inner = i > 0 && j > 0 && i < q1 && j < q2;
+                        pts.push(if inner {
+                            grid[ii as usize + (dims[0] as usize + 1) * jj as usize]
+                        } else {
+                            NO_ANCHOR
+                        });
+                    }
+                }
+                let at = |i: u32, j: u32| base + i + w as u32 * j;
+                let mut side_curve_at: [Vec<Option<u32>>; 4] = Default::default();
+                for (s, side) in sides.iter().enumerate() {
+                    let mut pos = 0;
+                    for &(a, rev) in side {
+                        let qa = q[a as usize];
+                        for k in 0..=qa {
+                            let t = pos + k;
+                            let gp = match s {
+                                0 => at(t, 0),
+                                1 => at(q1, t),
+                                2 => at(q1 - t, q2),
+                                _ => at(0, q2 - t),
+                            };
+                            let ap = pts.arc_point(tm, q, a, if rev { qa - k } else { k });
+                            pts.union(gp, ap);
+                        }
+                        for _ in 0..qa {
+                            side_curve_at[s].push(tm.arcs[a as usize].curve);
+                        }
+                        pos += qa;
+                    }
+                }
+                for j in 0..q2 {
+                    for i in 0..q1 {
+                        let side_curve = [
+                            if j == 0 { side_curve_at[0][i as usize] } else { None },
+                            if i + 1 == q1 { side_curve_at[1][j as usize] } else { None },
+                            if j + 1 == q2 { side_curve_at[2][(q1 - 1 - i) as usize] } else { None },
+                            if i == 0 { side_curve_at[3][(q2 - 1 - j) as usize] } else { None },
+                        ];
+                        cells.push(Cell {
+                            points: [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)],
+                            face: patch.face,
+                            side_curve,
+                            patch: pi as u32,
+                        });
+                    }
+                }
+            }
+            PatchShape::Frozen => {
+                for &qi in &patch.quads {
+                    let quad = mesh.quads[qi as usize];
+                    let mut points = [0u32; 4];
+                    for (k, &v) in quad.iter().enumerate() {
+                        points[k] = match pts.node_point.get(&v) {
+                            Some(&p) => p,
+                            None => *frozen_point.entry(v).or_insert_with(|| pts.push(v)),
+                        };
+                    }
+                    let side_curve =
+                        std::array::from_fn(|k| conn.edge_curve(quad[k], quad[(k + 1) % 4]));
+                    cells.push(Cell { points, face: patch.face, side_curve, patch: pi as u32 });
+                }
+            }
+        }
+    }
+    // frozen patches' boundary nodes are their arcs' points (q = l there)
+    for (a, arc) in tm.arcs.iter().enumerate() {
+        if q[a] != arc.len() {
+            continue;
+        }
+        for (k, v) in arc.nodes.iter().enumerate() {
+            if let Some(&fp) = frozen_point.get(v) {
+                let ap = pts.arc_point(tm, q, a as u32, k as u32);
+                pts.union(fp, ap);
+            }
+        }
+    }
+    assemble(mesh, conn, tm, &mut pts, &cells)
+}
+
+/// Numbers the groups, checks the cells and edges, places the vertices and
+/// finds the edge paths.
+fn assemble(
+    mesh: &QuadMesh,
+    conn: &Connectivity,
+    tm: &TMesh,
+    pts: &mut Points,
+    cells: &[Cell],
+) -> Result<BlockLayout, LayoutFailure> {
+    let mut fail = LayoutFailure::default();
+    let patch_arcs = |p: u32, f: &mut LayoutFailure| f.arcs.extend(&tm.patches[p as usize].boundary_arcs);
+    // groups of the points cells use, in order of first use
+    let mut vertex_of_root: BTreeMap<u32, u32> = BTreeMap::new();
+    let mut roots_of_cells: Vec<[u32; 4]> = Vec::with_capacity(cells.len());
+    for c in cells {
+        let r = c.points.map(|p| pts.find(p));
+        roots_of_cells.push(r);
+    }
+    let mut members: HashMap<u32, Vec<u32>> = HashMap::new();
+    for p in 0..pts.parent.len() as u32 {
+        let r = pts.find(p);
+        members.entry(r).or_default().push(p);
+    }
+    let mut layout = BlockLayout::default();
+    let mut root_ids: Vec<u32> = roots_of_cells.iter().flatten().copied().collect();
+    root_ids.sort_unstable();
+    root_ids.dedup();
+    for &r in &root_ids {
+        let anchors: Vec<u32> = members[&r]
+            .iter()
+            .map(|&p| pts.anchor[p as usize])
+            .filter(|&a| a != NO_ANCHOR)
+            .collect();
+        match centre(mesh, &anchors) {
+            Ok(v) => {
+                vertex_of_root.insert(r, layout.vertex_node.len() as u32);
+                layout.vertex_node.push(v);
+            }
+            Err(why) => {
+                fail.reasons.push(why);
+                for &a in &anchors {
+                    arcs_at_node(tm, a, &mut fail.arcs);
+                }
+                vertex_of_root.insert(r, layout.vertex_node.len() as u32);
+                layout.vertex_node.push(anchors.first().copied().unwrap_or(0));
+            }
+        }
+    }
+    // cells → blocks, sides → edges
+    let mut edge_of: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut edge_uses: Vec<Vec<(u32, bool)>> = Vec::new();
+    let mut edge_face: Vec<FaceId> = Vec::new();
+    let mut edge_curve: Vec<Option<u32>> = Vec::new();
+    for (ci, c) in cells.iter().enumerate() {
+        let corners = roots_of_cells[ci].map(|r| vertex_of_root[&r]);
+        let distinct: HashSet<u32> = corners.iter().copied().collect();
+        if distinct.len() != 4 {
+            // a 1 × 0 remnant: merged away when two corners coincide in pairs
+            if distinct.len() <= 2 {
+                continue;
+            }
+            fail.reasons.push(format!("a block with corners {corners:?} repeats a vertex"));
+            patch_arcs(c.patch, &mut fail);
+            continue;
+        }
+        let mut sides = [(0u32, false); 4];
+        for k in 0..4 {
+            let (a, b) = (corners[k], corners[(k + 1) % 4]);
+            let key = (a.min(b), a.max(b));
+            let id = *edge_of.entry(key).or_insert_with(|| {
+                layout.edges.push(LayoutEdge { ends: [key.0, key.1], path: Vec::new(), curve: None });
+                edge_uses.push(Vec::new());
+                edge_face.push(c.face);
+                edge_curve.push(None);
+                layout.edges.len() as u32 - 1
+            });
+            edge_uses[id as usize].push((ci as u32, a > b));
+            if c.side_curve[k].is_some() {
+                edge_curve[id as usize] = c.side_curve[k];
+            }
+            sides[k] = (id, a > b);
+        }
+        layout.blocks.push(Block { corners, sides, face: c.face });
+    }
+    for (e, uses) in edge_uses.iter().enumerate() {
+        let bad = uses.len() > 2 || (uses.len() == 2 && uses[0].1 == uses[1].1);
+        if bad {
+            fail.reasons.push(format!("layout edge {e} bounds {} blocks", uses.len()));
+            for &(ci, _) in uses {
+                patch_arcs(cells[ci as usize].patch, &mut fail);
+            }
+        }
+    }
+    corner_valences(mesh, tm, &layout, &members, &vertex_of_root, pts, &mut fail);
+    if !fail.reasons.is_empty() {
+        return Err(fail);
+    }
+    for (e, edge) in layout.edges.iter_mut().enumerate() {
+        let [a, b] = edge.ends.map(|v| layout.vertex_node[v as usize]);
+        edge.curve = edge_curve[e].map(CurveId);
+        let path = match edge_curve[e] {
+            Some(c) => shortest_path(mesh, conn, a, b, |u, v| conn.edge_curve(u, v) == Some(c)),
+            None => {
+                let f = edge_face[e];
+                let inner = |v: u32| matches!(mesh.node_class[v as usize], NodeClass::Face(g, _) if g == f);
+                shortest_path(mesh, conn, a, b, |u, v| {
+                    conn.edge_curve(u, v).is_none() && (inner(u) || u == a) && (inner(v) || v == b)
+                })
+                .or_else(|| shortest_path(mesh, conn, a, b, |u, v| conn.edge_curve(u, v).is_none()))
+            }
+        };
+        match path {
+            Some(p) => edge.path = p,
+            None => {
+                fail.reasons.push(format!("no input path for layout edge {e} ({a} to {b})"));
+                arcs_at_node(tm, a, &mut fail.arcs);
+                arcs_at_node(tm, b, &mut fail.arcs);
+            }
+        }
+    }
+    if fail.reasons.is_empty() {
+        Ok(layout)
+    } else {
+        Err(fail)
+    }
+}
+
+/// Every CAD corner keeps its input valence (its number of quads).
+fn corner_valences(
+    mesh: &QuadMesh,
+    tm: &TMesh,
+    layout: &BlockLayout,
+    members: &HashMap<u32, Vec<u32>>,
+    vertex_of_root: &BTreeMap<u32, u32>,
+    pts: &Points,
+    fail: &mut LayoutFailure,
+) {
+    let mut quads_at = vec![0u32; mesh.nodes.len()];
+    for quad in &mesh.quads {
+        for &v in quad {
+            quads_at[v as usize] += 1;
+        }
+    }
+    let mut blocks_at = vec![0u32; layout.vertex_node.len()];
+    for b in &layout.blocks {
+        for &c in &b.corners {
+            blocks_at[c as usize] += 1;
+        }
+    }
+    for (&root, &v) in vertex_of_root {
+        let node = layout.vertex_node[v as usize];
+        if matches!(mesh.node_class[node as usize], NodeClass::Corner(_))
+            && blocks_at[v as usize] != quads_at[node as usize]
+        {
+            fail.reasons.push(format!(
+                "CAD corner at node {node} has {} blocks, {} quads in the input",
+                blocks_at[v as usize], quads_at[node as usize]
+            ));
+            for &p in &members[&root] {
+                if pts.anchor[p as usize] != NO_ANCHOR {
+                    arcs_at_node(tm, pts.anchor[p as usize], &mut fail.arcs);
+                }
+            }
+        }
+    }
+}
+
+/// The arcs with an end at input node `v`, or through it.
+fn arcs_at_node(tm: &TMesh, v: u32, out: &mut HashSet<u32>) {
+    for (a, arc) in tm.arcs.iter().enumerate() {
+        if arc.nodes.contains(&v) {
+            out.insert(a as u32);
+        }
+    }
+}
+
+/// The centre of a group from its members' input nodes: the CAD corner, else
+/// the lowest node on the (single) CAD curve, else the lowest node.
+fn centre(mesh: &QuadMesh, anchors: &[u32]) -> Result<u32, String> {
+    let mut corners: Vec<u32> = anchors
+        .iter()
+        .copied()
+        .filter(|&v| matches!(mesh.node_class[v as usize], NodeClass::Corner(_)))
+        .collect();
+    corners.sort_unstable();
+    corners.dedup();
+    if corners.len() > 1 {
+        return Err(format!("CAD corners at nodes {corners:?} merge into one vertex"));
+    }
+    if let Some(&c) = corners.first() {
+        return Ok(c);
+    }
+    let mut on_curve: Vec<(u32, u32)> = anchors
+        .iter()
+        .filter_map(|&v| match mesh.node_class[v as usize] {
+            NodeClass::Curve(c, _) => Some((c.0, v)),
+            _ => None,
+        })
+        .collect();
+    on_curve.sort_unstable();
+    if let (Some(first), Some(last)) = (on_curve.first(), on_curve.last()) {
+        if first.0 != last.0 {
+            return Err(format!("nodes of CAD curves {} and {} merge into one vertex", first.0, last.0));
+        }
+        return Ok(on_curve.iter().map(|&(_, v)| v).min().unwrap_or(first.1));
+    }
+    anchors.iter().copied().min().ok_or_else(|| "an empty group".to_string())
+}
+
+/// Shortest input-mesh path from `a` to `b` (Euclidean edge lengths) over the
+/// edges `allowed` accepts, or `None`.
+fn shortest_path(
+    mesh: &QuadMesh,
+    conn: &Connectivity,
+    a: u32,
+    b: u32,
+    allowed: impl Fn(u32, u32) -> bool,
+) -> Option<Vec<u32>> {
+    if a == b {
+        return None;
+    }
+    let mut dist: HashMap<u32, (f64, u32)> = HashMap::new();
+    let mut heap = BinaryHeap::new();
+    dist.insert(a, (0.0, a));
+    heap.push(Reverse((Ordered(0.0), a)));
+    while let Some(Reverse((Ordered(d), u))) = heap.pop() {
+        if u == b {
+            let mut path = vec![b];
+            let mut x = b;
+            while x != a {
+                x = dist[&x].1;
+                path.push(x);
+            }
+            path.reverse();
+            return Some(path);
+        }
+        if d > dist[&u].0 {
+            continue;
+        }
+        for n in conn.neighbours(mesh, u).0 {
+            if !allowed(u, n) {
+                continue;
+            }
+            let nd = d + vec3::dist(mesh.nodes[u as usize], mesh.nodes[n as usize]);
+            if dist.get(&n).is_none_or(|&(old, _)| nd < old) {
+                dist.insert(n, (nd, u));
+                heap.push(Reverse((Ordered(nd), n)));
+            }
+        }
+    }
+    None
+}
+
+/// An `f64` with a total order, for the heap.
+#[derive(Clone, Copy, PartialEq)]
+struct Ordered(f64);
+
+impl Eq for Ordered {}
+
+impl PartialOrd for Ordered {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Ordered {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
