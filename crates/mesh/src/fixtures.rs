@@ -1,6 +1,7 @@
 //! Small hand-built classified meshes with their models (a square grid and a
-//! cube), so that tests of statistics, writers and renderers run on exactly
-//! known input without a mesher or a CAD file.
+//! cube; a patch of high-order quads over any map), so that tests of
+//! statistics, writers and renderers run on exactly known input without a
+//! mesher or a CAD file.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -11,6 +12,7 @@ use geometry::{
     Bounds2, Corner, CornerId, CurveEntity, CurveId, CurveUse, Face, FaceId, Loop, Model,
 };
 
+use crate::high_order::{HighOrderQuadMesh, MAX_ORDER};
 use crate::quadmesh::{NodeClass, QuadMesh};
 
 /// `geometry::primitives::square(side)` meshed by an `n × n` grid of quads
@@ -253,6 +255,81 @@ pub fn cube(side: f64, n: usize) -> (Model, QuadMesh) {
         mesh.corner_nodes.push((node_of[&key], CornerId(k as u32)));
     }
     (model, mesh)
+}
+
+/// An `nu × nv` patch of Lagrange quads of `order` (clamped to
+/// `1..=MAX_ORDER`) over `(u, v) ∈ [0, nu] × [0, nv]` mapped by `map`,
+/// neighbours sharing their edge nodes. Classified like [`square_grid`]: one
+/// face 0, curves 0 (v = 0, u rising), 1 (u = nu, v rising), 2 (v = nv, u
+/// falling), 3 (u = 0, v falling), corners 0–3 counter-clockwise from
+/// (0, 0); nodes keep their `(u, v)` (curve nodes their `u` or `v`) as
+/// parameters. Node `(a, b)` of the global `(N nu + 1) × (N nv + 1)` grid has
+/// index `a + (N nu + 1) b`.
+pub fn high_order_patch(
+    order: usize,
+    nu: usize,
+    nv: usize,
+    map: impl Fn(f64, f64) -> Vec3,
+) -> HighOrderQuadMesh {
+    let n = order.clamp(1, MAX_ORDER);
+    let (nu, nv) = (nu.max(1), nv.max(1));
+    let (gu, gv) = (n * nu, n * nv);
+    let id = |a: usize, b: usize| (a + (gu + 1) * b) as u32;
+    let mut mesh = HighOrderQuadMesh {
+        order: n,
+        ..Default::default()
+    };
+    for b in 0..=gv {
+        for a in 0..=gu {
+            let (u, v) = (a as f64 / n as f64, b as f64 / n as f64);
+            mesh.nodes.push(map(u, v));
+            let (ends_u, ends_v) = (a == 0 || a == gu, b == 0 || b == gv);
+            mesh.node_class.push(match (ends_u, ends_v) {
+                (true, true) => NodeClass::Corner(CornerId(match (a == 0, b == 0) {
+                    (true, true) => 0,
+                    (false, true) => 1,
+                    (false, false) => 2,
+                    (true, false) => 3,
+                })),
+                (false, true) => NodeClass::Curve(CurveId(if b == 0 { 0 } else { 2 }), Some(u)),
+                (true, false) => NodeClass::Curve(CurveId(if a == 0 { 3 } else { 1 }), Some(v)),
+                (false, false) => NodeClass::Face(FaceId(0), Some([u, v])),
+            });
+        }
+    }
+    for eb in 0..nv {
+        for ea in 0..nu {
+            for j in 0..=n {
+                for i in 0..=n {
+                    mesh.element_nodes.push(id(ea * n + i, eb * n + j));
+                }
+            }
+            mesh.element_face.push(FaceId(0));
+        }
+    }
+    let mut edge = |curve: u32, nodes: Vec<u32>| {
+        mesh.curve_edge_nodes.extend(nodes);
+        mesh.curve_edge_curve.push(CurveId(curve));
+    };
+    for e in 0..nu {
+        edge(0, (0..=n).map(|k| id(e * n + k, 0)).collect());
+    }
+    for e in 0..nv {
+        edge(1, (0..=n).map(|k| id(gu, e * n + k)).collect());
+    }
+    for e in 0..nu {
+        edge(2, (0..=n).map(|k| id(gu - e * n - k, gv)).collect());
+    }
+    for e in 0..nv {
+        edge(3, (0..=n).map(|k| id(0, gv - e * n - k)).collect());
+    }
+    mesh.corner_nodes = vec![
+        (id(0, 0), CornerId(0)),
+        (id(gu, 0), CornerId(1)),
+        (id(gu, gv), CornerId(2)),
+        (id(0, gv), CornerId(3)),
+    ];
+    mesh
 }
 
 #[cfg(test)]

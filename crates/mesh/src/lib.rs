@@ -3,8 +3,8 @@
 
 pub mod atomic;
 pub mod field;
-pub mod high_order;
 pub mod fixtures;
+pub mod high_order;
 pub mod msh;
 pub mod obj;
 pub mod quadmesh;

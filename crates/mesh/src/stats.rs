@@ -667,7 +667,9 @@ pub fn sharp_corners_in_face(model: &Model, fi: usize, below_deg: f64) -> Vec<Sh
                     }
                 };
                 let mut ang = ccw(t_out, w);
-                if ang < TANGENT_ANGLE || ang > std::f64::consts::TAU - TANGENT_ANGLE {
+                if !ang.is_nan()
+                    && !(TANGENT_ANGLE..=std::f64::consts::TAU - TANGENT_ANGLE).contains(&ang)
+                {
                     // tangent curves: 0° (a cusp the material fills) and 360°
                     // (a slit) differ by a rounding error of the tangents; the
                     // chords to points a little along each curve tell them apart

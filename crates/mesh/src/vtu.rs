@@ -25,6 +25,10 @@
 //! - `singularity_index` (Int32): 0 on triangles, the index (±1) on
 //!   singularity cells (a Threshold on it isolates the singularities).
 //!
+//! [`write_high_order_vtu`] writes a [`HighOrderQuadMesh`] as Lagrange
+//! quadrilaterals (`VTK_LAGRANGE_QUADRILATERAL` = 70) with point data
+//! `class_dim`, `class_tag` and cell data `cad_face`, `jacobian_ratio`.
+//!
 //! One piece, not two, because meshio 5.3 keeps only the cells of the last piece.
 
 use std::io::{self, Write};
@@ -34,6 +38,9 @@ use geometry::vec3::Vec3;
 
 use crate::atomic::write_atomically;
 use crate::field::CrossFieldMesh;
+use crate::high_order::{
+    vtk_quad_ordering, HighOrderError, HighOrderQuadMesh, VTK_LAGRANGE_QUADRILATERAL,
+};
 use crate::quadmesh::{NodeClass, QuadMesh};
 
 /// The VTK cell type of a linear quad.
@@ -399,6 +406,69 @@ fn write_field_body<W: Write>(field: &CrossFieldMesh, w: &mut W) -> io::Result<(
     write_footer(w)
 }
 
+/// Writes a high-order quad mesh to `path` as an ASCII VTK UnstructuredGrid
+/// of `VTK_LAGRANGE_QUADRILATERAL` cells (type 70), each element's
+/// `(N + 1)²` points in VTK's order ([`crate::high_order::vtk_quad_ordering`]).
+/// Point data `class_dim`, `class_tag` (as in [`write_vtu`]); cell data
+/// `cad_face` (the CAD face id + 1) and `jacobian_ratio` (the element's
+/// [`crate::high_order::ElementJacobian::ratio`] against its own normal,
+/// [`NO_VALUE`] if not finite). An inconsistent mesh is refused before
+/// anything is written; the file is written atomically.
+pub fn write_high_order_vtu(mesh: &HighOrderQuadMesh, path: &Path) -> Result<(), VtuError> {
+    let invalid = |e: HighOrderError| VtuError::Invalid {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    };
+    let ratios = mesh.jacobian_ratios().map_err(invalid)?;
+    let perm = vtk_quad_ordering(mesh.order).map_err(invalid)?;
+    write_atomically(path, |w| write_high_order_body(mesh, &ratios, &perm, w)).map_err(|source| {
+        VtuError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    })
+}
+
+/// The XML document of [`write_high_order_vtu`].
+fn write_high_order_body<W: Write>(
+    mesh: &HighOrderQuadMesh,
+    ratios: &[f64],
+    perm: &[usize],
+    w: &mut W,
+) -> io::Result<()> {
+    let (ne, k) = (mesh.num_elements(), mesh.nodes_per_element());
+    write_header(w)?;
+    open_piece(w, mesh.nodes.len(), ne)?;
+    writeln!(w, "      <PointData Scalars=\"class_dim\">")?;
+    open_array(w, "Int32", "class_dim", 1)?;
+    write_values(w, mesh.node_class.iter().map(|c| class_dim_tag(c).0), 20)?;
+    close_array(w)?;
+    open_array(w, "Int32", "class_tag", 1)?;
+    write_values(w, mesh.node_class.iter().map(|c| class_dim_tag(c).1), 20)?;
+    close_array(w)?;
+    writeln!(w, "      </PointData>")?;
+    writeln!(w, "      <CellData Scalars=\"jacobian_ratio\">")?;
+    open_array(w, "Int32", "cad_face", 1)?;
+    write_values(w, mesh.element_face.iter().map(|f| f.0 as i64 + 1), 20)?;
+    close_array(w)?;
+    open_array(w, "Float64", "jacobian_ratio", 1)?;
+    let ratios = ratios
+        .iter()
+        .map(|&x| if x.is_finite() { x } else { NO_VALUE });
+    write_values(w, ratios, 6)?;
+    close_array(w)?;
+    writeln!(w, "      </CellData>")?;
+    write_points(w, mesh.nodes.iter())?;
+    let conn = (0..ne).flat_map(|e| {
+        let elem = mesh.element(e);
+        perm.iter().map(move |&p| elem[p])
+    });
+    let offsets = (1..=ne).map(|e| k * e);
+    let types = (0..ne).map(|_| VTK_LAGRANGE_QUADRILATERAL);
+    write_cells_and_close_piece(w, conn, offsets, types)?;
+    write_footer(w)
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
@@ -597,6 +667,60 @@ pub(crate) mod tests {
         assert_eq!(left.len(), 1, "left behind: {left:?}");
         let missing = dir.join("no/such/dir/m.vtu");
         assert!(write_vtu(&mesh, None, &missing).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn high_order_file_has_lagrange_cells_in_vtk_order() {
+        let dir = tmp("ho");
+        let path = dir.join("ho.vtu");
+        // 2 × 1 elements of order 3 over (u, v, u²/4): 7 × 4 nodes, index a + 7 b
+        let mesh = crate::fixtures::high_order_patch(3, 2, 1, |u, v| [u, v, 0.25 * u * u]);
+        write_high_order_vtu(&mesh, &path).unwrap();
+        let xml = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            xml.contains("NumberOfPoints=\"28\" NumberOfCells=\"2\""),
+            "{xml}"
+        );
+        assert_eq!(array_values(&xml, "types"), ["70", "70"]);
+        assert_eq!(array_values(&xml, "offsets"), ["16", "32"]);
+        let conn: Vec<u32> = array_values(&xml, "connectivity")
+            .iter()
+            .map(|s| s.parse().unwrap())
+            .collect();
+        // element 0: corners, bottom, right, top (rising u), left (rising v), rows
+        let want0 = [0, 3, 24, 21, 1, 2, 10, 17, 22, 23, 7, 14, 8, 9, 15, 16];
+        assert_eq!(conn[..16], want0);
+        assert_eq!(conn[16..20], [3, 6, 27, 24]);
+        assert_eq!(array_values(&xml, "cad_face"), ["1", "1"]);
+        let ratios: Vec<f64> = array_values(&xml, "jacobian_ratio")
+            .iter()
+            .map(|s| s.parse().unwrap())
+            .collect();
+        let want = mesh.jacobian_ratios().unwrap();
+        assert_eq!(ratios, want);
+        assert!(ratios.iter().all(|&r| r > 0.5 && r < 1.0), "{ratios:?}");
+        assert_eq!(array_values(&xml, "class_dim").len(), 28);
+        assert_eq!(array_values(&xml, "Points").len(), 3 * 28);
+        assert_eq!(
+            xml.matches("<DataArray").count(),
+            xml.matches("</DataArray>").count()
+        );
+        // a bad mesh is refused and the old file stays
+        let mut bad = mesh.clone();
+        bad.order = 11;
+        let e = write_high_order_vtu(&bad, &path).unwrap_err();
+        assert!(
+            e.to_string().contains("order 11") && e.to_string().contains("ho.vtu"),
+            "{e}"
+        );
+        bad.order = 3;
+        bad.element_nodes[3] = 28;
+        assert!(write_high_order_vtu(&bad, &path)
+            .unwrap_err()
+            .to_string()
+            .contains("node 28"));
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), xml);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -9,13 +9,15 @@
 //! message and passes, unless `QUADRILLE_REQUIRE_GMSH=1` (set in CI), where it
 //! fails.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::process::Command;
 
+use common::{python, python_module_available, script_json};
 use mesh::fixtures::cube;
 use mesh::msh::{read_msh, write_msh, MshEncoding, MshWriteOptions};
 use mesh::NodeClass;
-use serde_json::Value;
 
 const SCRIPT: &str = r#"
 import sys, json
@@ -42,53 +44,6 @@ gmsh.write(sys.argv[2])
 gmsh.finalize()
 print("JSON" + json.dumps(out))
 "#;
-
-/// The Python that has gmsh: `QUADRILLE_PYTHON` (set by `run-tests`), else `python3`.
-/// Runs the Python `script` (`tool` names it in the failure) on `args` and
-/// returns the JSON it prints on its line starting with `JSON`.
-fn script_json(tool: &str, script: &str, args: &[&std::ffi::OsStr]) -> Value {
-    let out = Command::new(python())
-        .arg("-c")
-        .arg(script)
-        .args(args)
-        .output()
-        .expect("python runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{tool} failed on {args:?}: {}\n{stdout}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json = stdout
-        .lines()
-        .find_map(|l| l.strip_prefix("JSON"))
-        .expect("the script prints its JSON");
-    serde_json::from_str(json).unwrap()
-}
-
-fn python() -> String {
-    std::env::var("QUADRILLE_PYTHON")
-        .ok()
-        .filter(|s| !s.is_empty())
-        .unwrap_or_else(|| "python3".to_string())
-}
-
-/// True when the Python module `module` imports; false (the test skips) when
-/// it does not, unless `QUADRILLE_REQUIRE_GMSH=1`, where it panics.
-fn python_module_available(module: &str) -> bool {
-    let ok = Command::new(python())
-        .args(["-c", &format!("import {module}")])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false);
-    if !ok {
-        if std::env::var("QUADRILLE_REQUIRE_GMSH").as_deref() == Ok("1") {
-            panic!("QUADRILLE_REQUIRE_GMSH=1 but the {module} Python module is not importable (pip install {module})");
-        }
-        eprintln!("SKIPPED {module} interop test: the {module} Python module is not importable (set QUADRILLE_REQUIRE_GMSH=1 to make this an error)");
-    }
-    ok
-}
 
 #[test]
 fn gmsh_reads_our_msh_with_the_same_counts_entities_and_classification() {

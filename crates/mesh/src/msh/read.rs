@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 
 use geometry::{CornerId, CurveId, FaceId, Vec3};
 
-use super::{nodes_per_element, MshError};
+use super::{element_dim, nodes_per_element, MshError};
 use crate::quadmesh::{NodeClass, QuadMesh};
 
 /// What [`read_msh`] returns: the mesh and what the file said about itself.
@@ -49,49 +49,82 @@ pub fn read_msh(path: &Path) -> Result<MshRead, MshError> {
 
 /// Reads MSH content already in memory; `name` is used in error messages.
 pub fn read_msh_bytes(data: &[u8], name: &Path) -> Result<MshRead, MshError> {
-    let mut r = Reader {
-        data,
-        pos: 0,
-        path: name.to_path_buf(),
-        section: "-".into(),
-        binary: false,
-        in_binary_data: false,
-        little: cfg!(target_endian = "little"),
-        size_t: 8,
-    };
-    r.read_all()
+    let mut r = Reader::new(data, name);
+    let raw = r.read_raw()?;
+    r.build(raw)
 }
 
 /// A node as read, before tags are turned into indices.
-struct RawNode {
-    tag: u64,
-    pos: Vec3,
-    class: NodeClass,
+pub(super) struct RawNode {
+    pub tag: u64,
+    pub pos: Vec3,
+    pub class: NodeClass,
 }
 
-/// An element as read: entity dimension and tag, type, node tags.
-struct RawElement {
-    dim: i64,
-    entity: i64,
-    ty: i32,
-    nodes: Vec<u64>,
+/// An element as read: its tag, entity dimension and tag, type, node tags.
+pub(super) struct RawElement {
+    pub tag: u64,
+    pub dim: i64,
+    pub entity: i64,
+    pub ty: i32,
+    pub nodes: Vec<u64>,
 }
 
-struct Reader<'a> {
+/// A whole file as read, before the elements are interpreted.
+pub(super) struct RawFile {
+    /// What the file said about itself (the mesh left empty).
+    pub info: MshRead,
+    /// The nodes, sorted by tag, no tag twice.
+    pub nodes: Vec<RawNode>,
+    /// The elements in file order.
+    pub elements: Vec<RawElement>,
+    /// True for MSH 2 (classification then comes from the elements).
+    pub v2: bool,
+}
+
+impl RawFile {
+    /// The index of the node of tag `tag`.
+    pub fn index(&self, tag: u64) -> Option<u32> {
+        self.nodes
+            .binary_search_by_key(&tag, |n| n.tag)
+            .ok()
+            .map(|i| i as u32)
+    }
+}
+
+/// The MSH parser: sections, tokens, ASCII or binary data.
+pub(super) struct Reader<'a> {
     data: &'a [u8],
     pos: usize,
     path: PathBuf,
-    section: String,
+    pub section: String,
     binary: bool,
     in_binary_data: bool,
     little: bool,
     size_t: usize,
 }
 
-type R<T> = Result<T, MshError>;
+pub(super) type R<T> = Result<T, MshError>;
+
+impl<'a> Reader<'a> {
+    /// A reader of `data`; `name` is used in error messages.
+    pub fn new(data: &'a [u8], name: &Path) -> Reader<'a> {
+        Reader {
+            data,
+            pos: 0,
+            path: name.to_path_buf(),
+            section: "-".into(),
+            binary: false,
+            in_binary_data: false,
+            little: cfg!(target_endian = "little"),
+            size_t: 8,
+        }
+    }
+}
 
 impl Reader<'_> {
-    fn err<T>(&self, message: impl Into<String>) -> R<T> {
+    /// A parse error at the current position, in the current section.
+    pub fn err<T>(&self, message: impl Into<String>) -> R<T> {
         let location = if self.in_binary_data {
             format!("byte {}", self.pos)
         } else {
@@ -279,7 +312,9 @@ impl Reader<'_> {
         }
     }
 
-    fn read_all(&mut self) -> R<MshRead> {
+    /// Reads every section: the nodes (sorted by tag) and the elements as
+    /// the file holds them.
+    pub fn read_raw(&mut self) -> R<RawFile> {
         let mut out = MshRead::default();
         let mut nodes: Option<Vec<RawNode>> = None;
         let mut elements: Vec<RawElement> = Vec::new();
@@ -349,7 +384,18 @@ impl Reader<'_> {
         if !have_elements {
             return self.err("no $Elements section");
         }
-        self.build(out, nodes, elements, v2)
+        let mut nodes = nodes;
+        nodes.sort_by_key(|n| n.tag);
+        if let Some(w) = nodes.windows(2).find(|w| w[0].tag == w[1].tag) {
+            self.section = "$Nodes".into();
+            return self.err(format!("node tag {} is defined twice", w[0].tag));
+        }
+        Ok(RawFile {
+            info: out,
+            nodes,
+            elements,
+            v2,
+        })
     }
 
     /// Parses `$MeshFormat`; returns true for MSH 2.x.
@@ -506,9 +552,10 @@ impl Reader<'_> {
                 2 * (1 + known.unwrap_or(1)),
             )?;
             for _ in 0..n {
+                let tag;
                 let nodes: Vec<u64> = match known {
                     Some(k) => {
-                        self.size("an element tag")?;
+                        tag = self.size("an element tag")?;
                         (0..k).map(|_| self.size("a node tag")).collect::<R<_>>()?
                     }
                     None if self.in_binary_data => {
@@ -518,11 +565,13 @@ impl Reader<'_> {
                     }
                     None => {
                         // ASCII: one element per line, skipped below
-                        self.line_tokens()?;
+                        let line = self.line_tokens()?;
+                        tag = line.first().and_then(|t| t.parse().ok()).unwrap_or(0);
                         Vec::new()
                     }
                 };
                 out.push(RawElement {
+                    tag,
                     dim,
                     entity,
                     ty,
@@ -597,13 +646,9 @@ impl Reader<'_> {
             if rest.iter().any(|&v| v < 0) {
                 return self.err(format!("element {} has a negative node tag", nums[0]));
             }
-            let dim = match ty {
-                15 => 0,
-                1 => 1,
-                2 | 3 => 2,
-                _ => -1,
-            };
+            let dim = element_dim(ty).unwrap_or(-1);
             out.push(RawElement {
+                tag: nums[0].max(0) as u64,
                 dim,
                 entity,
                 ty,
@@ -613,28 +658,19 @@ impl Reader<'_> {
         Ok(out)
     }
 
-    /// Turns tags into indices and fills the mesh.
-    fn build(
-        &mut self,
-        mut out: MshRead,
-        mut nodes: Vec<RawNode>,
-        elements: Vec<RawElement>,
-        v2: bool,
-    ) -> R<MshRead> {
+    /// Turns tags into indices and fills the linear mesh.
+    fn build(&mut self, mut raw: RawFile) -> R<MshRead> {
         self.section = "$Elements".into();
-        nodes.sort_by_key(|n| n.tag);
-        if let Some(w) = nodes.windows(2).find(|w| w[0].tag == w[1].tag) {
-            self.section = "$Nodes".into();
-            return self.err(format!("node tag {} is defined twice", w[0].tag));
-        }
-        let tags: Vec<u64> = nodes.iter().map(|n| n.tag).collect();
-        let index = |t: u64| tags.binary_search(&t).ok().map(|i| i as u32);
+        let mut out = std::mem::take(&mut raw.info);
+        let raw = &raw;
+        let (nodes, elements, v2) = (&raw.nodes, &raw.elements, raw.v2);
+        let index = |t: u64| raw.index(t);
         let mesh = &mut out.mesh;
         mesh.nodes = nodes.iter().map(|n| n.pos).collect();
         mesh.node_class = nodes.iter().map(|n| n.class).collect();
         // MSH 2: a node takes the lowest-dimensional entity of its elements.
         let mut dim_of = vec![u8::MAX; if v2 { nodes.len() } else { 0 }];
-        for el in &elements {
+        for el in elements {
             let mut idx = [0u32; 4];
             let keep = matches!((el.ty, el.dim), (15, 0) | (1, 1) | (2, 2) | (3, 2));
             if !keep {
