@@ -2,7 +2,7 @@
 //! small ready-made models built from them. They let every crate test its
 //! stage on exactly known geometry without reading a CAD file.
 
-use std::f64::consts::{FRAC_PI_2, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::Arc;
 
 use crate::model::*;
@@ -327,6 +327,79 @@ impl Curve for Circle {
     }
 }
 
+/// The ellipse (or arc) `center + a cos t·xdir + b sin t·ydir` on `range`.
+#[derive(Clone, Debug)]
+pub struct Ellipse {
+    /// Centre.
+    pub center: Vec3,
+    /// Unit direction of the `a` axis (t = 0).
+    pub xdir: Vec3,
+    /// Unit direction of the `b` axis (t = π/2).
+    pub ydir: Vec3,
+    /// Semi-axis along `xdir`.
+    pub a: f64,
+    /// Semi-axis along `ydir`.
+    pub b: f64,
+    /// Parameter range.
+    pub range: (f64, f64),
+}
+
+impl Curve for Ellipse {
+    fn eval(&self, t: f64) -> Vec3 {
+        add(self.center, add(scale(self.xdir, self.a * t.cos()), scale(self.ydir, self.b * t.sin())))
+    }
+    fn deriv(&self, t: f64) -> Vec3 {
+        add(scale(self.xdir, -self.a * t.sin()), scale(self.ydir, self.b * t.cos()))
+    }
+    fn range(&self) -> (f64, f64) {
+        self.range
+    }
+    fn project(&self, p: Vec3, hint: Option<f64>) -> Option<(f64, Vec3)> {
+        let d = sub(p, self.center);
+        let (x, y) = (dot(d, self.xdir), dot(d, self.ydir));
+        let target = hint.unwrap_or(0.5 * (self.range.0 + self.range.1));
+        let mut t = nearest_period((y / self.b).atan2(x / self.a), TAU, target);
+        // Newton on f(t) = (E(t) − p)·E'(t) = 0
+        for _ in 0..20 {
+            let (c, s) = (t.cos(), t.sin());
+            let (ex, ey) = (self.a * c - x, self.b * s - y);
+            let (dx, dy) = (-self.a * s, self.b * c);
+            let f = ex * dx + ey * dy;
+            let df = dx * dx + dy * dy + ex * (-self.a * c) + ey * (-self.b * s);
+            if df.abs() < 1e-300 {
+                break;
+            }
+            let step = f / df;
+            t -= step;
+            if step.abs() < 1e-15 {
+                break;
+            }
+        }
+        let t = nearest_period(t, TAU, target).clamp(self.range.0, self.range.1);
+        Some((t, self.eval(t)))
+    }
+}
+
+/// The pcurve `center + (a cos t, b sin t)` in a parameter plane.
+#[derive(Clone, Debug)]
+pub struct Ellipse2d {
+    /// Centre.
+    pub center: [f64; 2],
+    /// Semi-axis along u.
+    pub a: f64,
+    /// Semi-axis along v.
+    pub b: f64,
+}
+
+impl Curve2d for Ellipse2d {
+    fn eval(&self, t: f64) -> [f64; 2] {
+        [self.center[0] + self.a * t.cos(), self.center[1] + self.b * t.sin()]
+    }
+    fn deriv(&self, t: f64) -> [f64; 2] {
+        [-self.a * t.sin(), self.b * t.cos()]
+    }
+}
+
 /// The pcurve `origin + t·dir` in a parameter plane.
 #[derive(Clone, Debug)]
 pub struct Line2d {
@@ -473,6 +546,38 @@ pub fn cusp(r: f64, tilt: f64) -> Model {
         vmax: r,
     };
     m
+}
+
+/// The planar ellipse `x²/a² + y²/b² ≤ 1` in the z = 0 plane: 1 face, two
+/// half-ellipse curves (upper from (a, 0) to (−a, 0), lower back), 2 corners
+/// at (±a, 0) — the coarse-method paper's Fig. 3 shape.
+pub fn ellipse(a: f64, b: f64) -> Model {
+    let corners = vec![Corner { point: [a, 0.0, 0.0] }, Corner { point: [-a, 0.0, 0.0] }];
+    let half = |k: u32, range: (f64, f64)| CurveEntity {
+        geom: Some(Arc::new(Ellipse {
+            center: [0.0; 3],
+            xdir: [1.0, 0.0, 0.0],
+            ydir: [0.0, 1.0, 0.0],
+            a,
+            b,
+            range,
+        })),
+        range,
+        start: CornerId(k),
+        end: CornerId(1 - k),
+        degenerate: false,
+    };
+    let curves = vec![half(0, (0.0, PI)), half(1, (PI, TAU))];
+    let uses = (0..2)
+        .map(|k| CurveUse {
+            curve: CurveId(k),
+            forward: true,
+            pcurve: Arc::new(Ellipse2d { center: [0.0, 0.0], a, b }),
+            seam: false,
+        })
+        .collect();
+    let bounds = Bounds2 { umin: -a, umax: a, vmin: -b, vmax: b };
+    planar_model(corners, curves, uses, bounds)
 }
 
 /// One planar face in the z = 0 plane ((u, v) = (x, y)) with one loop.

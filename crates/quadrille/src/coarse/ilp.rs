@@ -305,9 +305,21 @@ fn curve_rows(mesh: &QuadMesh, tm: &TMesh) -> Vec<(Vec<u32>, i32)> {
     out
 }
 
-/// Solves `prog` with HiGHS (one thread, `time_limit` seconds); `q = l` when
-/// the limit is 0 or the answer fails [`Program::satisfied_by`].
+/// Solves `prog` with HiGHS (one thread, `time_limit` seconds) for objective
+/// (6); `q = l` when the limit is 0 or the answer fails
+/// [`Program::satisfied_by`].
 pub(crate) fn solve(prog: &Program, time_limit: f64) -> (Vec<u32>, SolveReport) {
+    solve_weighted(prog, &prog.weight, &prog.input, time_limit)
+}
+
+/// [`solve`] with other objective weights (per variable) and MIP start
+/// `start` (which must be feasible).
+pub(crate) fn solve_weighted(
+    prog: &Program,
+    weight: &[f64],
+    start: &[u32],
+    time_limit: f64,
+) -> (Vec<u32>, SolveReport) {
     let identity = prog.input.clone();
     let objective_at = |q: &[u32]| q.iter().zip(&prog.weight).map(|(&x, w)| x as f64 * w).sum();
     let fallback = |why: String, seconds: f64| {
@@ -331,11 +343,11 @@ pub(crate) fn solve(prog: &Program, time_limit: f64) -> (Vec<u32>, SolveReport) 
             vars.add(if prog.fixed[v] { def.min(prog.input[v]) } else { def })
         })
         .collect();
-    let objective: Expression = xs.iter().zip(&prog.weight).map(|(&x, &w)| w * x).sum();
+    let objective: Expression = xs.iter().zip(weight).map(|(&x, &w)| w * x).sum();
     let mut model = vars
         .minimise(objective)
         .using(good_lp::highs)
-        .with_initial_solution(xs.iter().zip(&prog.input).map(|(&x, &l)| (x, l as f64)));
+        .with_initial_solution(xs.iter().zip(start).map(|(&x, &l)| (x, l as f64)));
     model.set_verbose(false);
     let mut model = model
         .set_threads(1)
@@ -368,4 +380,25 @@ pub(crate) fn solve(prog: &Program, time_limit: f64) -> (Vec<u32>, SolveReport) 
     };
     let objective = objective_at(&q);
     (q, SolveReport { status, seconds, objective })
+}
+
+/// Objective weights that linearize the block count (5) about arc lengths
+/// `q` (per arc): each variable's paper weight `Σ 1 / l_a`, plus for each
+/// patch side an arc lies on, half the patch's other dimension — the slope of
+/// `Q1 · Q2` along the arc (ours: the paper's linear objective leaves arcs
+/// with `q ≥ 2` that multiply blocks, its §V; this steps toward (5)).
+pub(crate) fn area_weights(prog: &Program, tm: &TMesh, q: &[u32]) -> Vec<f64> {
+    let mut w = prog.weight.clone();
+    for p in &tm.patches {
+        if let PatchShape::Grid { sides, .. } = &p.shape {
+            let dim = |s: usize| sides[s].iter().map(|&(a, _)| q[a as usize]).sum::<u32>() as f64;
+            for (s, side) in sides.iter().enumerate() {
+                let across = dim((s + 1) % 4);
+                for &(a, _) in side {
+                    w[prog.var_of_arc[a as usize] as usize] += 0.5 * across;
+                }
+            }
+        }
+    }
+    w
 }

@@ -10,6 +10,7 @@
 //! - [`tmesh`]: arcs and patches (§III.A);
 //! - [`ilp`]: the integer program and its solve (§III.B–C);
 //! - [`layout`]: splitting, merging, placement (§IV.A–C);
+//! - [`pictures`]: overlays of the T-mesh and layouts for pictures;
 //! - [`block_layout`]: the coarse layout placed on the input mesh — the
 //!   hand-over between the layout stages and the geometry stages.
 
@@ -17,6 +18,7 @@ pub(crate) mod block_layout;
 pub(crate) mod connectivity;
 pub(crate) mod ilp;
 pub(crate) mod layout;
+pub(crate) mod pictures;
 pub(crate) mod tmesh;
 pub(crate) mod traces;
 
@@ -34,6 +36,10 @@ use std::time::Instant;
 /// Rounds of "hold the failing arcs at their input length and solve again"
 /// before the layout falls back to `q = l` (issue 29: 3).
 pub const LAYOUT_ROUNDS: usize = 3;
+
+/// Re-solves with weights linearizing the block count (5) about the last
+/// answer, while the count drops ([`ilp::area_weights`]; ours).
+pub const AREA_ROUNDS: usize = 4;
 
 /// The layout stages' options.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -128,7 +134,20 @@ pub(crate) fn coarse_layout(
     for round in 0..=LAYOUT_ROUNDS {
         let prog = ilp::build_program(mesh, &conn, &traces, &tm, alpha.tan(), &fixed);
         let (q, solve) = if round < LAYOUT_ROUNDS {
-            let (qv, solve) = ilp::solve(&prog, opts.ilp_time_limit);
+            let (mut qv, mut solve) = ilp::solve(&prog, opts.ilp_time_limit);
+            if solve.status == SolveStatus::Optimal {
+                let mut blocks = predicted_blocks(&tm, &prog.arc_lengths(&qv));
+                for _ in 0..AREA_ROUNDS {
+                    let w = ilp::area_weights(&prog, &tm, &prog.arc_lengths(&qv));
+                    let (q2, s2) = ilp::solve_weighted(&prog, &w, &qv, opts.ilp_time_limit);
+                    solve.seconds += s2.seconds;
+                    let b2 = predicted_blocks(&tm, &prog.arc_lengths(&q2));
+                    if s2.status != SolveStatus::Optimal || b2 >= blocks {
+                        break;
+                    }
+                    (qv, blocks) = (q2, b2);
+                }
+            }
             (prog.arc_lengths(&qv), solve)
         } else {
             let objective = prog.weight.iter().zip(&prog.input).map(|(w, &l)| w * l as f64).sum();
