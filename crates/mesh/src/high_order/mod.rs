@@ -10,6 +10,7 @@
 
 mod jacobian;
 mod ordering;
+mod stats;
 mod tessellate;
 
 pub use jacobian::{gauss_legendre, lagrange_basis, ElementJacobian};
@@ -17,6 +18,7 @@ pub use ordering::{
     gmsh_line_ordering, gmsh_line_type, gmsh_quad_ordering, gmsh_quad_type, order_of_gmsh_line,
     order_of_gmsh_quad, vtk_quad_ordering, VTK_LAGRANGE_QUADRILATERAL,
 };
+pub use stats::HighOrderStats;
 pub use tessellate::Tessellation;
 
 use crate::quadmesh::NodeClass;
