@@ -40,12 +40,24 @@ fn method_name(m: Method) -> &'static str {
         Method::Unstructured => "unstructured",
         Method::Baseline => "baseline",
         Method::Regular => "regular",
+        Method::Coarse => "coarse",
     }
 }
 
 pub fn run(args: &MeshArgs) -> Result<()> {
     // Everything that can be checked before meshing is checked first.
     let stages = stages(args)?;
+    if args.method == Method::Coarse {
+        return crate::cmd_coarse::run(args);
+    }
+    let coarse_only = args.coarse.given();
+    if !coarse_only.is_empty() {
+        bail!(
+            "{} only applies to --method coarse; --method {} has no such option",
+            coarse_only.join(", "),
+            method_name(args.method)
+        );
+    }
     let format = files::check_output(&args.output, &["msh", "vtu", "obj"])?;
     if let Some(png) = &args.png {
         files::check_output(png, &["png"])?;
@@ -71,6 +83,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         Method::Unstructured => quadrille::MeshMethod::Unstructured,
         Method::Baseline => quadrille::MeshMethod::Baseline,
         Method::Regular => quadrille::MeshMethod::regular(args.threads),
+        Method::Coarse => unreachable!("the coarse method returned above"),
     };
     let (m, report) = quadrille::mesh_model_with(&model, &opts, method)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;

@@ -6,6 +6,7 @@
 //! Every error is printed as one clear message naming the file and the
 //! problem, with a non-zero exit code; no partial output file is left behind.
 
+mod cmd_coarse;
 mod cmd_field;
 mod cmd_info;
 mod cmd_mesh;
@@ -50,7 +51,7 @@ enum Command {
     Info(InfoArgs),
     /// Mesh a CAD model (STEP, IGES, BREP) or a triangle mesh (STL, OBJ, PLY, MSH) with quads and write MSH, VTU or OBJ.
     #[command(
-        after_help = "Examples:\n  quadrille mesh part.step -o part.msh\n  quadrille mesh scan.stl -o scan.msh --feature-angle 40\n  quadrille mesh part.step -o part.vtu --size 2.5 --png part.png\n  quadrille mesh part.step -o part.msh --method unstructured --timings\n  quadrille mesh part.step -o part.msh --no-patterns --no-cavities"
+        after_help = "Examples:\n  quadrille mesh part.step -o part.msh\n  quadrille mesh scan.stl -o scan.msh --feature-angle 40\n  quadrille mesh part.step -o part.vtu --size 2.5 --png part.png\n  quadrille mesh part.step -o part.msh --method unstructured --timings\n  quadrille mesh part.step -o part.msh --no-patterns --no-cavities\n  quadrille mesh part.step -o part.msh --method coarse --order 5 --png part.png --json"
     )]
     Mesh(MeshArgs),
     /// Quality statistics of a mesh (MSH 4.1 or 2.2): SICN, valences, irregular vertices, open edges.
@@ -157,6 +158,56 @@ pub struct MeshArgs {
     /// Print the time of each stage on stderr (a table, then one `timings:` JSON line).
     #[arg(long)]
     timings: bool,
+    #[command(flatten)]
+    coarse: CoarseArgs,
+}
+
+/// Options of `--method coarse`.
+#[derive(Args, Debug)]
+pub struct CoarseArgs {
+    /// coarse: Lagrange order of the curved quads, 1–10 (1 writes the block layout alone) [default: 5].
+    #[arg(long, value_name = "N")]
+    order: Option<usize>,
+    /// coarse: cone half-angle (degrees, in (0, 90)) within which traces align irregular vertices [default: 45].
+    #[arg(long, value_name = "DEG")]
+    alpha: Option<f64>,
+    /// coarse: time limit of the integer program, seconds (0: keep the input layout) [default: 60].
+    #[arg(long, value_name = "S")]
+    ilp_time_limit: Option<f64>,
+    /// coarse: start from this all-quad MSH mesh of the same model instead of meshing it.
+    #[arg(long, value_name = "F.msh")]
+    from_mesh: Option<PathBuf>,
+    /// coarse: also write the block layout (straight blocks): .msh, .vtu or .obj.
+    #[arg(long, value_name = "FILE")]
+    layout: Option<PathBuf>,
+    /// coarse: also write the fine block-structured quad mesh: .msh or .vtu.
+    #[arg(long, value_name = "FILE")]
+    fine: Option<PathBuf>,
+    /// coarse: print the run's figures as JSON on stdout.
+    #[arg(long)]
+    json: bool,
+}
+
+impl CoarseArgs {
+    /// The options given on the command line, by name (to refuse them with
+    /// another method).
+    fn given(&self) -> Vec<&'static str> {
+        let mut v = Vec::new();
+        for (on, name) in [
+            (self.order.is_some(), "--order"),
+            (self.alpha.is_some(), "--alpha"),
+            (self.ilp_time_limit.is_some(), "--ilp-time-limit"),
+            (self.from_mesh.is_some(), "--from-mesh"),
+            (self.layout.is_some(), "--layout"),
+            (self.fine.is_some(), "--fine"),
+            (self.json, "--json"),
+        ] {
+            if on {
+                v.push(name);
+            }
+        }
+        v
+    }
 }
 
 /// The meshing methods of `quadrille mesh`.
@@ -179,6 +230,10 @@ pub enum Method {
     Baseline,
     /// The baseline, then swaps, collapses and splits towards regular vertices.
     Regular,
+    /// A coarse block layout by an integer program over the default method's
+    /// quads, then one curved Lagrange quad of order --order per block
+    /// (--alpha, --ilp-time-limit, --from-mesh, --layout, --fine, --json).
+    Coarse,
 }
 
 /// Arguments of `quadrille stats`.

@@ -204,6 +204,23 @@ fn table_one_layouts() {
         let mesh = crate::mesh_model(&model, &opts).expect("mesh");
         let t1 = t0.elapsed().as_secs_f64();
         let (_, r) = coarse_layout(&mesh, &LayoutOptions::default()).expect("layout");
+        {
+            let conn = Connectivity::new(&mesh).unwrap();
+            let traces = draw_traces(&mesh, &conn, 45f64.to_radians(), true);
+            let tm = build_tmesh(&mesh, &conn, &traces);
+            let prog = build_program(&mesh, &conn, &traces, &tm, 1.0, &HashSet::new());
+            let (q, _) = solve(&prog, 60.0);
+            let qa = prog.arc_lengths(&q);
+            let big = qa.iter().filter(|&&x| x >= 2).count();
+            let mut multi = 0;
+            for p in &tm.patches {
+                if let super::tmesh::PatchShape::Grid { sides, .. } = &p.shape {
+                    let d = |k: usize| sides[k].iter().map(|&(a, _)| qa[a as usize] as usize).sum::<usize>();
+                    if d(0) * d(1) > 1 { multi += d(0) * d(1); }
+                }
+            }
+            eprintln!("  arcs q>=2: {big}; blocks from patches bigger than 1x1: {multi} of {}", predicted_blocks(&tm, &qa));
+        }
         eprintln!(
             "{name}: quads {} P_init {} irr {} arcs {} tpatches {} frozen {} vars {} rows {:?} status {} ilp {:.2}s pred {} blocks {} rounds {} refused {:?} layout {:.2}s mesh {:.2}s",
             r.input_quads, r.initial_patches, r.irregular_nodes, r.arcs, r.tmesh_patches, r.frozen_patches,
