@@ -54,4 +54,7 @@ pub use core::options::{default_size, resolve_size, ProgressFn, Size, DEFAULT_DI
 pub use methods::driver::SLIVER_LENGTH;
 pub use methods::options::{MeshOptions, Stages, DEFAULT_QUADS_PER_TURN};
 pub use methods::report::{FaceOutcome, MadeBy, MeshReport, StageTimes};
+pub use methods::coarse::{
+    check_input_mesh, mesh_coarse, CoarseMesh, CoarseOptions, CoarseReport, CoarseTimes,
+};
 pub use methods::{mesh_model, mesh_model_with, MeshMethod};

@@ -12,13 +12,30 @@
 //! - [`layout`]: splitting, merging, placement (§IV.A–C);
 //! - [`pictures`]: overlays of the T-mesh and layouts for pictures;
 //! - [`block_layout`]: the coarse layout placed on the input mesh — the
-//!   hand-over between the layout stages and the geometry stages.
+//!   hand-over between the layout stages and the geometry stages;
+//! - [`layout_check`]: the identity layout (every input quad a block, q = l)
+//!   and the validity check of a layout;
+//! - [`quad_loops`]: the quad loops of a layout and their widths (§IV.D);
+//! - [`fine_mesh`]: the fine block-structured mesh, placed by transfinite
+//!   interpolation and smoothed (§IV.D–E);
+//! - [`high_order_extraction`]: one Lagrange quad of order N per block, its
+//!   Jacobian checked (§IV.F).
+//!
+//! Helpers of the geometry stages: [`face_patches`] (per-face (u, v) views of
+//! a mesh) and [`resample`] (equal-arc-length resampling, curve parameters,
+//! transfinite interpolation).
 
 pub(crate) mod block_layout;
 pub(crate) mod connectivity;
+pub(crate) mod face_patches;
+pub(crate) mod fine_mesh;
+pub(crate) mod high_order_extraction;
 pub(crate) mod ilp;
 pub(crate) mod layout;
+pub(crate) mod layout_check;
 pub(crate) mod pictures;
+pub(crate) mod quad_loops;
+pub(crate) mod resample;
 pub(crate) mod tmesh;
 pub(crate) mod traces;
 

@@ -5,7 +5,8 @@
 //! - [`work_queue`]: parallel map handing out work largest first, results in
 //!   input order (ours: the output does not depend on the thread count);
 //! - [`face_quads`]: the editable quads of one face with an edit journal and
-//!   checkpoints (exact rollback), used by the topology stages.
+//!   checkpoints (exact rollback), used by the topology stages;
+//! - [`union_find`]: disjoint sets (curve chords, quad loops).
 
 pub(crate) mod error;
 pub(crate) mod face_quads;
@@ -14,6 +15,7 @@ pub(crate) mod options;
 pub(crate) mod patch;
 pub(crate) mod quality;
 pub(crate) mod queries;
+pub(crate) mod union_find;
 pub(crate) mod valence;
 pub(crate) mod work_queue;
 

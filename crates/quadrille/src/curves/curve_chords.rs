@@ -8,31 +8,13 @@
 use geometry::vec3;
 use geometry::{Face, Loop, Model};
 
+use crate::core::union_find::UnionFind;
 use crate::core::valence::ideal_corner_valence;
 
 /// Two opposite curves join a chord only when their ideal counts differ by at
 /// most this fraction of the larger one (the spec's τ: "very different" means
 /// more than a 2:1 ratio).
 pub const CHORD_TOLERANCE: f64 = 0.5;
-
-/// Union–find with path halving.
-struct UnionFind(Vec<usize>);
-
-impl UnionFind {
-    fn find(&mut self, mut i: usize) -> usize {
-        while self.0[i] != i {
-            self.0[i] = self.0[self.0[i]];
-            i = self.0[i];
-        }
-        i
-    }
-    fn union(&mut self, a: usize, b: usize) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            self.0[ra.max(rb)] = ra.min(rb);
-        }
-    }
-}
 
 /// The curves of each 4-sided face taken as opposite pairs: faces with one
 /// loop of exactly four uses, none of them a degenerate curve, and faces
@@ -64,7 +46,7 @@ pub fn opposite_pairs(model: &Model) -> Vec<[usize; 2]> {
 /// each curve's ideal count `ideal[c]`: opposite curves whose ideal counts
 /// differ by at most [`CHORD_TOLERANCE`] × the larger are united.
 pub fn chord_classes(model: &Model, ideal: &[f64]) -> Vec<usize> {
-    let mut uf = UnionFind((0..model.curves.len()).collect());
+    let mut uf = UnionFind::new(model.curves.len());
     for [a, b] in opposite_pairs(model) {
         if (ideal[a] - ideal[b]).abs() <= CHORD_TOLERANCE * ideal[a].max(ideal[b]) {
             uf.union(a, b);

@@ -18,6 +18,7 @@
 //! and `spline` (trim-free spline patches); see ARCHITECTURE.md.
 
 pub(crate) mod baseline;
+pub(crate) mod coarse;
 pub(crate) mod driver;
 pub(crate) mod options;
 pub(crate) mod quasi_structured;
