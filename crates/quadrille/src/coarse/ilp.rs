@@ -30,6 +30,9 @@ pub(crate) enum RowKind {
     Geometric,
     /// Ours: a CAD curve's minimum edge count.
     Curve,
+    /// Ours: an arc whose collapse gave a layout that failed its checks,
+    /// kept at length ≥ 1.
+    Repair,
 }
 
 /// One row: `Σ coeff · q_var  (= 0 | ≥ rhs)`.
@@ -114,7 +117,8 @@ impl Program {
     }
 }
 
-/// Builds the program; the arcs in `fixed_arcs` keep their input length.
+/// Builds the program; the arcs in `fixed_arcs` keep their input length,
+/// those in `kept_open` a length ≥ 1.
 pub(crate) fn build_program(
     mesh: &QuadMesh,
     conn: &Connectivity,
@@ -122,6 +126,7 @@ pub(crate) fn build_program(
     tm: &TMesh,
     tan_alpha: f64,
     fixed_arcs: &HashSet<u32>,
+    kept_open: &HashSet<u32>,
 ) -> Program {
     let na = tm.arcs.len();
     // single arcs of opposite sides share a variable
@@ -191,6 +196,9 @@ pub(crate) fn build_program(
     for (arcs, need) in curve_rows(mesh, tm) {
         let arcs: Vec<(u32, i32)> = arcs.iter().map(|&a| (a, 1)).collect();
         add(RowKind::Curve, &arcs, Some(need));
+    }
+    for &a in kept_open {
+        add(RowKind::Repair, &[(a, 1)], Some(1));
     }
     let mut rows: Vec<Row> = rows.into_iter().collect();
     rows.sort_by(|a, b| (a.kind, &a.coeffs, a.at_least).cmp(&(b.kind, &b.coeffs, b.at_least)));

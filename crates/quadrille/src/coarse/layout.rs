@@ -24,8 +24,13 @@ use std::collections::{BTreeMap, BinaryHeap, HashMap, HashSet};
 pub(crate) struct LayoutFailure {
     /// What went wrong (first few, for the log).
     pub reasons: Vec<String>,
-    /// Arcs near the failures.
+    /// Arcs near the failures (to hold at their input length when no
+    /// collapsed arc is to blame).
     pub arcs: HashSet<u32>,
+    /// Collapsed arcs (`q = 0`) inside the failing vertices' groups: kept at
+    /// length ≥ 1 next round, which un-merges the group (ours: gentler than
+    /// holding whole patches, whose input lengths spread along their chords).
+    pub separate: HashSet<u32>,
 }
 
 /// The anchor of a point that stands for no input node of its own.
@@ -223,7 +228,7 @@ pub(crate) fn build_layout(
             }
         }
     }
-    assemble(mesh, conn, tm, &mut pts, &cells)
+    assemble(mesh, conn, tm, q, &mut pts, &cells)
 }
 
 /// Numbers the groups, checks the cells and edges, places the vertices and
@@ -232,10 +237,25 @@ fn assemble(
     mesh: &QuadMesh,
     conn: &Connectivity,
     tm: &TMesh,
+    q: &[u32],
     pts: &mut Points,
     cells: &[Cell],
 ) -> Result<BlockLayout, LayoutFailure> {
     let mut fail = LayoutFailure::default();
+    // collapsed arcs by end node, to un-merge a failing group
+    let mut zero_at: HashMap<u32, Vec<u32>> = HashMap::new();
+    for (a, arc) in tm.arcs.iter().enumerate() {
+        if q[a] == 0 {
+            for v in [arc.nodes[0], *arc.nodes.last().expect("arc nodes")] {
+                zero_at.entry(v).or_default().push(a as u32);
+            }
+        }
+    }
+    let separate = |anchors: &[u32], f: &mut LayoutFailure| {
+        for v in anchors {
+            f.separate.extend(zero_at.get(v).into_iter().flatten());
+        }
+    };
     let patch_arcs = |p: u32, f: &mut LayoutFailure| f.arcs.extend(&tm.patches[p as usize].boundary_arcs);
     // groups of the points cells use, in order of first use
     let mut vertex_of_root: BTreeMap<u32, u32> = BTreeMap::new();
@@ -269,11 +289,21 @@ fn assemble(
                 for &a in &anchors {
                     arcs_at_node(tm, a, &mut fail.arcs);
                 }
+                separate(&anchors, &mut fail);
                 vertex_of_root.insert(r, layout.vertex_node.len() as u32);
                 layout.vertex_node.push(anchors.first().copied().unwrap_or(0));
             }
         }
     }
+    let group_anchors = |v: u32| -> Vec<u32> {
+        let root = vertex_of_root.iter().find(|(_, &x)| x == v).map(|(&r, _)| r);
+        root.and_then(|r| members.get(&r))
+            .into_iter()
+            .flatten()
+            .map(|&p| pts.anchor[p as usize])
+            .filter(|&a| a != NO_ANCHOR)
+            .collect()
+    };
     // cells → blocks, sides → edges
     let mut edge_of: HashMap<(u32, u32), u32> = HashMap::new();
     let mut edge_uses: Vec<Vec<(u32, bool)>> = Vec::new();
@@ -289,6 +319,9 @@ fn assemble(
             }
             fail.reasons.push(format!("a block with corners {corners:?} repeats a vertex"));
             patch_arcs(c.patch, &mut fail);
+            for v in corners {
+                separate(&group_anchors(v), &mut fail);
+            }
             continue;
         }
         let mut sides = [(0u32, false); 4];
@@ -317,33 +350,34 @@ fn assemble(
             for &(ci, _) in uses {
                 patch_arcs(cells[ci as usize].patch, &mut fail);
             }
+            for v in layout.edges[e].ends {
+                separate(&group_anchors(v), &mut fail);
+            }
         }
     }
-    corner_valences(mesh, tm, &layout, &members, &vertex_of_root, pts, &mut fail);
+    for v in corner_valences(mesh, &layout) {
+        let anchors = group_anchors(v);
+        for &a in &anchors {
+            arcs_at_node(tm, a, &mut fail.arcs);
+        }
+        separate(&anchors, &mut fail);
+    }
     if !fail.reasons.is_empty() {
         return Err(fail);
     }
-    for (e, edge) in layout.edges.iter_mut().enumerate() {
-        let [a, b] = edge.ends.map(|v| layout.vertex_node[v as usize]);
-        edge.curve = edge_curve[e].map(CurveId);
-        let path = match edge_curve[e] {
-            Some(c) => shortest_path(mesh, conn, a, b, |u, v| conn.edge_curve(u, v) == Some(c)),
-            None => {
-                let f = edge_face[e];
-                let inner = |v: u32| matches!(mesh.node_class[v as usize], NodeClass::Face(g, _) if g == f);
-                shortest_path(mesh, conn, a, b, |u, v| {
-                    conn.edge_curve(u, v).is_none() && (inner(u) || u == a) && (inner(v) || v == b)
-                })
-                .or_else(|| shortest_path(mesh, conn, a, b, |u, v| conn.edge_curve(u, v).is_none()))
-            }
-        };
-        match path {
-            Some(p) => edge.path = p,
-            None => {
-                fail.reasons.push(format!("no input path for layout edge {e} ({a} to {b})"));
+    let failed = edge_paths(mesh, conn, &mut layout, &edge_curve, &edge_face, &mut fail);
+    // hold the arcs of the patches the failed edges' blocks came from, and
+    // the arcs through the nodes their ends merged
+    for e in failed {
+        for &(ci, _) in &edge_uses[e] {
+            patch_arcs(cells[ci as usize].patch, &mut fail);
+        }
+        for v in layout.edges[e].ends {
+            let anchors = group_anchors(v);
+            for &a in &anchors {
                 arcs_at_node(tm, a, &mut fail.arcs);
-                arcs_at_node(tm, b, &mut fail.arcs);
             }
+            separate(&anchors, &mut fail);
         }
     }
     if fail.reasons.is_empty() {
@@ -353,16 +387,145 @@ fn assemble(
     }
 }
 
-/// Every CAD corner keeps its input valence (its number of quads).
-fn corner_valences(
+/// The input-mesh path of every layout edge (§IV.C): along its CAD curve,
+/// else the shortest path inside its face, never through another layout
+/// vertex. Paths that share a node are then rerouted one by one, the longest
+/// first, around the nodes of all other paths (ours, the issue's "crossing
+/// paths rerouted": on a mesh, paths that cross share a node).
+///
+/// Returns the edges with no path (their reasons pushed to `fail`).
+fn edge_paths(
     mesh: &QuadMesh,
-    tm: &TMesh,
-    layout: &BlockLayout,
-    members: &HashMap<u32, Vec<u32>>,
-    vertex_of_root: &BTreeMap<u32, u32>,
-    pts: &Points,
+    conn: &Connectivity,
+    layout: &mut BlockLayout,
+    edge_curve: &[Option<u32>],
+    edge_face: &[FaceId],
     fail: &mut LayoutFailure,
-) {
+) -> Vec<usize> {
+    let vertex_nodes: HashSet<u32> = layout.vertex_node.iter().copied().collect();
+    let ends: Vec<[u32; 2]> =
+        layout.edges.iter().map(|e| e.ends.map(|v| layout.vertex_node[v as usize])).collect();
+    let route = |e: usize, blocked: &dyn Fn(u32) -> bool| -> Option<Vec<u32>> {
+        let [a, b] = ends[e];
+        let free = |v: u32| v == b || (!blocked(v) && !vertex_nodes.contains(&v));
+        let along = |c: u32| shortest_path(mesh, conn, a, b, |u, v| conn.edge_curve(u, v) == Some(c) && free(v));
+        match edge_curve[e] {
+            Some(c) => along(c),
+            None => {
+                let f = edge_face[e];
+                let inner = |v: u32| matches!(mesh.node_class[v as usize], NodeClass::Face(g, _) if g == f);
+                shortest_path(mesh, conn, a, b, |u, v| {
+                    conn.edge_curve(u, v).is_none() && free(v) && (inner(v) || v == b)
+                })
+                .or_else(|| common_curve(mesh, conn, a, b).and_then(along))
+            }
+        }
+    };
+    let route_edges = |e: usize, taken: &HashSet<(u32, u32)>| -> Option<Vec<u32>> {
+        let [a, b] = ends[e];
+        let ok = |u: u32, v: u32| {
+            !taken.contains(&(u.min(v), u.max(v))) && (v == b || !vertex_nodes.contains(&v))
+        };
+        match edge_curve[e] {
+            Some(c) => shortest_path(mesh, conn, a, b, |u, v| conn.edge_curve(u, v) == Some(c) && ok(u, v)),
+            None => {
+                let f = edge_face[e];
+                let inner = |v: u32| matches!(mesh.node_class[v as usize], NodeClass::Face(g, _) if g == f);
+                shortest_path(mesh, conn, a, b, |u, v| {
+                    conn.edge_curve(u, v).is_none() && ok(u, v) && (inner(v) || v == b)
+                })
+            }
+        }
+    };
+    let mut paths: Vec<Option<Vec<u32>>> = (0..ends.len()).map(|e| route(e, &|_| false)).collect();
+    let mut uses: HashMap<u32, u32> = HashMap::new();
+    let inner_nodes = |p: &Vec<u32>| p[1..p.len() - 1].to_vec();
+    for p in paths.iter().flatten() {
+        for v in inner_nodes(p) {
+            *uses.entry(v).or_insert(0) += 1;
+        }
+    }
+    let length = |p: &Vec<u32>| p.windows(2).map(|w| vec3::dist(mesh.nodes[w[0] as usize], mesh.nodes[w[1] as usize])).sum::<f64>();
+    let mut clashing: Vec<(f64, usize)> = paths
+        .iter()
+        .enumerate()
+        .filter_map(|(e, p)| {
+            let p = p.as_ref()?;
+            inner_nodes(p).iter().any(|v| uses[v] > 1).then(|| (length(p), e))
+        })
+        .collect();
+    clashing.sort_by(|x, y| y.0.total_cmp(&x.0).then(x.1.cmp(&y.1)));
+    for (_, e) in clashing {
+        let old = paths[e].take().expect("a clashing path");
+        if !inner_nodes(&old).iter().any(|v| uses[v] > 1) {
+            paths[e] = Some(old);
+            continue;
+        }
+        for v in inner_nodes(&old) {
+            *uses.get_mut(&v).expect("counted") -= 1;
+        }
+        let new = route(e, &|v| uses.get(&v).is_some_and(|&n| n > 0)).or_else(|| {
+            // no node-disjoint way: share nodes, never an edge (the fine
+            // mesh's check refuses shared edges)
+            let taken: HashSet<(u32, u32)> = paths
+                .iter()
+                .flatten()
+                .flat_map(|p| p.windows(2).map(|w| (w[0].min(w[1]), w[0].max(w[1]))))
+                .collect();
+            route_edges(e, &taken)
+        });
+        if let Some(p) = &new {
+            for v in inner_nodes(p) {
+                *uses.entry(v).or_insert(0) += 1;
+            }
+        }
+        paths[e] = new;
+    }
+    let mut failed = Vec::new();
+    for (e, path) in paths.into_iter().enumerate() {
+        let [a, b] = ends[e];
+        let edge = &mut layout.edges[e];
+        match path {
+            Some(p) => {
+                // the curve the path runs along (a side that collapsed onto
+                // a curve runs along it too)
+                let on: Vec<Option<u32>> = p.windows(2).map(|w| conn.edge_curve(w[0], w[1])).collect();
+                edge.curve = match on.first() {
+                    Some(&Some(c)) if on.iter().all(|&x| x == Some(c)) => Some(CurveId(c)),
+                    _ => edge_curve[e].map(CurveId),
+                };
+                edge.path = p;
+            }
+            None => {
+                fail.reasons.push(format!("no free input path for layout edge {e} ({a} to {b})"));
+                failed.push(e);
+            }
+        }
+    }
+    failed
+}
+
+/// A CAD curve both nodes lie on (a corner counts for every curve of its
+/// mesh edges; here: the curve of a curve node, when the other is on it too
+/// or a corner).
+fn common_curve(mesh: &QuadMesh, conn: &Connectivity, a: u32, b: u32) -> Option<u32> {
+    if let Some(c) = conn.edge_curve(a, b) {
+        return Some(c);
+    }
+    let curve = |v: u32| match mesh.node_class[v as usize] {
+        NodeClass::Curve(c, _) => Some(c.0),
+        _ => None,
+    };
+    match (curve(a), curve(b)) {
+        (Some(x), Some(y)) if x == y => Some(x),
+        (Some(x), None) | (None, Some(x)) => Some(x),
+        _ => None,
+    }
+}
+
+/// The layout vertices of CAD corners that lost their input valence (their
+/// number of quads).
+fn corner_valences(mesh: &QuadMesh, layout: &BlockLayout) -> Vec<u32> {
     let mut quads_at = vec![0u32; mesh.nodes.len()];
     for quad in &mesh.quads {
         for &v in quad {
@@ -375,22 +538,12 @@ fn corner_valences(
             blocks_at[c as usize] += 1;
         }
     }
-    for (&root, &v) in vertex_of_root {
-        let node = layout.vertex_node[v as usize];
-        if matches!(mesh.node_class[node as usize], NodeClass::Corner(_))
-            && blocks_at[v as usize] != quads_at[node as usize]
-        {
-            fail.reasons.push(format!(
-                "CAD corner at node {node} has {} blocks, {} quads in the input",
-                blocks_at[v as usize], quads_at[node as usize]
-            ));
-            for &p in &members[&root] {
-                if pts.anchor[p as usize] != NO_ANCHOR {
-                    arcs_at_node(tm, pts.anchor[p as usize], &mut fail.arcs);
-                }
-            }
-        }
-    }
+    (0..layout.vertex_node.len() as u32)
+        .filter(|&v| {
+            let node = layout.vertex_node[v as usize] as usize;
+            matches!(mesh.node_class[node], NodeClass::Corner(_)) && blocks_at[v as usize] != quads_at[node]
+        })
+        .collect()
 }
 
 /// The arcs with an end at input node `v`, or through it.
@@ -403,7 +556,9 @@ fn arcs_at_node(tm: &TMesh, v: u32, out: &mut HashSet<u32>) {
 }
 
 /// The centre of a group from its members' input nodes: the CAD corner, else
-/// the lowest node on the (single) CAD curve, else the lowest node.
+/// among the nodes on the (single) CAD curve, else among all, the one nearest
+/// their centroid (the paper takes "any"; the middle keeps the layout's edges
+/// apart; ties by the lowest node).
 fn centre(mesh: &QuadMesh, anchors: &[u32]) -> Result<u32, String> {
     let mut corners: Vec<u32> = anchors
         .iter()
@@ -430,9 +585,20 @@ fn centre(mesh: &QuadMesh, anchors: &[u32]) -> Result<u32, String> {
         if first.0 != last.0 {
             return Err(format!("nodes of CAD curves {} and {} merge into one vertex", first.0, last.0));
         }
-        return Ok(on_curve.iter().map(|&(_, v)| v).min().unwrap_or(first.1));
+        let nodes: Vec<u32> = on_curve.iter().map(|&(_, v)| v).collect();
+        return Ok(nearest_centroid(mesh, &nodes).unwrap_or(first.1));
     }
-    anchors.iter().copied().min().ok_or_else(|| "an empty group".to_string())
+    nearest_centroid(mesh, anchors).ok_or_else(|| "an empty group".to_string())
+}
+
+/// The node of `nodes` nearest their centroid (ties: the lowest).
+fn nearest_centroid(mesh: &QuadMesh, nodes: &[u32]) -> Option<u32> {
+    let n = nodes.len() as f64;
+    let c = nodes.iter().fold([0.0; 3], |s, &v| vec3::add(s, vec3::scale(mesh.nodes[v as usize], 1.0 / n)));
+    nodes.iter().copied().min_by(|&x, &y| {
+        let d = |v: u32| vec3::dist(mesh.nodes[v as usize], c);
+        d(x).total_cmp(&d(y)).then(x.cmp(&y))
+    })
 }
 
 /// Shortest input-mesh path from `a` to `b` (Euclidean edge lengths) over the

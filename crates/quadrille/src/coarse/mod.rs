@@ -54,6 +54,10 @@ use std::time::Instant;
 /// before the layout falls back to `q = l` (issue 29: 3).
 pub const LAYOUT_ROUNDS: usize = 3;
 
+/// Rounds, before those, that only keep the collapsed arcs of failing
+/// vertices open (ours; [`layout::LayoutFailure::separate`]).
+pub const REPAIR_ROUNDS: usize = 6;
+
 /// Re-solves with weights linearizing the block count (5) about the last
 /// answer, while the count drops ([`ilp::area_weights`]; ours).
 pub const AREA_ROUNDS: usize = 4;
@@ -146,11 +150,14 @@ pub(crate) fn coarse_layout(
         layout_seconds: 0.0,
     };
     let mut fixed: HashSet<u32> = HashSet::new();
+    let mut kept_open: HashSet<u32> = HashSet::new();
+    let mut hold_rounds = 0;
     let identity: Vec<u32> = tm.arcs.iter().map(|a| a.len()).collect();
     let mut result = None;
-    for round in 0..=LAYOUT_ROUNDS {
-        let prog = ilp::build_program(mesh, &conn, &traces, &tm, alpha.tan(), &fixed);
-        let (q, solve) = if round < LAYOUT_ROUNDS {
+    let last = REPAIR_ROUNDS + LAYOUT_ROUNDS;
+    for round in 0..=last {
+        let prog = ilp::build_program(mesh, &conn, &traces, &tm, alpha.tan(), &fixed, &kept_open);
+        let (q, solve) = if round < last && hold_rounds < LAYOUT_ROUNDS {
             let (mut qv, mut solve) = ilp::solve(&prog, opts.ilp_time_limit);
             if solve.status == SolveStatus::Optimal {
                 let mut blocks = predicted_blocks(&tm, &prog.arc_lengths(&qv));
@@ -197,7 +204,12 @@ pub(crate) fn coarse_layout(
                         "the layout of the input lengths failed its checks (a bug)".into(),
                     ));
                 }
-                fixed.extend(f.arcs);
+                if f.separate.is_empty() || hold_rounds > 0 || round >= REPAIR_ROUNDS {
+                    fixed.extend(f.arcs);
+                    hold_rounds += 1;
+                } else {
+                    kept_open.extend(f.separate);
+                }
             }
         }
     }
@@ -228,5 +240,6 @@ fn row_name(k: RowKind) -> &'static str {
         RowKind::Validity => "validity",
         RowKind::Geometric => "geometric",
         RowKind::Curve => "curve",
+        RowKind::Repair => "repair",
     }
 }

@@ -90,7 +90,7 @@ fn layout_blocks(mesh: &QuadMesh) -> usize {
     let conn = Connectivity::new(mesh).expect("connectivity");
     let traces = draw_traces(mesh, &conn, 45f64.to_radians(), true);
     let tm = build_tmesh(mesh, &conn, &traces);
-    let prog = build_program(mesh, &conn, &traces, &tm, 1.0, &HashSet::new());
+    let prog = build_program(mesh, &conn, &traces, &tm, 1.0, &HashSet::new(), &HashSet::new());
     assert!(prog.satisfied_by(&prog.input), "q = l breaks a row");
     let (q, report) = solve(&prog, 60.0);
     assert_eq!(report.status, SolveStatus::Optimal);
@@ -208,7 +208,7 @@ fn table_one_layouts() {
             let conn = Connectivity::new(&mesh).unwrap();
             let traces = draw_traces(&mesh, &conn, 45f64.to_radians(), true);
             let tm = build_tmesh(&mesh, &conn, &traces);
-            let prog = build_program(&mesh, &conn, &traces, &tm, 1.0, &HashSet::new());
+            let prog = build_program(&mesh, &conn, &traces, &tm, 1.0, &HashSet::new(), &HashSet::new());
             let (q, _) = solve(&prog, 60.0);
             let qa = prog.arc_lengths(&q);
             let big = qa.iter().filter(|&&x| x >= 2).count();
@@ -266,7 +266,7 @@ fn m1_input_lengths_meet_every_row_and_eq_5_counts_the_blocks() {
     let conn = Connectivity::new(&mesh).unwrap();
     let traces = draw_traces(&mesh, &conn, 45f64.to_radians(), true);
     let tm = build_tmesh(&mesh, &conn, &traces);
-    let prog = build_program(&mesh, &conn, &traces, &tm, 1.0, &HashSet::new());
+    let prog = build_program(&mesh, &conn, &traces, &tm, 1.0, &HashSet::new(), &HashSet::new());
     assert!(prog.satisfied_by(&prog.input));
     let mut broken = prog.input.clone();
     if let Some(v) = (0..broken.len()).find(|&v| prog.rows.iter().any(|r| r.at_least.is_some() && r.coeffs == vec![(v as u32, 1)])) {
