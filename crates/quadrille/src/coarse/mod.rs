@@ -13,7 +13,9 @@
 //! - [`fine_mesh`]: the fine block-structured mesh, placed by transfinite
 //!   interpolation and smoothed (§IV.D–E);
 //! - [`high_order_extraction`]: one Lagrange quad of order N per block, its
-//!   Jacobian checked (§IV.F).
+//!   Jacobian checked (§IV.F);
+//! - [`loop_split`]: the quad loops of elements that stay invalid split in
+//!   two, and the extraction run again (issue 29; not in the paper).
 //!
 //! Helpers of the geometry stages: [`face_patches`] (per-face (u, v) views of
 //! a mesh) and [`resample`] (equal-arc-length resampling, curve parameters,
@@ -24,5 +26,6 @@ pub(crate) mod face_patches;
 pub(crate) mod fine_mesh;
 pub(crate) mod high_order_extraction;
 pub(crate) mod layout_check;
+pub(crate) mod loop_split;
 pub(crate) mod quad_loops;
 pub(crate) mod resample;
