@@ -13,7 +13,8 @@
 //!   (u, v) interpolation crowds the nodes).
 //!
 //! Then the Jacobian determinant, measured against the CAD normal, is
-//! checked at every node of every element; an element where it is ≤ 0 gets
+//! checked at every node of every element; an element where it is ≤ 0
+//! (numerically: [`MIN_JACOBIAN_RATIO`]) gets
 //! its inner nodes resampled from its block's smoothed fine grid instead
 //! (bilinear in the grid at the nodes' reference positions, projected onto
 //! the face), and is listed in [`HighOrderReport::invalid_elements`] if it
@@ -37,12 +38,12 @@ use crate::core::work_queue::map_in_order;
 /// What [`extract_high_order`] found.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct HighOrderReport {
-    /// Elements with det J ≤ 0 at some node after every repair (still
-    /// written).
+    /// Elements with det J ≤ 0 at some node after every repair (their
+    /// Jacobian ratio at most [`MIN_JACOBIAN_RATIO`]; still written).
     pub invalid_elements: Vec<u32>,
     /// The smallest ratio, over the elements, of the element's smallest to
-    /// largest det J at its nodes (negative for an inverted element; 1 for
-    /// an affine one).
+    /// largest det J at its nodes (negative for an inverted element, about
+    /// 0 for a flat one, 1 for an affine one; infinite without elements).
     pub min_jacobian_ratio: f64,
     /// The largest distance of a node to its CAD entity (closest-point
     /// projection, as `quadrille stats --cad` measures it).
@@ -50,6 +51,10 @@ pub(crate) struct HighOrderReport {
     /// Elements whose inner nodes were resampled from the fine grid.
     pub resampled: Vec<u32>,
 }
+
+/// An element whose smallest det J over its largest is at most this is
+/// invalid: a ratio of 1e-16 is a rounding error away from a fold.
+pub(crate) const MIN_JACOBIAN_RATIO: f64 = 1e-9;
 
 /// Blocks per task of the parallel element loop.
 const BLOCK_CHUNK: usize = 64;
@@ -138,7 +143,7 @@ pub(crate) fn extract_high_order(
                     }
                 }
                 let mut resampled = false;
-                if ratio <= 0.0 && order > 1 {
+                if ratio <= MIN_JACOBIAN_RATIO && order > 1 {
                     ctx.resample_inner(b, &mut el);
                     ratio = ctx.jacobian_ratio(b, &el, &diff);
                     resampled = true;
@@ -169,7 +174,7 @@ pub(crate) fn extract_high_order(
             }
             ho.element_face.push(layout.blocks[b as usize].face);
             report.min_jacobian_ratio = report.min_jacobian_ratio.min(ratio);
-            if ratio <= 0.0 {
+            if ratio <= MIN_JACOBIAN_RATIO {
                 report.invalid_elements.push(b);
             }
             if resampled {
@@ -499,7 +504,8 @@ impl Ctx<'_> {
 
     /// Element `b`'s smallest over largest det J at its nodes, against the
     /// CAD normals ([`geometry::Face::corner_normal`] toward the element's
-    /// (u, v) centre); −1 when the largest is not positive or a normal is
+    /// (u, v) centre); over the largest `|∂x/∂ξ| |∂x/∂η|` instead when det J
+    /// is about zero everywhere (a flat element); −1 when a normal is
     /// undefined.
     fn jacobian_ratio(&self, b: usize, el: &Element, diff: &LagrangeDiff) -> f64 {
         let face = &self.model.faces[self.layout.blocks[b].face.idx()];
@@ -511,16 +517,19 @@ impl Ctx<'_> {
                 None => return -1.0,
             }
         }
-        let dets = diff.dets(&el.pos, &normals);
+        let (dets, scale) = diff.dets(&el.pos, &normals);
         let (lo, hi) = dets
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &d| {
                 (lo.min(d), hi.max(d))
             });
-        if hi > 0.0 && lo.is_finite() {
+        if !(lo.is_finite() && hi.is_finite() && scale > 0.0) {
+            -1.0
+        } else if hi > MIN_JACOBIAN_RATIO * scale {
             lo / hi
         } else {
-            -1.0
+            // flat everywhere: measured against the element's size
+            lo / scale
         }
     }
 }
@@ -590,10 +599,12 @@ impl LagrangeDiff {
     }
 
     /// det J against `normal[k]` at every node `k` of an element with
-    /// nodes `x` in tensor order: `(∂x/∂ξ × ∂x/∂η) · n`.
-    fn dets(&self, x: &[Vec3], normal: &[Vec3]) -> Vec<f64> {
+    /// nodes `x` in tensor order, `(∂x/∂ξ × ∂x/∂η) · n`, and the largest
+    /// `|∂x/∂ξ| |∂x/∂η|` (the scale of det J when the sides are square).
+    fn dets(&self, x: &[Vec3], normal: &[Vec3]) -> (Vec<f64>, f64) {
         let k1 = self.n + 1;
         let mut out = Vec::with_capacity(k1 * k1);
+        let mut scale = 0.0f64;
         for b in 0..k1 {
             for a in 0..k1 {
                 let (mut dxi, mut deta) = ([0.0; 3], [0.0; 3]);
@@ -602,9 +613,10 @@ impl LagrangeDiff {
                     deta = vec3::add(deta, vec3::scale(x[a + k1 * i], self.d[b * k1 + i]));
                 }
                 out.push(vec3::dot(vec3::cross(dxi, deta), normal[a + k1 * b]));
+                scale = scale.max(vec3::norm(dxi) * vec3::norm(deta));
             }
         }
-        out
+        (out, scale)
     }
 }
 

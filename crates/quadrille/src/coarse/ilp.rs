@@ -79,8 +79,6 @@ pub(crate) struct SolveReport {
     pub status: SolveStatus,
     /// Seconds in the solver.
     pub seconds: f64,
-    /// Objective (6) at the answer.
-    pub objective: f64,
 }
 
 impl Program {
@@ -329,13 +327,11 @@ pub(crate) fn solve_weighted(
     time_limit: f64,
 ) -> (Vec<u32>, SolveReport) {
     let identity = prog.input.clone();
-    let objective_at = |q: &[u32]| q.iter().zip(&prog.weight).map(|(&x, w)| x as f64 * w).sum();
     let fallback = |why: String, seconds: f64| {
         tracing::warn!("coarse: the integer program falls back to the input lengths: {why}");
-        let objective = objective_at(&identity);
         (
             identity.clone(),
-            SolveReport { status: SolveStatus::Identity(why), seconds, objective },
+            SolveReport { status: SolveStatus::Identity(why), seconds },
         )
     };
     if !(time_limit > 0.0) {
@@ -386,8 +382,7 @@ pub(crate) fn solve_weighted(
         SolutionStatus::Optimal | SolutionStatus::GapLimit => SolveStatus::Optimal,
         _ => SolveStatus::TimeLimit,
     };
-    let objective = objective_at(&q);
-    (q, SolveReport { status, seconds, objective })
+    (q, SolveReport { status, seconds })
 }
 
 /// Objective weights that linearize the block count (5) about arc lengths

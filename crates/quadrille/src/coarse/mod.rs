@@ -10,7 +10,6 @@
 //! - [`tmesh`]: arcs and patches (§III.A);
 //! - [`ilp`]: the integer program and its solve (§III.B–C);
 //! - [`layout`]: splitting, merging, placement (§IV.A–C);
-//! - [`pictures`]: overlays of the T-mesh and layouts for pictures;
 //! - [`block_layout`]: the coarse layout placed on the input mesh — the
 //!   hand-over between the layout stages and the geometry stages;
 //! - [`layout_check`]: the identity layout (every input quad a block, q = l)
@@ -19,7 +18,9 @@
 //! - [`fine_mesh`]: the fine block-structured mesh, placed by transfinite
 //!   interpolation and smoothed (§IV.D–E);
 //! - [`high_order_extraction`]: one Lagrange quad of order N per block, its
-//!   Jacobian checked (§IV.F).
+//!   Jacobian checked (§IV.F);
+//! - [`loop_split`]: the quad loops of elements that stay invalid split in
+//!   two, and the extraction run again (issue 29; not in the paper).
 //!
 //! Helpers of the geometry stages: [`face_patches`] (per-face (u, v) views of
 //! a mesh) and [`resample`] (equal-arc-length resampling, curve parameters,
@@ -33,7 +34,7 @@ pub(crate) mod high_order_extraction;
 pub(crate) mod ilp;
 pub(crate) mod layout;
 pub(crate) mod layout_check;
-pub(crate) mod pictures;
+pub(crate) mod loop_split;
 pub(crate) mod quad_loops;
 pub(crate) mod resample;
 pub(crate) mod tmesh;
@@ -174,9 +175,8 @@ pub(crate) fn coarse_layout(
             }
             (prog.arc_lengths(&qv), solve)
         } else {
-            let objective = prog.weight.iter().zip(&prog.input).map(|(w, &l)| w * l as f64).sum();
             let why = format!("{LAYOUT_ROUNDS} rounds of refused layouts");
-            (identity.clone(), ilp::SolveReport { status: SolveStatus::Identity(why), seconds: 0.0, objective })
+            (identity.clone(), ilp::SolveReport { status: SolveStatus::Identity(why), seconds: 0.0 })
         };
         if round == 0 {
             report.variables = prog.num_vars();

@@ -190,46 +190,6 @@ fn cylinder_circles_keep_four_edges() {
     }
     assert!(layout.blocks.len() < mesh.quads.len() / 4, "{} blocks", layout.blocks.len());
 }
-
-/// Table 1 figures of the layout stages on M1–M5 (run by hand: `cargo test
-/// -p quadrille --release coarse::tests::table_one -- --ignored --nocapture`).
-#[test]
-#[ignore]
-fn table_one_layouts() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/cad");
-    for (name, factor) in [("i01o_m1", 0.203), ("i02o_m2", 0.194), ("i03o_m3", 0.221), ("i04o_m4", 0.204), ("i05o_m5", 0.226)] {
-        let model = occt::load(&root.join(format!("{name}.step"))).expect("load");
-        let opts = crate::MeshOptions { size: crate::Size::Factor(factor), ..Default::default() };
-        let t0 = std::time::Instant::now();
-        let mesh = crate::mesh_model(&model, &opts).expect("mesh");
-        let t1 = t0.elapsed().as_secs_f64();
-        let (_, r) = coarse_layout(&mesh, &LayoutOptions::default()).expect("layout");
-        {
-            let conn = Connectivity::new(&mesh).unwrap();
-            let traces = draw_traces(&mesh, &conn, 45f64.to_radians(), true);
-            let tm = build_tmesh(&mesh, &conn, &traces);
-            let prog = build_program(&mesh, &conn, &traces, &tm, 1.0, &HashSet::new(), &HashSet::new());
-            let (q, _) = solve(&prog, 60.0);
-            let qa = prog.arc_lengths(&q);
-            let big = qa.iter().filter(|&&x| x >= 2).count();
-            let mut multi = 0;
-            for p in &tm.patches {
-                if let super::tmesh::PatchShape::Grid { sides, .. } = &p.shape {
-                    let d = |k: usize| sides[k].iter().map(|&(a, _)| qa[a as usize] as usize).sum::<usize>();
-                    if d(0) * d(1) > 1 { multi += d(0) * d(1); }
-                }
-            }
-            eprintln!("  arcs q>=2: {big}; blocks from patches bigger than 1x1: {multi} of {}", predicted_blocks(&tm, &qa));
-        }
-        eprintln!(
-            "{name}: quads {} P_init {} irr {} arcs {} tpatches {} frozen {} vars {} rows {:?} status {} ilp {:.2}s pred {} blocks {} rounds {} refused {:?} layout {:.2}s mesh {:.2}s",
-            r.input_quads, r.initial_patches, r.irregular_nodes, r.arcs, r.tmesh_patches, r.frozen_patches,
-            r.variables, r.rows, r.ilp_status, r.ilp_seconds, r.predicted_blocks, r.blocks, r.rounds,
-            r.refused, r.layout_seconds, t1
-        );
-    }
-}
-
 /// Blocks at the layout vertex of each CAD corner node, against the input
 /// quads there.
 fn corner_blocks(mesh: &QuadMesh, layout: &super::block_layout::BlockLayout) -> Vec<(usize, usize)> {
@@ -279,59 +239,5 @@ fn m1_input_lengths_meet_every_row_and_eq_5_counts_the_blocks() {
     assert!(layout.blocks.len() * 3 < report.initial_patches * 2, "{report:?}");
     for (input, blocks) in corner_blocks(&mesh, &layout) {
         assert_eq!(input, blocks);
-    }
-}
-
-/// Pictures of the T-mesh and layout of small cases, for looking at (run by
-/// hand with `--ignored`; written to the temporary folder).
-#[test]
-#[ignore]
-fn pictures_for_inspection() {
-    use mesh::render::{render_png, RenderOptions};
-    let model = square_model();
-    let mut grid = lattice_mesh(&model, &cells(8, |_, _| true), 0.125);
-    rotate_edge(&mut grid, 3 + 8 * 3, 4 + 8 * 3);
-    let ellipse = {
-        let model = primitives::ellipse(2.0, 1.0);
-        let opts = crate::MeshOptions { size: crate::Size::Absolute(0.12), ..Default::default() };
-        crate::mesh_model_with(&model, &opts, crate::MeshMethod::Unstructured).unwrap().0
-    };
-    for (name, mesh) in [("three_five", &grid), ("ellipse", &ellipse)] {
-        let conn = Connectivity::new(mesh).unwrap();
-        let traces = draw_traces(mesh, &conn, 45f64.to_radians(), true);
-        let tm = build_tmesh(mesh, &conn, &traces);
-        let (layout, _) = coarse_layout(mesh, &LayoutOptions::default()).unwrap();
-        for (what, overlay) in [
-            ("tmesh", super::pictures::tmesh_overlay(mesh, &conn, &tm)),
-            ("layout", super::pictures::layout_overlay(mesh, &conn, &layout)),
-        ] {
-            let opts = RenderOptions {
-                eye_dir: [0.0, 0.0, 1.0],
-                up: [0.0, 1.0, 0.0],
-                width: 900,
-                height: 700,
-                overlay: Some(&overlay),
-                ..RenderOptions::default()
-            };
-            let path = std::env::temp_dir().join(format!("coarse_{name}_{what}.png"));
-            render_png(mesh, &opts, &path).unwrap();
-        }
-    }
-}
-
-#[test]
-#[ignore]
-fn picture_of_m4() {
-    use mesh::render::{render_png, RenderOptions};
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/cad");
-    let model = occt::load(&root.join("i04o_m4.step")).expect("load");
-    let opts = crate::MeshOptions { size: crate::Size::Factor(0.204), ..Default::default() };
-    let mesh = crate::mesh_model(&model, &opts).expect("mesh");
-    let conn = Connectivity::new(&mesh).unwrap();
-    let (layout, _) = coarse_layout(&mesh, &LayoutOptions::default()).unwrap();
-    let overlay = super::pictures::layout_overlay(&mesh, &conn, &layout);
-    for (k, eye) in [[1.0, -1.25, 0.9], [-1.0, 1.25, -0.9]].iter().enumerate() {
-        let opts = RenderOptions { eye_dir: *eye, show_edges: false, overlay: Some(&overlay), ..RenderOptions::default() };
-        render_png(&mesh, &opts, &std::env::temp_dir().join(format!("coarse_m4_{k}.png"))).unwrap();
     }
 }

@@ -277,6 +277,32 @@ fn smoothing_straightens_wiggly_blocks_around_a_valence_3_vertex() {
 }
 
 #[test]
+fn the_fine_and_high_order_meshes_do_not_depend_on_the_thread_count() {
+    let model = primitives::sphere(1.0);
+    let input = default_mesh(&model, 1.0);
+    let layout = BlockLayout::identity(&input);
+    let loops = QuadLoops::of(&layout);
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let (fine, _) = fine_mesh(&model, &input, &layout, &loops).unwrap();
+            let (ho, _) = extract_high_order(&model, &layout, &fine, 3).unwrap();
+            (fine.mesh.nodes, ho)
+        })
+    };
+    let (a, b) = (run(1), run(3));
+    assert!(a
+        .0
+        .iter()
+        .zip(&b.0)
+        .all(|(p, q)| p.map(f64::to_bits) == q.map(f64::to_bits)));
+    assert_eq!(a.1, b.1);
+}
+
+#[test]
 fn bad_layouts_and_loops_are_errors() {
     let (model, input, layout) = square_blocks(8, 4);
     let loops = QuadLoops::of(&layout);
