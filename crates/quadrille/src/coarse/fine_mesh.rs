@@ -31,7 +31,7 @@ use crate::coarse::face_patches::{face_patches, quad_corner_nodes};
 use crate::coarse::layout_check::InputEdges;
 use crate::coarse::quad_loops::QuadLoops;
 use crate::coarse::resample::{
-    curve_uv, equal_arc_samples, onto_face, path_params, sample_hint, side_uvs, Sample, UvSides,
+    equal_arc_samples, resampled_node, onto_face, path_params, sample_hint, side_uvs, Sample, UvSides,
 };
 use crate::core::patch::{LocalNode, NodeRef};
 use crate::core::queries::sharp_corners_of;
@@ -285,18 +285,7 @@ pub(crate) fn place(
             for s in &resampled[e as usize] {
                 let g = edge_nodes[e as usize][nodes.len()];
                 let hint = sample_hint(local, *s);
-                let (uv, node) = match mesh.node_class[g as usize] {
-                    NodeClass::Curve(c, Some(t)) => {
-                        (curve_uv(face, c, t, hint), NodeRef::Curve(c, g + 1))
-                    }
-                    NodeClass::Face(_, Some(uv)) => (uv, NodeRef::Interior),
-                    _ => (hint, NodeRef::Interior),
-                };
-                nodes.push(LocalNode {
-                    uv,
-                    node,
-                    pole: None,
-                });
+                nodes.push(resampled_node(face, mesh.node_class[g as usize], g, hint));
             }
             nodes.push(local[local.len() - 1]);
             let mut ids = edge_nodes[e as usize].clone();

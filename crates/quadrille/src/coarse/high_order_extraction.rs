@@ -30,7 +30,7 @@ use crate::coarse::block_layout::BlockLayout;
 use crate::coarse::face_patches::{face_patches, quad_corner_nodes};
 use crate::coarse::fine_mesh::{BlockGrid, FineMesh, PROJECTION_TOLERANCE};
 use crate::coarse::resample::{
-    curve_uv, equal_arc_samples, onto_face, path_params, sample_hint, side_uvs, Sample, UvSides,
+    equal_arc_samples, resampled_node, onto_face, path_params, sample_hint, side_uvs, Sample, UvSides,
 };
 use crate::core::patch::{LocalNode, NodeRef};
 use crate::core::work_queue::map_in_order;
@@ -357,18 +357,7 @@ impl Ctx<'_> {
             let mut nodes = vec![fine_local[0]];
             for (s, &g) in edge_samples[e as usize].iter().zip(&chain[1..n]) {
                 let hint = sample_hint(&fine_local, *s);
-                let (uv, node) = match ho.node_class[g as usize] {
-                    NodeClass::Curve(c, Some(t)) => {
-                        (curve_uv(face, c, t, hint), NodeRef::Curve(c, g + 1))
-                    }
-                    NodeClass::Face(_, Some(uv)) => (uv, NodeRef::Interior),
-                    _ => (hint, NodeRef::Interior),
-                };
-                nodes.push(LocalNode {
-                    uv,
-                    node,
-                    pole: None,
-                });
+                nodes.push(resampled_node(face, ho.node_class[g as usize], g, hint));
             }
             nodes.push(fine_local[fine_local.len() - 1]);
             let mut ids = chain.clone();

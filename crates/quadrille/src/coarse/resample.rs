@@ -8,7 +8,7 @@
 use geometry::{vec3, CurveId, Face, Model, Vec3};
 use mesh::NodeClass;
 
-use crate::core::patch::LocalNode;
+use crate::core::patch::{LocalNode, NodeRef};
 use crate::smoothing::kernels::map_to_surface;
 
 /// A point of a polyline: on segment `seg` (from point `seg` to `seg + 1`)
@@ -318,4 +318,17 @@ mod tests {
         // a node off the curve
         assert!(path_params(&m, &class, &pos, &[0, 2], CurveId(1)).is_err());
     }
+}
+
+/// The local node of a resampled side node `g` of class `class` in `face`:
+/// on a CAD curve at its parameter's (u, v) (near `hint`), inside the face
+/// at its own (u, v), else at `hint` — shared by the fine mesh and the
+/// high-order extraction.
+pub(crate) fn resampled_node(face: &Face, class: NodeClass, g: u32, hint: [f64; 2]) -> LocalNode {
+    let (uv, node) = match class {
+        NodeClass::Curve(c, Some(t)) => (curve_uv(face, c, t, hint), NodeRef::Curve(c, g + 1)),
+        NodeClass::Face(_, Some(uv)) => (uv, NodeRef::Interior),
+        _ => (hint, NodeRef::Interior),
+    };
+    LocalNode { uv, node, pole: None }
 }
