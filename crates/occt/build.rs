@@ -63,6 +63,8 @@ fn main() {
         .file("src/shim.cpp")
         .include(&include)
         .flag_if_supported("-std=c++17")
+        // OCC_CATCH_SIGNALS jumps to the shim's handlers (see shim.cpp)
+        .define("OCC_CONVERT_SIGNALS", None)
         .flag_if_supported("-Wno-deprecated-declarations")
         .flag_if_supported("-Wno-unused-parameter")
         .opt_level(2)

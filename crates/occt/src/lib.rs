@@ -22,6 +22,7 @@
 mod ffi;
 mod geom;
 mod import;
+mod step_references;
 
 use std::ffi::CString;
 use std::io::Read;
@@ -273,23 +274,24 @@ fn open(path: &Path) -> Result<ffi::ModelPtr, ImportError> {
                 "it is truncated: no END-ISO-10303-21 terminator".into(),
             ));
         }
+        let text = std::fs::read(path).map_err(|e| ImportError::Io {
+            path: owned(),
+            detail: e.to_string(),
+        })?;
+        if let Some(why) = step_references::reference_error(&text) {
+            return Err(unreadable(why));
+        }
     }
     let cpath = CString::new(path.as_os_str().as_bytes())
         .map_err(|_| unreadable("the path holds a NUL byte".into()))?;
-    let mut err = vec![0u8; 1024];
-    let mut out: *mut ffi::OcctModel = std::ptr::null_mut();
-    // SAFETY: cpath is NUL-terminated, out and err are valid for the call.
-    let rc = unsafe {
-        ffi::occt_load(
-            cpath.as_ptr(),
-            format.code(),
-            &mut out,
-            err.as_mut_ptr().cast(),
-            err.len(),
-        )
-    };
-    let model = ffi::ModelPtr::new(out);
-    let msg = c_message(&err);
+    let limit = read_time_limit(meta.len());
+    let (rc, out, msg) = read_with_deadline(cpath, format, limit)
+        .ok_or_else(|| unreadable(format!(
+            "OpenCASCADE did not finish reading it in {} s, so it is most likely damaged \
+             (QUADRILLE_CAD_READ_SECONDS sets the limit)",
+            limit.as_secs()
+        )))?;
+    let model = ffi::ModelPtr::new(out as *mut ffi::OcctModel);
     match (rc, model) {
         (ffi::OK, Some(m)) => Ok(m),
         (ffi::ERR_TRANSFER, _) => Err(ImportError::NoFace {
@@ -301,6 +303,52 @@ fn open(path: &Path) -> Result<ffi::ModelPtr, ImportError> {
             "the OCCT shim failed with code {rc} {msg}"
         ))),
     }
+}
+
+/// Seconds OCCT may take to read a file of `len` bytes before the file counts
+/// as damaged: 5 s plus 20 s per MB (a damaged IGES or BREP file can send
+/// OCCT's reader into an endless loop; sound files read at well over 1 MB/s),
+/// or `QUADRILLE_CAD_READ_SECONDS`.
+fn read_time_limit(len: u64) -> std::time::Duration {
+    let from_env = std::env::var("QUADRILLE_CAD_READ_SECONDS").ok().and_then(|s| s.parse::<f64>().ok());
+    let secs = match from_env {
+        Some(s) if s > 0.0 => s,
+        _ => 5.0 + 20.0 * len as f64 / 1e6,
+    };
+    std::time::Duration::from_secs_f64(secs)
+}
+
+/// Runs `occt_load` on a reader thread and waits at most `limit`: the return
+/// code, the model (as an address) and the message, or `None` when the
+/// reader did not finish — that thread is then left to itself (OCCT's loops
+/// cannot be interrupted), and a later read in this process waits for its
+/// lock and times out too.
+fn read_with_deadline(
+    cpath: CString,
+    format: Format,
+    limit: std::time::Duration,
+) -> Option<(i32, usize, String)> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    let reader = move || {
+        let mut err = vec![0u8; 1024];
+        let mut out: *mut ffi::OcctModel = std::ptr::null_mut();
+        // SAFETY: cpath is NUL-terminated, out and err are valid for the call.
+        let rc = unsafe {
+            ffi::occt_load(cpath.as_ptr(), format.code(), &mut out, err.as_mut_ptr().cast(), err.len())
+        };
+        let answer = (rc, out as usize, c_message(&err));
+        if let Err(std::sync::mpsc::SendError((_, late, _))) = tx.send(answer) {
+            // nobody waits any more: free the model read too late
+            drop(ffi::ModelPtr::new(late as *mut ffi::OcctModel));
+        }
+    };
+    // OCCT recurses deeply on big assemblies: a large stack (reserved, not
+    // committed)
+    let spawned = std::thread::Builder::new().name("occt-read".into()).stack_size(256 << 20).spawn(reader);
+    if spawned.is_err() {
+        return Some((ffi::ERR_EXCEPTION, 0, "could not start the reader thread".into()));
+    }
+    rx.recv_timeout(limit).ok()
 }
 
 /// The first and last `PEEK` bytes of a file of `len` bytes.

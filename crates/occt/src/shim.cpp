@@ -4,6 +4,11 @@
 // - Only opaque pointers and plain C data cross the boundary.
 // - Every exported function catches every C++ exception (Standard_Failure and
 //   anything else) and turns it into an error code: nothing unwinds into Rust.
+// - Reading and writing files run with OCCT's signal handlers
+//   (`SignalsAsExceptions`, `OCC_CATCH_SIGNALS`): OCCT's data-exchange
+//   readers dereference null entities of malformed files (the fuzzer finds
+//   them by the dozen), and the access violation becomes an error, not a dead
+//   process. The process's own handlers are back when the call returns.
 // - Reading a file is serialised by a global mutex (the OCCT data-exchange
 //   readers keep global state); evaluating geometry is not (Geom_* evaluation
 //   is const and cache-free in OCCT >= 7.2, so concurrent calls are safe).
@@ -29,6 +34,8 @@
 #include <Message_Messenger.hxx>
 #include <Message_PrinterOStream.hxx>
 #include <STEPControl_Reader.hxx>
+#include <OSD.hxx>
+#include <Standard_ErrorHandler.hxx>
 #include <Standard_Failure.hxx>
 #include <TopAbs.hxx>
 #include <TopExp.hxx>
@@ -45,6 +52,7 @@
 #include <gp_Vec.hxx>
 #include <gp_Vec2d.hxx>
 
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -129,6 +137,48 @@ static int guarded(char* err, size_t errlen, F body) {
   return ERR_EXCEPTION;
 }
 
+// While alive: OCCT's signal handlers, which turn an access violation (or
+// another fault) inside OCCT into a jump to the nearest OCC_CATCH_SIGNALS,
+// where it is thrown as a Standard_Failure. The handlers the process had
+// (Rust's stack-overflow guard, Python's Ctrl-C) are saved and put back.
+class SignalsAsExceptions {
+ public:
+  SignalsAsExceptions() {
+    for (int s = 1; s < NSIG_SAVED; ++s) sigaction(s, nullptr, &saved_[s]);
+    OSD::SetSignal(OSD_SignalMode_Set, Standard_False);
+  }
+  ~SignalsAsExceptions() {
+    for (int s = 1; s < NSIG_SAVED; ++s) {
+      if (s != SIGKILL && s != SIGSTOP) sigaction(s, &saved_[s], nullptr);
+    }
+  }
+  SignalsAsExceptions(const SignalsAsExceptions&) = delete;
+  SignalsAsExceptions& operator=(const SignalsAsExceptions&) = delete;
+
+ private:
+  static const int NSIG_SAVED = 32;
+  struct sigaction saved_[NSIG_SAVED];
+};
+
+// Runs `body` with faults inside OCCT converted to errors (see
+// SignalsAsExceptions); call it with the reader mutex held, so that nothing
+// the jump skips owns a lock.
+template <class F>
+static int fault_guarded(char* err, size_t errlen, F body) {
+  SignalsAsExceptions signals;
+  try {
+    OCC_CATCH_SIGNALS
+    return body();
+  } catch (const Standard_Failure& f) {
+    set_err(err, errlen, "OpenCASCADE failed on this file (" + failure_text(f) + ")");
+  } catch (const std::exception& e) {
+    set_err(err, errlen, std::string("C++ exception: ") + e.what());
+  } catch (...) {
+    set_err(err, errlen, "unknown C++ exception");
+  }
+  return ERR_EXCEPTION;
+}
+
 static void silence_messages() {
   static std::once_flag once;
   std::call_once(once, [] {
@@ -170,6 +220,7 @@ int occt_load(const char* path, int kind, OcctModel** out, char* err, size_t err
     {
       std::lock_guard<std::mutex> lock(g_read_mutex);
       silence_messages();
+      int rc = fault_guarded(err, errlen, [&]() -> int {
       if (kind == 0 || kind == 1) {
         IFSelect_ReturnStatus st;
         if (kind == 0) {
@@ -218,6 +269,9 @@ int occt_load(const char* path, int kind, OcctModel** out, char* err, size_t err
       } else {
         return ERR_INDEX;
       }
+      return OK;
+      });
+      if (rc != OK) return rc;
     }
     if (shape.IsNull()) {
       set_err(err, errlen, "it holds no shape that OpenCASCADE can transfer");
@@ -241,6 +295,7 @@ int occt_write(const OcctModel* m, const char* path, int kind, char* err, size_t
   return guarded(err, errlen, [&]() -> int {
     std::lock_guard<std::mutex> lock(g_read_mutex);
     silence_messages();
+    return fault_guarded(err, errlen, [&]() -> int {
     bool ok = false;
     if (kind == 0) {
       STEPControl_Writer w;
@@ -258,6 +313,7 @@ int occt_write(const OcctModel* m, const char* path, int kind, char* err, size_t
       return ERR_FAILED;
     }
     return OK;
+    });
   });
 }
 
