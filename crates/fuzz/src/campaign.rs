@@ -89,8 +89,10 @@ impl Seeds {
     }
 }
 
-/// The worker's side: runs cases `from..to`, printing `@case K` before each
-/// and `@panic K message` after a caught panic, then `@done`.
+/// The worker's side: runs cases `from..to`, printing `@case K` before each,
+/// `@ok K` after an accepted one and `@panic K message` after a caught panic,
+/// then `@done`; `@stop K` when a CAD read timed out (its thread still holds
+/// OCCT's reader lock, so the driver starts a new worker after case K).
 pub fn work(target: Target, seeds: &Seeds, seed: u64, from: u64, to: u64, scratch: &Path) {
     limit_memory(WORKER_MEMORY);
     std::panic::set_hook(Box::new(|_| {}));
@@ -103,7 +105,15 @@ pub fn work(target: Target, seeds: &Seeds, seed: u64, from: u64, to: u64, scratc
             Ok(Ok(_)) => {
                 let _ = writeln!(out.lock(), "@ok {case}");
             }
-            Ok(Err(_)) => {}
+            Ok(Err(why)) => {
+                if why.contains("did not finish reading") {
+                    // the reader thread still runs and holds OCCT's lock:
+                    // later cases would only wait for it, so this worker ends
+                    let _ = writeln!(out.lock(), "@stop {case}");
+                    let _ = out.lock().flush();
+                    return;
+                }
+            }
             Err(payload) => {
                 let msg = payload
                     .downcast_ref::<String>()
@@ -216,6 +226,9 @@ impl Campaign {
                         self.record(seeds, case, DefectKind::Panic, msg.to_string(), sum)?;
                     } else if l == "@done" {
                         done = true;
+                    } else if let Some(k) = l.strip_prefix("@stop ") {
+                        let _ = child.wait();
+                        return Ok(k.trim().parse::<u64>().map_or(to, |k| k + 1));
                     }
                 }
                 Ok(Event::Eof) => break,

@@ -79,8 +79,14 @@ fn regression_inputs_get_an_answer() {
         let Ok(seeds) = Seeds::read(&dir) else { continue };
         for (p, data) in seeds.paths.iter().zip(&seeds.bytes) {
             let ext = p.extension().map(|e| e.to_string_lossy().to_string()).unwrap_or_default();
+            let started = std::time::Instant::now();
             let r = std::panic::catch_unwind(|| t.run(data, &ext, scratch.path()));
             assert!(r.is_ok(), "{} panics again", p.display());
+            // a hang found by the fuzzer now ends within the CAD read limit
+            // (5 s for files this small); three times the fuzzer's hang limit
+            // leaves room for a loaded machine
+            let secs = started.elapsed().as_secs_f64();
+            assert!(secs < 3.0 * t.hang_seconds() as f64, "{} took {secs:.1} s", p.display());
             n += 1;
         }
     }

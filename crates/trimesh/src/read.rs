@@ -474,6 +474,21 @@ fn read_ply(data: &[u8]) -> Result<Soup, String> {
     };
     if binary {
         for el in &elements {
+            // a record's least size: a count that the rest of the file cannot
+            // hold is refused before the loop (a damaged count of an element
+            // of empty records would otherwise spin billions of times)
+            let least: usize = el.props.iter().map(|p| p.list.unwrap_or(p.scalar).size()).sum();
+            if least == 0 && el.name != "vertex" && el.name != "face" {
+                continue;
+            }
+            if el.count.saturating_mul(least) > data.len() - pos {
+                return Err(format!(
+                    "binary PLY truncated: element `{}` declares {} records of at least {least} bytes, {} bytes remain",
+                    el.name,
+                    el.count,
+                    data.len() - pos
+                ));
+            }
             for rec in 0..el.count {
                 let mut values = Vec::with_capacity(el.props.len());
                 for p in &el.props {
