@@ -430,7 +430,8 @@ fn read_ply(data: &[u8]) -> Result<Soup, String> {
                 el.props
                     .iter()
                     .position(|p| p.name == n)
-                    .map(|k| values[k][0])
+                    // a list property (empty, say) named x is no coordinate
+                    .and_then(|k| values[k].first().copied())
             };
             let (Some(x), Some(y), Some(z)) = (get("x"), get("y"), get("z")) else {
                 return Err("PLY vertex element has no x, y, z properties".into());
