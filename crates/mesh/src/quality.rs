@@ -108,7 +108,7 @@ pub fn element_corner_sicn(p: &[Vec3; 4]) -> [f64; 4] {
         let side = dot(c, reference);
         let value = 2.0 * norm(c) / den;
         // NaN (a zero-length corner, non-finite coordinates) fails the tests
-        if (side > 0.0 || side < 0.0) && value >= ELEMENT_SICN_FLAT {
+        if side != 0.0 && !side.is_nan() && value >= ELEMENT_SICN_FLAT {
             value.copysign(side)
         } else {
             0.0
