@@ -81,13 +81,15 @@ pub const ELEMENT_SICN_FLAT: f64 = 1e-8;
 ///
 /// `value_i = sign(c_i · c_1) · 2 |c_i| / (|a_i|² + |b_i|²)`.
 ///
-/// This reproduces Gmsh's `minSICN` to 3e-15 on every quad of its own
-/// meshes of the bundled models (the centre normal disagreed in sign on up
-/// to 8 quads a mesh: twisted quads, whose verdict in Gmsh depends on which
-/// node is numbered first). A value below [`ELEMENT_SICN_FLAT`] in magnitude
-/// is 0: its sign is rounding noise, and Gmsh's evaluation returns 0 there
-/// (measured: 0 for a corner 1e-9 off straight). When `c_1 = 0` (corner 1
-/// straight) every value is 0, as in Gmsh.
+/// This reproduces Gmsh's `minSICN` to 2e-14 on every quad of its own
+/// meshes of the bundled models at size factors 1 and 3 but a few
+/// near-degenerate ones (nodes 1e-7 apart), and its sign on all of them
+/// (the centre normal disagreed in sign on up to 8 quads a mesh: twisted
+/// quads, whose verdict in Gmsh depends on which node is numbered first). A
+/// value below [`ELEMENT_SICN_FLAT`] in magnitude is 0: its sign is rounding
+/// noise, and Gmsh's evaluation returns 0 there (measured: 0 for a corner
+/// 1e-9 off straight, where this formula gives −4e-9). When `c_1 = 0`
+/// (corner 1 straight) every value is 0, as in Gmsh.
 pub fn element_corner_sicn(p: &[Vec3; 4]) -> [f64; 4] {
     let corner = |i: usize| {
         let a = sub(p[(i + 1) % 4], p[i]);
