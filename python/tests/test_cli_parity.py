@@ -58,6 +58,7 @@ def test_stats_equal_the_cli_json(cli, cli_json, tmp_path):
     assert m.stats() == read.stats()
     s = m.stats(m.model)
     assert s["inverted_quads"] == 0 and s["cad_normals"] is True
+    assert s["inverted_quads_element_geometry"] == 0
     line = cli("mesh", path, "-o", out).stderr.strip().splitlines()[-1]
     assert f"SICN min {s['sicn']['min']:.3f} avg {s['sicn']['avg']:.3f}" in line
 

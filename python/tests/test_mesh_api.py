@@ -206,4 +206,5 @@ def test_triangle_mesh_input(tmp_path):
     assert len(q) > 50
     s = q.stats(model)
     assert s["inverted_quads"] == 0 and s["open_edges"] == 0
+    assert s["inverted_quads_element_geometry"] == 0
     assert quadrille.load(stl, feature_angle=60).faces >= 1

@@ -91,3 +91,4 @@ def test_gmsh_round_trip(cube_cyl, tmp_path, binary):
     assert key(g.quads, g.quad_face) == key(m.quads, m.quad_face)
     s = g.stats(m.model)
     assert s["quads"] == len(m) and s["inverted_quads"] == 0 and s["open_edges"] == 0
+    assert s["inverted_quads_element_geometry"] == 0

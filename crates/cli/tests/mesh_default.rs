@@ -100,6 +100,11 @@ fn default_method_gives_a_valid_all_quad_mesh() {
     let json = stats_json(&out, &model);
     assert_eq!(stat(&json, "triangles"), 0.0, "{json}");
     assert_eq!(stat(&json, "inverted_quads"), 0.0, "{json}");
+    assert_eq!(
+        stat(&json, "inverted_quads_element_geometry"),
+        0.0,
+        "{json}"
+    );
     assert!(stat(&json, "quads") > 500.0, "{json}");
     // fewer irregular vertices than the plain unstructured mesh
     let plain = dir.path().join("u.msh");
@@ -268,6 +273,11 @@ fn the_quads_beyond_a_cusp_corner_quad_stay_above_the_quality_bar() {
         "a sharp corner is listed: {json}"
     );
     assert_eq!(stat(&json, "inverted_quads"), 0.0, "{json}");
+    assert_eq!(
+        stat(&json, "inverted_quads_element_geometry"),
+        0.0,
+        "{json}"
+    );
     assert!(stat(&json, "min_sicn_excluding_sharp") >= 0.1, "{json}");
 }
 
@@ -333,6 +343,11 @@ fn a_coarse_size_keeps_curved_faces_resolved() {
     let out = dir.path().join("m.msh");
     let json = mesh_stats(&model, &out, &["--size-factor", "4"]);
     assert_eq!(stat(&json, "inverted_quads"), 0.0, "{json}");
+    assert_eq!(
+        stat(&json, "inverted_quads_element_geometry"),
+        0.0,
+        "{json}"
+    );
     assert!(stat(&json, "min_sicn_excluding_sharp") >= 0.1, "{json}");
     assert!(stat(&json, "avg") > 0.7, "{json}");
 }
@@ -350,6 +365,11 @@ fn the_quads_of_a_sphere_are_squared_up() {
     let json = stats_json(&out, &model);
     assert_eq!(stat(&json, "irregular_nodes"), 8.0, "{json}");
     assert_eq!(stat(&json, "inverted_quads"), 0.0, "{json}");
+    assert_eq!(
+        stat(&json, "inverted_quads_element_geometry"),
+        0.0,
+        "{json}"
+    );
     assert!(stat(&json, "avg") > 0.97, "{json}");
     // the worst quads, at the cube's corners, stay near sin 120° = 0.866
     assert!(stat(&json, "min") > 0.8, "{json}");

@@ -33,6 +33,11 @@ fn unstructured_method_writes_a_valid_mesh() {
         text.contains("\"inverted_quads\": 0") || text.contains("\"inverted_quads\":0"),
         "{text}"
     );
+    assert!(
+        text.contains("\"inverted_quads_element_geometry\": 0")
+            || text.contains("\"inverted_quads_element_geometry\":0"),
+        "{text}"
+    );
 }
 
 #[test]

@@ -133,11 +133,13 @@ fn stats_judge_both_files_alike() {
             "irregular_nodes",
             "open_edges",
             "inverted_quads",
+            "inverted_quads_element_geometry",
             "fold_corners",
         ] {
             assert_eq!(sa[key], sb[key], "{name}: {key}");
         }
         assert_eq!(sa["inverted_quads"], 0, "{name}");
+        assert_eq!(sa["inverted_quads_element_geometry"], 0, "{name}");
         for key in ["min", "avg", "p1"] {
             let (a, b) = (
                 sa["sicn"][key].as_f64().unwrap(),

@@ -85,6 +85,7 @@ fn info_and_mesh_work_on_an_stl_box() {
     assert!(s["quads"].as_u64().unwrap() > 0);
     assert_eq!(s["triangles"].as_u64(), Some(0));
     assert_eq!(s["inverted_quads"].as_u64(), Some(0));
+    assert_eq!(s["inverted_quads_element_geometry"].as_u64(), Some(0));
     assert_eq!(s["open_edges"].as_u64(), Some(0));
     // a feature angle above 90°: no box edge is a feature, the box is one
     // closed patch; no single map flattens it, so it is split into charts

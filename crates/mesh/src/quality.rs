@@ -8,8 +8,12 @@
 //!
 //! and the quad's value is the minimum over its corners. A square gives 1, a
 //! 2:1 rectangle SICN 0.8 and SJ 1, an inverted corner a negative value.
+//!
+//! [`element_corner_sicn`] is the same measure judged from the element alone,
+//! without a surface normal: the judge of users' tools (Gmsh's `minSICN` on a
+//! mesh file read without its CAD).
 
-use geometry::vec3::{cross, dot, sub, Vec3};
+use geometry::vec3::{cross, dot, norm, sub, Vec3};
 
 /// SICN of each corner of the quad `p` with corner normals `n` (unit vectors).
 pub fn corner_sicn(p: &[Vec3; 4], n: &[Vec3; 4]) -> [f64; 4] {
@@ -55,6 +59,72 @@ pub fn quad_scaled_jacobian(p: &[Vec3; 4], n: &[Vec3; 4]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// Element-geometry SICN values smaller than this in magnitude are 0 (flat
+/// corner, neither sign): see [`element_corner_sicn`].
+pub const ELEMENT_SICN_FLAT: f64 = 1e-8;
+
+/// SICN of each corner of the quad `p` judged from the element alone, with
+/// no reference normal from outside: the sign Gmsh's `minSICN` gives to a
+/// linear quad of a mesh read without its CAD.
+///
+/// Derivation. The bilinear map `x(u, v) = x0 + u e + v f + u v d` on
+/// [0, 1]² (`e = x1 − x0`, `f = x3 − x0`, `d = x0 − x1 + x2 − x3`) has
+/// `x_u × x_v = e × f + u (e × d) + v (d × f)` (the `uv` term is `d × d = 0`),
+/// so for any fixed normal `n` the Jacobian `n · (x_u × x_v)` is affine in
+/// (u, v): its sign over the element is decided at the four corners, where
+/// `x_u × x_v` is the corner cross product `c_i = a_i × b_i` of Eq. 12. The
+/// element's own natural normal would be the centre one, `½ (x2 − x0) ×
+/// (x3 − x1)`; Gmsh's reference is another (measured with Gmsh 4.15.2, not
+/// documented by it): the corner cross product at node 1, `c_1 = (x1 − x0) ×
+/// (x2 − x0)`, the normal of the triangle (x0, x1, x2), with the corner's
+/// unprojected magnitude:
+///
+/// `value_i = sign(c_i · c_1) · 2 |c_i| / (|a_i|² + |b_i|²)`.
+///
+/// This reproduces Gmsh's `minSICN` to 2e-14 on every quad of its own
+/// meshes of the bundled models at size factors 1 and 3 but a few
+/// near-degenerate ones (nodes 1e-7 apart), and its sign on all of them
+/// (the centre normal disagreed in sign on up to 8 quads a mesh: twisted
+/// quads, whose verdict in Gmsh depends on which node is numbered first). A
+/// value below [`ELEMENT_SICN_FLAT`] in magnitude is 0: its sign is rounding
+/// noise, and Gmsh's evaluation returns 0 there (measured: 0 for a corner
+/// 1e-9 off straight, where this formula gives −4e-9). When `c_1 = 0`
+/// (corner 1 straight) every value is 0, as in Gmsh.
+pub fn element_corner_sicn(p: &[Vec3; 4]) -> [f64; 4] {
+    let corner = |i: usize| {
+        let a = sub(p[(i + 1) % 4], p[i]);
+        let b = sub(p[(i + 3) % 4], p[i]);
+        (cross(a, b), dot(a, a) + dot(b, b))
+    };
+    let (c1, _) = corner(1);
+    // scaled to its largest component: the sign of c_i · c_1 survives
+    // coordinates whose squares underflow
+    let big = c1.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let reference = if big > 0.0 && c1.iter().all(|x| x.is_finite()) {
+        c1.map(|x| x / big)
+    } else {
+        [0.0; 3]
+    };
+    [0, 1, 2, 3].map(|i| {
+        let (c, den) = corner(i);
+        let side = dot(c, reference);
+        let value = 2.0 * norm(c) / den;
+        // NaN (a zero-length corner, non-finite coordinates) fails the tests
+        if side != 0.0 && !side.is_nan() && value >= ELEMENT_SICN_FLAT {
+            value.copysign(side)
+        } else {
+            0.0
+        }
+    })
+}
+
+/// Quad element-geometry SICN: the minimum of [`element_corner_sicn`].
+pub fn quad_element_sicn(p: &[Vec3; 4]) -> f64 {
+    element_corner_sicn(p)
+        .into_iter()
+        .fold(f64::INFINITY, f64::min)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -95,5 +165,114 @@ mod tests {
         ];
         assert!(quad_sicn(&tiny, &Z) > 0.99);
         assert!(quad_sicn(&flat, &Z) < 1e-9);
+    }
+
+    fn close4(got: [f64; 4], want: [f64; 4]) -> bool {
+        got.iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-12)
+    }
+
+    #[test]
+    fn element_sicn_of_a_square_is_one() {
+        let square = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        assert!(close4(element_corner_sicn(&square), [1.0; 4]));
+        // no outside normal: the square seen from below is a square too
+        let flipped = [square[0], square[3], square[2], square[1]];
+        assert!(close4(element_corner_sicn(&flipped), [1.0; 4]));
+    }
+
+    /// The arrow (0,0) (2,0) (2,2) (1.5,0.5): corner 3 is reflex,
+    /// c_3 = (−1.5,−0.5) × (0.5,1.5) = −2 against c_1 = (0,2) × (−2,0) = 4,
+    /// |a|² + |b|² = 5, so −2·2/5 = −0.8; corners 0 and 2 give 2·1/6.5, corner 1 1.
+    #[test]
+    fn planar_arrow_is_negative_at_its_reflex_corner() {
+        let arrow = [
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [2.0, 2.0, 0.0],
+            [1.5, 0.5, 0.0],
+        ];
+        let want = [4.0 / 13.0, 1.0, 4.0 / 13.0, -0.8];
+        assert!(close4(element_corner_sicn(&arrow), want));
+        // planar: the same values as Eq. 12 with the plane's normal
+        assert!(close4(corner_sicn(&arrow, &Z), want));
+        assert!((quad_element_sicn(&arrow) + 0.8).abs() < 1e-12);
+    }
+
+    /// Two non-planar quads on the unit square with node 2 or 3 lifted.
+    #[test]
+    fn twisted_quads_valid_and_folded() {
+        // node 2 lifted by 0.5: c_1 = (0,1,.5) × (−1,0,0) = (0,−.5,1); every
+        // corner agrees with it; the smallest is corner 2,
+        // |(−.5,−.5,1)| = √1.5 over |a|² + |b|² = 2.5
+        let twisted = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.5],
+            [0.0, 1.0, 0.0],
+        ];
+        let side = 2.0 * 1.25f64.sqrt() / 2.25;
+        let want = [1.0, side, 2.0 * 1.5f64.sqrt() / 2.5, side];
+        assert!(close4(element_corner_sicn(&twisted), want));
+        // node 3 at (1.5, .5, 1), over the quad's other half: c_1 = (0,0,1),
+        // c_2 = (.5,−.5,1) × (0,−1,0) = (1,0,−.5) and c_3 = (1,−1,−1) point
+        // against it: −2·√1.25/2.5 and −2·√3/5; corner 0 (0,−1,.5): 2·√1.25/4.5
+        let folded = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.5, 0.5, 1.0],
+        ];
+        let want = [
+            2.0 * 1.25f64.sqrt() / 4.5,
+            1.0,
+            -2.0 * 1.25f64.sqrt() / 2.5,
+            -2.0 * 3f64.sqrt() / 5.0,
+        ];
+        assert!(close4(element_corner_sicn(&folded), want));
+        // the centre normal ½ (x2 − x0) × (x3 − x1) ∝ (1,−1,0) would pass it
+        // (corner 1 exactly 0, the others positive): Gmsh does not use it
+        let centre = [[
+            std::f64::consts::FRAC_1_SQRT_2,
+            -std::f64::consts::FRAC_1_SQRT_2,
+            0.0,
+        ]; 4];
+        assert!(quad_sicn(&folded, &centre) >= 0.0);
+    }
+
+    #[test]
+    fn flat_corners_are_zero_not_negative() {
+        // corner 1 straight: no reference normal, every value 0 (as Gmsh)
+        let straight = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [1.0, -1.0, 0.0],
+        ];
+        assert_eq!(element_corner_sicn(&straight), [0.0; 4]);
+        // corner 2 reflex by 1e-12: rounding noise, 0; by 1e-3: negative
+        for (e, negative) in [(1e-12, false), (1e-3, true)] {
+            let p = [
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.5 - e, 0.5 - e, 0.0],
+                [0.0, 1.0, 0.0],
+            ];
+            assert_eq!(quad_element_sicn(&p) < 0.0, negative, "{e}");
+            assert!(quad_element_sicn(&p) <= 0.0);
+        }
+        // degenerate and non-finite input: 0, never NaN
+        assert_eq!(element_corner_sicn(&[[1.0; 3]; 4]), [0.0; 4]);
+        let nan = [
+            [f64::NAN, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        assert_eq!(element_corner_sicn(&nan), [0.0; 4]);
     }
 }

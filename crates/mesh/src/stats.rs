@@ -10,7 +10,12 @@
 //!   apex the limit normal from inside the quad), else the mean normal of
 //!   the same-face quads sharing a node with the quad;
 //! - "irregular" = a face-interior node (classified on a face) whose quad
-//!   valence is not 4; "inverted" = a quad with some corner SICN < 0.
+//!   valence is not 4; "inverted" = a quad with some corner SICN < 0;
+//! - inverted quads are counted twice (DESIGN.md §5): with the reference
+//!   normals above, and by the element geometry alone
+//!   ([`crate::quality::element_corner_sicn`]), the sign Gmsh's `minSICN`
+//!   gives to the written file read without its CAD, which is what users'
+//!   tools check.
 
 use std::collections::{BTreeMap, HashMap};
 use std::fmt;
@@ -21,7 +26,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::quadmesh::{NodeClass, QuadMesh};
-use crate::quality::{corner_scaled_jacobian, corner_sicn};
+use crate::quality::{corner_scaled_jacobian, corner_sicn, element_corner_sicn};
 
 /// CAD corners whose interior angle in a face is below this (degrees) excuse
 /// the quads touching them from minimum-SICN bars (DESIGN.md §5).
@@ -134,8 +139,14 @@ pub struct MeshStats {
     pub sicn: QualitySummary,
     /// Per-quad scaled Jacobian summary.
     pub scaled_jacobian: QualitySummary,
-    /// Quads with a corner SICN < 0.
+    /// Quads with a corner SICN < 0 against the reference normals (the CAD
+    /// normals with a Model, else the mesh normals; see `cad_normals`).
     pub inverted_quads: usize,
+    /// Quads with a corner SICN < 0 judged from the element alone
+    /// ([`crate::quality::element_corner_sicn`]): the quads Gmsh's `minSICN`
+    /// finds negative in the written mesh file read without its CAD. The
+    /// same with or without a Model.
+    pub inverted_quads_element_geometry: usize,
     /// Element edges used by exactly one element (holes or the boundary of an open shell).
     pub open_edges: usize,
     /// Element edges used by more than two elements.
@@ -242,6 +253,15 @@ pub fn quad_sicn_values(mesh: &QuadMesh, model: Option<&Model>) -> Vec<f64> {
         .iter()
         .zip(&normals)
         .map(|(q, n)| min4(corner_sicn(&quad_points(mesh, q), n)))
+        .collect()
+}
+
+/// Element-geometry SICN of every quad ([`crate::quality::quad_element_sicn`]):
+/// no reference normal, so no Model; negative where Gmsh's `minSICN` is.
+pub fn quad_element_sicn_values(mesh: &QuadMesh) -> Vec<f64> {
+    mesh.quads
+        .iter()
+        .map(|q| min4(element_corner_sicn(&quad_points(mesh, q))))
         .collect()
 }
 
@@ -873,6 +893,9 @@ impl MeshStats {
             if cs.iter().any(|&x| x < 0.0) {
                 s.inverted_quads += 1;
             }
+            if element_corner_sicn(&p).iter().any(|&x| x < 0.0) {
+                s.inverted_quads_element_geometry += 1;
+            }
             sicn.push(min4(cs));
             sj.push(min4(corner_scaled_jacobian(&p, n)));
         }
@@ -1035,7 +1058,16 @@ impl fmt::Display for MeshStats {
                 self.scaled_jacobian.min, self.scaled_jacobian.p1, self.scaled_jacobian.avg
             ),
         )?;
-        row(f, "inverted quads", self.inverted_quads.to_string())?;
+        row(
+            f,
+            &format!("inverted ({normals})"),
+            self.inverted_quads.to_string(),
+        )?;
+        row(
+            f,
+            "inverted (element geometry)",
+            self.inverted_quads_element_geometry.to_string(),
+        )?;
         if self.fold_corners > 0 {
             row(
                 f,
@@ -1147,6 +1179,7 @@ mod tests {
         assert_eq!(s.euler_characteristic, 1); // a disk
         assert!((s.sicn.min - 1.0).abs() < 1e-12 && (s.sicn.avg - 1.0).abs() < 1e-12);
         assert_eq!(s.inverted_quads, 0);
+        assert_eq!(s.inverted_quads_element_geometry, 0);
         let d = s.cad_distance.unwrap();
         assert!(d.max < 1e-12 && d.failed == 0 && d.measured == 9);
         assert!(s.sharp_corners.is_empty());
@@ -1183,6 +1216,8 @@ mod tests {
         mesh.quads[0].reverse();
         let s = MeshStats::compute(&mesh, None);
         assert!(s.inverted_quads >= 1, "{s}");
+        // the element alone cannot see a whole quad flipped
+        assert_eq!(s.inverted_quads_element_geometry, 0, "{s}");
     }
 
     #[test]
@@ -1384,7 +1419,41 @@ mod tests {
         let j = serde_json::to_value(&s).unwrap();
         assert_eq!(j["quads"], 9);
         assert_eq!(j["valence_histogram"]["4"], 4);
+        assert_eq!(j["inverted_quads"], 0);
+        assert_eq!(j["inverted_quads_element_geometry"], 0);
         let text = s.to_string();
         assert!(text.contains("irregular nodes"));
+        assert!(text.contains("inverted (CAD normals)"), "{text}");
+        assert!(text.contains("inverted (element geometry)"), "{text}");
+        let text = MeshStats::compute(&mesh, None).to_string();
+        assert!(text.contains("inverted (mesh normals)"), "{text}");
+    }
+
+    /// A sliver on the unit cylinder (u in degrees, v): (90, 0.1), (105, 0.2),
+    /// (60, 0.1), (45, 0): a thin strip 60° around the axis. Against the CAD
+    /// normals every corner is fine (SICN 0.133 at each), but the strip
+    /// bends so far that corner 2's cross product points against corner 1's:
+    /// Gmsh 4.15.2 reports minSICN −0.3391 for it, in any node numbering
+    /// (measured; its minSJ and minDetJac stay positive).
+    #[test]
+    fn element_judge_catches_a_bent_sliver_the_cad_normals_pass() {
+        let model = geometry::primitives::cylinder(1.0, 1.0);
+        let mut mesh = QuadMesh::default();
+        for (deg, v) in [(90.0f64, 0.1), (105.0, 0.2), (60.0, 0.1), (45.0, 0.0)] {
+            let uv = [deg.to_radians(), v];
+            mesh.nodes.push(model.faces[0].surface.eval(uv));
+            mesh.node_class.push(NodeClass::Face(FaceId(0), Some(uv)));
+        }
+        mesh.quads.push([0, 1, 2, 3]);
+        mesh.quad_face.push(FaceId(0));
+        let s = MeshStats::compute(&mesh, Some(&model));
+        assert_eq!(s.inverted_quads, 0, "{s}");
+        assert!(s.sicn.min > 0.13, "{s}");
+        assert_eq!(s.inverted_quads_element_geometry, 1, "{s}");
+        let e = quad_element_sicn_values(&mesh);
+        assert!((e[0] + 0.339_127_957).abs() < 1e-8, "{e:?}");
+        // the element judge needs no model
+        let s = MeshStats::compute(&mesh, None);
+        assert_eq!(s.inverted_quads_element_geometry, 1, "{s}");
     }
 }

@@ -7,7 +7,8 @@
 //!
 //! `tests/data/i03o_m3_quadqs.msh` is Gmsh's mesh of `i03o_m3.step` (same
 //! settings, no parameters): Gmsh's `getElementQualities("minSICN")` counts 6
-//! inverted quads and an average of 0.813.
+//! inverted quads and an average of 0.813; our element-geometry SICN gives
+//! Gmsh's values of those 6.
 
 use std::path::Path;
 
@@ -63,6 +64,7 @@ fn gmsh_quadqs_mesh_of_i01o_m1_matches_gmsh_figures() {
         s.face_interior_nodes
     );
     assert_eq!(s.inverted_quads, 0);
+    assert_eq!(s.inverted_quads_element_geometry, 0);
     assert_eq!(s.open_edges, 0);
     assert_eq!(s.non_manifold_edges, 0);
 }
@@ -79,6 +81,27 @@ fn gmsh_quadqs_mesh_of_i03o_m3_has_gmsh_inverted_count() {
     // every quad counted inverted has a negative SICN, and no other
     let values = mesh::stats::quad_sicn_values(&r.mesh, None);
     assert_eq!(values.iter().filter(|&&x| x < 0.0).count(), 6);
+    // the element-geometry judge gives Gmsh's own values: the negative
+    // minSICN of these 6 quads as Gmsh 4.15.2 reports them for this file
+    // (getElementQualities, no CAD), to rounding
+    assert_eq!(s.inverted_quads_element_geometry, 6);
+    let mut negative: Vec<f64> = mesh::stats::quad_element_sicn_values(&r.mesh)
+        .into_iter()
+        .filter(|&x| x < 0.0)
+        .collect();
+    negative.sort_by(f64::total_cmp);
+    let gmsh = [
+        -0.3427355435291997,
+        -0.1696972450853711,
+        -0.06672403225388648,
+        -0.0660349970350098,
+        -0.039350866846004064,
+        -0.03898087448734668,
+    ];
+    assert_eq!(negative.len(), gmsh.len());
+    for (a, b) in negative.iter().zip(&gmsh) {
+        assert!((a - b).abs() < 1e-12, "{negative:?} vs Gmsh {gmsh:?}");
+    }
 }
 
 #[test]

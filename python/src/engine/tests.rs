@@ -165,6 +165,7 @@ fn a_job_meshes_as_the_library_does() {
     let stats: Value = serde_json::from_str(&stats_json(&mesh, Some(&model))).unwrap();
     assert_eq!(stats["quads"], mesh.quads.len());
     assert_eq!(stats["inverted_quads"], 0);
+    assert_eq!(stats["inverted_quads_element_geometry"], 0);
     assert_eq!(stats["cad_normals"], true);
 }
 
