@@ -53,6 +53,7 @@
 #include <gp_Vec2d.hxx>
 
 #include <csignal>
+#include <pthread.h>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -139,25 +140,50 @@ static int guarded(char* err, size_t errlen, F body) {
 
 // While alive: OCCT's signal handlers, which turn an access violation (or
 // another fault) inside OCCT into a jump to the nearest OCC_CATCH_SIGNALS,
-// where it is thrown as a Standard_Failure. The handlers the process had
-// (Rust's stack-overflow guard, Python's Ctrl-C) are saved and put back.
+// where it is thrown as a Standard_Failure. The fault handlers run on an
+// alternate stack of their own, so that a stack overflow (OCCT recursing on
+// a reference cycle of a damaged file) is caught too: the jump leaves the
+// exhausted stack behind. The handlers the process had (Rust's
+// stack-overflow guard, Python's Ctrl-C), its alternate stack and its signal
+// mask are put back.
 class SignalsAsExceptions {
  public:
-  SignalsAsExceptions() {
+  SignalsAsExceptions() : alt_(ALT_STACK) {
     for (int s = 1; s < NSIG_SAVED; ++s) sigaction(s, nullptr, &saved_[s]);
+    pthread_sigmask(SIG_SETMASK, nullptr, &mask_);
+    stack_t ss;
+    ss.ss_sp = alt_.data();
+    ss.ss_size = alt_.size();
+    ss.ss_flags = 0;
+    have_alt_ = sigaltstack(&ss, &old_alt_) == 0;
     OSD::SetSignal(OSD_SignalMode_Set, Standard_False);
+    for (int s : {SIGSEGV, SIGBUS}) {
+      struct sigaction a;
+      if (sigaction(s, nullptr, &a) == 0) {
+        a.sa_flags |= SA_ONSTACK;
+        sigaction(s, &a, nullptr);
+      }
+    }
   }
   ~SignalsAsExceptions() {
     for (int s = 1; s < NSIG_SAVED; ++s) {
       if (s != SIGKILL && s != SIGSTOP) sigaction(s, &saved_[s], nullptr);
     }
+    // the jump out of a handler leaves the fault signal blocked
+    pthread_sigmask(SIG_SETMASK, &mask_, nullptr);
+    if (have_alt_) sigaltstack(&old_alt_, nullptr);
   }
   SignalsAsExceptions(const SignalsAsExceptions&) = delete;
   SignalsAsExceptions& operator=(const SignalsAsExceptions&) = delete;
 
  private:
   static const int NSIG_SAVED = 32;
+  static const size_t ALT_STACK = 256 * 1024;
   struct sigaction saved_[NSIG_SAVED];
+  sigset_t mask_;
+  std::vector<char> alt_;
+  stack_t old_alt_;
+  bool have_alt_ = false;
 };
 
 // Runs `body` with faults inside OCCT converted to errors (see
