@@ -81,6 +81,11 @@ extern "C" {
         errlen: usize,
     ) -> c_int;
     pub fn occt_model_free(m: *mut OcctModel);
+    /// Turns faults inside OCCT into errors on this thread until the
+    /// matching `occt_signals_end` (the process's signal handlers meanwhile
+    /// OCCT's; one such scope at a time in the process).
+    pub fn occt_signals_begin() -> *mut std::ffi::c_void;
+    pub fn occt_signals_end(scope: *mut std::ffi::c_void);
     pub fn occt_write(
         m: *const OcctModel,
         path: *const c_char,

@@ -144,15 +144,14 @@ pub fn load(path: &Path) -> Result<Model, ImportError> {
 /// Like [`load`], and also returns OCCT's tolerances of every corner and
 /// curve (useful for merging nodes and for checking pcurves).
 pub fn import(path: &Path) -> Result<Import, ImportError> {
-    let shape = open(path)?;
-    import::build(&shape, path)
+    let owned = path.to_path_buf();
+    open_with(path, move |shape| import::build(&shape, &owned))
 }
 
 /// Numbers of faces, edges and vertices of the file's shape, as counted by
 /// OCCT itself (`TopExp::MapShapes`): the reference [`load`] must match.
 pub fn topology_counts(path: &Path) -> Result<(usize, usize, usize), ImportError> {
-    let shape = open(path)?;
-    Ok(import::counts(&shape))
+    open_with(path, |shape| Ok(import::counts(&shape)))
 }
 
 /// Why [`convert`] could not write its output.
@@ -184,7 +183,7 @@ pub fn convert(input: &Path, output: &Path) -> Result<(), ConvertError> {
     };
     let format =
         Format::from_path(output).ok_or_else(|| write_err("CAD", "unknown extension".into()))?;
-    let shape = open(input)?;
+    let shape = open_with(input, Ok)?;
     let cpath = CString::new(output.as_os_str().as_bytes())
         .map_err(|_| write_err(format.name(), "the path holds a NUL byte".into()))?;
     let mut err = vec![0u8; 1024];
@@ -216,7 +215,10 @@ const PEEK: u64 = 4096;
 
 /// Checks the file (exists, not empty, known extension, plausibly of its
 /// format) and reads it with OCCT.
-fn open(path: &Path) -> Result<ffi::ModelPtr, ImportError> {
+fn open_with<T: Send + 'static>(
+    path: &Path,
+    after: impl FnOnce(ffi::ModelPtr) -> Result<T, ImportError> + Send + 'static,
+) -> Result<T, ImportError> {
     let owned = || path.to_path_buf();
     let meta = match std::fs::metadata(path) {
         Ok(m) => m,
@@ -285,24 +287,36 @@ fn open(path: &Path) -> Result<ffi::ModelPtr, ImportError> {
     let cpath = CString::new(path.as_os_str().as_bytes())
         .map_err(|_| unreadable("the path holds a NUL byte".into()))?;
     let limit = read_time_limit(meta.len());
-    let (rc, out, msg) = read_with_deadline(cpath, format, limit)
-        .ok_or_else(|| unreadable(format!(
-            "OpenCASCADE did not finish reading it in {} s, so it is most likely damaged \
-             (QUADRILLE_CAD_READ_SECONDS sets the limit)",
-            limit.as_secs()
-        )))?;
-    let model = ffi::ModelPtr::new(out as *mut ffi::OcctModel);
-    match (rc, model) {
-        (ffi::OK, Some(m)) => Ok(m),
-        (ffi::ERR_TRANSFER, _) => Err(ImportError::NoFace {
-            path: owned(),
-            detail: msg,
-        }),
-        (ffi::ERR_OPEN, _) | (ffi::ERR_EXCEPTION, _) => Err(unreadable(msg)),
-        (rc, _) => Err(unreadable(format!(
-            "the OCCT shim failed with code {rc} {msg}"
-        ))),
-    }
+    let timed_out = unreadable(format!(
+        "OpenCASCADE did not finish reading it in {} s, so it is most likely damaged \
+         (QUADRILLE_CAD_READ_SECONDS sets the limit)",
+        limit.as_secs()
+    ));
+    let owned_path = owned();
+    let read = move || {
+        let unreadable = |detail: String| ImportError::Unreadable {
+            path: owned_path.clone(),
+            format: format.name(),
+            detail,
+        };
+        let mut err = vec![0u8; 1024];
+        let mut out: *mut ffi::OcctModel = std::ptr::null_mut();
+        // SAFETY: cpath is NUL-terminated, out and err are valid for the call.
+        let rc = unsafe {
+            ffi::occt_load(cpath.as_ptr(), format.code(), &mut out, err.as_mut_ptr().cast(), err.len())
+        };
+        let msg = c_message(&err);
+        match (rc, ffi::ModelPtr::new(out)) {
+            (ffi::OK, Some(m)) => after(m),
+            (ffi::ERR_TRANSFER, _) => Err(ImportError::NoFace {
+                path: owned_path.clone(),
+                detail: msg,
+            }),
+            (ffi::ERR_OPEN, _) | (ffi::ERR_EXCEPTION, _) => Err(unreadable(msg)),
+            (rc, _) => Err(unreadable(format!("the OCCT shim failed with code {rc} {msg}"))),
+        }
+    };
+    read_with_deadline(read, limit).unwrap_or(Err(timed_out))
 }
 
 /// Seconds OCCT may take to read a file of `len` bytes before the file counts
@@ -318,35 +332,30 @@ fn read_time_limit(len: u64) -> std::time::Duration {
     std::time::Duration::from_secs_f64(secs)
 }
 
-/// Runs `occt_load` on a reader thread and waits at most `limit`: the return
-/// code, the model (as an address) and the message, or `None` when the
-/// reader did not finish — that thread is then left to itself (OCCT's loops
-/// cannot be interrupted), and a later read in this process waits for its
-/// lock and times out too.
-fn read_with_deadline(
-    cpath: CString,
-    format: Format,
+/// Runs `read` (OCCT's reader, then what is built from its shape) on a
+/// reader thread, with faults inside OCCT turned into errors throughout
+/// (`occt_signals_begin`), and waits at most `limit`; `None` when it did not
+/// finish — that thread is then left to itself (OCCT's loops cannot be
+/// interrupted), and a later read in this process waits for its lock and
+/// times out too.
+fn read_with_deadline<T: Send + 'static>(
+    read: impl FnOnce() -> T + Send + 'static,
     limit: std::time::Duration,
-) -> Option<(i32, usize, String)> {
+) -> Option<T> {
     let (tx, rx) = std::sync::mpsc::channel();
     let reader = move || {
-        let mut err = vec![0u8; 1024];
-        let mut out: *mut ffi::OcctModel = std::ptr::null_mut();
-        // SAFETY: cpath is NUL-terminated, out and err are valid for the call.
-        let rc = unsafe {
-            ffi::occt_load(cpath.as_ptr(), format.code(), &mut out, err.as_mut_ptr().cast(), err.len())
-        };
-        let answer = (rc, out as usize, c_message(&err));
-        if let Err(std::sync::mpsc::SendError((_, late, _))) = tx.send(answer) {
-            // nobody waits any more: free the model read too late
-            drop(ffi::ModelPtr::new(late as *mut ffi::OcctModel));
-        }
+        // SAFETY: begin and end pair up on this thread.
+        let scope = unsafe { ffi::occt_signals_begin() };
+        let answer = read();
+        unsafe { ffi::occt_signals_end(scope) };
+        // nobody waits any more when this fails: the answer is dropped
+        let _ = tx.send(answer);
     };
     // OCCT recurses deeply on big assemblies: a large stack (reserved, not
     // committed)
     let spawned = std::thread::Builder::new().name("occt-read".into()).stack_size(256 << 20).spawn(reader);
     if spawned.is_err() {
-        return Some((ffi::ERR_EXCEPTION, 0, "could not start the reader thread".into()));
+        return None;
     }
     rx.recv_timeout(limit).ok()
 }

@@ -56,6 +56,7 @@
 #include <pthread.h>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <exception>
 #include <mutex>
 #include <string>
@@ -157,10 +158,13 @@ class SignalsAsExceptions {
     ss.ss_flags = 0;
     have_alt_ = sigaltstack(&ss, &old_alt_) == 0;
     OSD::SetSignal(OSD_SignalMode_Set, Standard_False);
-    for (int s : {SIGSEGV, SIGBUS}) {
+    // SA_NODEFER: the handler leaves by a jump, and OCCT's own catch points
+    // inside the readers go on after it; without it the fault signal would
+    // stay blocked and the next fault would kill the process
+    for (int s : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) {
       struct sigaction a;
       if (sigaction(s, nullptr, &a) == 0) {
-        a.sa_flags |= SA_ONSTACK;
+        a.sa_flags |= SA_ONSTACK | SA_NODEFER;
         sigaction(s, &a, nullptr);
       }
     }
@@ -186,12 +190,36 @@ class SignalsAsExceptions {
   bool have_alt_ = false;
 };
 
+// OCCT's handlers are process-wide: one scope at a time, nested scopes of
+// the same thread reuse the outer one.
+static std::mutex g_signal_mutex;
+static thread_local int t_signal_depth = 0;
+
+class SignalScope {
+ public:
+  SignalScope() {
+    if (t_signal_depth++ == 0) {
+      g_signal_mutex.lock();
+      signals_.reset(new SignalsAsExceptions());
+    }
+  }
+  ~SignalScope() {
+    signals_.reset();
+    if (--t_signal_depth == 0) g_signal_mutex.unlock();
+  }
+  SignalScope(const SignalScope&) = delete;
+  SignalScope& operator=(const SignalScope&) = delete;
+
+ private:
+  std::unique_ptr<SignalsAsExceptions> signals_;
+};
+
 // Runs `body` with faults inside OCCT converted to errors (see
-// SignalsAsExceptions); call it with the reader mutex held, so that nothing
-// the jump skips owns a lock.
+// SignalsAsExceptions); nothing the jump skips may own a lock or need its
+// destructor.
 template <class F>
 static int fault_guarded(char* err, size_t errlen, F body) {
-  SignalsAsExceptions signals;
+  SignalScope signals;
   try {
     OCC_CATCH_SIGNALS
     return body();
@@ -315,6 +343,11 @@ int occt_load(const char* path, int kind, OcctModel** out, char* err, size_t err
 
 void occt_model_free(OcctModel* m) { delete m; }
 
+/// Faults inside OCCT become errors on this thread until occt_signals_end
+/// (used around a whole import: reading, then the topology queries).
+void* occt_signals_begin() { return new SignalScope(); }
+void occt_signals_end(void* scope) { delete static_cast<SignalScope*>(scope); }
+
 /// Writes the model's shape to `path`. kind: 0 STEP (AP214, as is), 1 IGES
 /// (B-rep mode, so edges stay shared), 2 BREP.
 int occt_write(const OcctModel* m, const char* path, int kind, char* err, size_t errlen) {
@@ -353,7 +386,7 @@ void occt_model_counts(const OcctModel* m, size_t* nf, size_t* ne, size_t* nv) {
 /// Position and tolerance of vertex i (0-based).
 int occt_vertex(const OcctModel* m, size_t i, double* xyz, double* tol) {
   if (i >= (size_t)m->vertices.Extent()) return ERR_INDEX;
-  return guarded(nullptr, 0, [&]() -> int {
+  return fault_guarded(nullptr, 0, [&]() -> int {
     const TopoDS_Vertex& v = TopoDS::Vertex(m->vertices((int)i + 1));
     gp_Pnt p = BRep_Tool::Pnt(v);
     xyz[0] = p.X();
@@ -369,7 +402,7 @@ int occt_vertex(const OcctModel* m, size_t i, double* xyz, double* tol) {
 int occt_edge(const OcctModel* m, size_t i, OcctEdgeInfo* info, OcctCurve** curve) {
   *curve = nullptr;
   if (i >= (size_t)m->edges.Extent()) return ERR_INDEX;
-  return guarded(nullptr, 0, [&]() -> int {
+  return fault_guarded(nullptr, 0, [&]() -> int {
     TopoDS_Edge e = TopoDS::Edge(m->edges((int)i + 1));
     e.Orientation(TopAbs_FORWARD);
     info->degenerate = BRep_Tool::Degenerated(e) ? 1 : 0;
@@ -397,7 +430,7 @@ int occt_edge(const OcctModel* m, size_t i, OcctEdgeInfo* info, OcctCurve** curv
 int occt_face(const OcctModel* m, size_t i, int* reversed, double* bounds, OcctSurf** surf) {
   *surf = nullptr;
   if (i >= (size_t)m->faces.Extent()) return ERR_INDEX;
-  return guarded(nullptr, 0, [&]() -> int {
+  return fault_guarded(nullptr, 0, [&]() -> int {
     const TopoDS_Face& f = TopoDS::Face(m->faces((int)i + 1));
     *reversed = f.Orientation() == TopAbs_REVERSED ? 1 : 0;
     BRepTools::UVBounds(f, bounds[0], bounds[1], bounds[2], bounds[3]);
@@ -418,7 +451,7 @@ int occt_face_uses(const OcctModel* m, size_t i, OcctUse* buf, size_t cap, size_
   if (i >= (size_t)m->faces.Extent()) return ERR_INDEX;
   // Pcurves created before a failure are freed here.
   std::vector<OcctCurve2d*> made;
-  int rc = guarded(nullptr, 0, [&]() -> int {
+  int rc = fault_guarded(nullptr, 0, [&]() -> int {
     TopoDS_Face f = TopoDS::Face(m->faces((int)i + 1));
     f.Orientation(TopAbs_FORWARD);
     TopoDS_Wire outer = BRepTools::OuterWire(f);
