@@ -22,12 +22,7 @@ pub(crate) fn reference_error(text: &[u8]) -> Option<String> {
 fn undefined_reference(text: &[u8]) -> Option<u64> {
     let mut defined = HashSet::new();
     let mut used = Vec::new();
-    for statement in statements(text) {
-        let s = statement.trim_ascii();
-        let Some(rest) = s.strip_prefix(b"#") else { continue };
-        let digits = rest.iter().take_while(|b| b.is_ascii_digit()).count();
-        let Some(id) = number(&rest[..digits]) else { continue };
-        let Some(rhs) = rest[digits..].trim_ascii().strip_prefix(b"=") else { continue };
+    for (id, rhs) in instances(text) {
         defined.insert(id);
         let mut quoted = false;
         let mut i = 0;
@@ -89,12 +84,7 @@ fn oriented_edge_cycle(text: &[u8]) -> Option<String> {
 /// when that is a reference).
 fn oriented_edge_elements(text: &[u8]) -> HashMap<u64, u64> {
     let mut out = HashMap::new();
-    for statement in statements(text) {
-        let s = statement.trim_ascii();
-        let Some(rest) = s.strip_prefix(b"#") else { continue };
-        let digits = rest.iter().take_while(|b| b.is_ascii_digit()).count();
-        let Some(id) = number(&rest[..digits]) else { continue };
-        let Some(rhs) = rest[digits..].trim_ascii().strip_prefix(b"=") else { continue };
+    for (id, rhs) in instances(text) {
         let Some(args) = rhs.trim_ascii().strip_prefix(b"ORIENTED_EDGE") else { continue };
         let Some(args) = args.trim_ascii().strip_prefix(b"(") else { continue };
         if let Some(r) = top_level_args(args).get(3).and_then(|a| reference(a)) {
@@ -102,6 +92,17 @@ fn oriented_edge_elements(text: &[u8]) -> HashMap<u64, u64> {
         }
     }
     out
+}
+
+/// The instances of the text: `#id = rhs` statements as `(id, rhs)`.
+fn instances(text: &[u8]) -> impl Iterator<Item = (u64, &[u8])> {
+    statements(text).into_iter().filter_map(|statement| {
+        let rest = statement.trim_ascii().strip_prefix(b"#")?;
+        let digits = rest.iter().take_while(|b| b.is_ascii_digit()).count();
+        let id = number(&rest[..digits])?;
+        let rhs = rest[digits..].trim_ascii().strip_prefix(b"=")?;
+        Some((id, rhs))
+    })
 }
 
 /// The statements of the text, split at `;` outside quoted strings.
