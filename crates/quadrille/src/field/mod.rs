@@ -27,7 +27,7 @@ pub use crossfield::linsolve::{LowerPattern, SparseSpd};
 pub use crossfield::topology::NONE;
 pub use crossfield::{compute_cross_field, CrossFieldOptions, FaceMesh, FaceTopology};
 pub use field_report::{model_fields, FieldOptions, ModelFields, BACKGROUND_REFINE};
-pub use quad_estimate::{size_integral, SizeIntegral, ESTIMATE_REFINE};
+pub use quad_estimate::{size_integral, SizeIntegral, ESTIMATE_REFINE, PLAN_DIVISIONS};
 pub use scaling::conformal_scaling;
 pub use singularities::{extract_singularities, SingularitySite};
 pub use size_map::{build_size_map, Entity, FaceBackground, SizeMapOptions, DEFAULT_GRADIENT};
