@@ -32,9 +32,12 @@ use crate::methods::MeshMethod;
 /// 50e6 × [`BYTES_PER_QUAD`] of memory.
 pub const DEFAULT_MAX_QUADS: u64 = 50_000_000;
 
-/// Peak memory of a run per quad of its mesh, in bytes (peak resident set
-/// size over the quad count of `quadrille mesh` with the default method).
-pub const BYTES_PER_QUAD: f64 = 2000.0;
+/// Peak memory of a run per quad of its mesh, in bytes: the peak resident
+/// set size of `quadrille mesh` with the default method over its quad count,
+/// rounded up. Measured on i01o_m1, two threads (2026-12-06): 953 k quads
+/// (`--size-factor 0.03125`) in 546 MB, 587 B a quad (472 B a quad more
+/// than at 238 k quads in 216 MB, the fixed part being about 50 MB).
+pub const BYTES_PER_QUAD: f64 = 600.0;
 
 // The constants: the geometric mean of estimate / made over the 26
 // bundled models at the default size set to about 1 (`examples/
