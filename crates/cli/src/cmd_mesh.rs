@@ -282,7 +282,11 @@ fn timings_text(
     let s = |d: std::time::Duration| d.as_secs_f64();
     let rows: [(&str, &str, f64); 18] = [
         ("load", "load", load),
-        ("estimate", "quad count estimate (size guard)", s(t.estimate)),
+        (
+            "estimate",
+            "quad count estimate (size guard)",
+            s(t.estimate),
+        ),
         ("fields", "cross fields and size map", s(t.fields)),
         ("curves", "curve planning and discretization", s(t.curves)),
         ("faces", "faces (wall time)", s(t.faces)),
@@ -374,6 +378,9 @@ mod tests {
             json.contains("\"estimated_quads\":1234,\"quads\":1000"),
             "{json}"
         );
-        assert!(text.contains("1000 made, 1234 estimated") && text.contains("= 1.23"), "{text}");
+        assert!(
+            text.contains("1000 made, 1234 estimated") && text.contains("= 1.23"),
+            "{text}"
+        );
     }
 }

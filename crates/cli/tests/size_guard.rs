@@ -26,7 +26,9 @@ fn mesh(model: &Path, out: &Path, extra: &[&str]) -> Output {
 
 /// The number after `flag ` in `text` (`--size 0.013` → 0.013).
 fn value_after(text: &str, flag: &str) -> f64 {
-    let rest = &text[text.find(&format!("{flag} ")).unwrap_or_else(|| panic!("no {flag}: {text}"))
+    let rest = &text[text
+        .find(&format!("{flag} "))
+        .unwrap_or_else(|| panic!("no {flag}: {text}"))
         + flag.len()
         + 1..];
     rest.split(|c: char| c.is_whitespace() || c == ')' || c == ',')
@@ -45,14 +47,24 @@ fn a_far_too_small_size_is_refused_at_once_without_a_file() {
     let seconds = started.elapsed().as_secs_f64();
     let err = assert_clean_failure(&r, "i01o_m1.step");
     assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
-    for part in ["quads estimated", "of memory", "above the limit of 50000000", "would fit", "--max-quads 0"] {
+    for part in [
+        "quads estimated",
+        "of memory",
+        "above the limit of 50000000",
+        "would fit",
+        "--max-quads 0",
+    ] {
         assert!(err.contains(part), "`{part}` missing: {err}");
     }
     // a size and a size factor that fit, coarser than asked
     assert!(value_after(&err, "--size") > 1e-5, "{err}");
     assert!(value_after(&err, "--size-factor") > 0.0, "{err}");
     assert!(!out.exists(), "no output file");
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing left behind");
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        0,
+        "nothing left behind"
+    );
     // meshing at 1e-5 would take hours and terabytes: a generous bound
     // that only a refusal before meshing meets
     assert!(seconds < 60.0, "refused after {seconds:.1} s");
@@ -82,7 +94,17 @@ fn the_suggested_size_is_accepted() {
     let r = mesh(&model, &out, &["--max-quads", "2000"]);
     let err = assert_clean_failure(&r, "i01o_m1.step");
     let size = value_after(&err, "--size");
-    let r = mesh(&model, &out, &["--max-quads", "2000", "--size", &size.to_string(), "--timings"]);
+    let r = mesh(
+        &model,
+        &out,
+        &[
+            "--max-quads",
+            "2000",
+            "--size",
+            &size.to_string(),
+            "--timings",
+        ],
+    );
     let text = String::from_utf8_lossy(&r.stderr).into_owned();
     assert!(r.status.success(), "--size {size}: {text}");
     let json = text
@@ -90,7 +112,9 @@ fn the_suggested_size_is_accepted() {
         .find_map(|l| l.strip_prefix("timings:"))
         .unwrap_or_else(|| panic!("no timings: line\n{text}"));
     let number = |key: &str| -> f64 {
-        let at = json.find(&format!("\"{key}\":")).unwrap_or_else(|| panic!("{key}: {json}"));
+        let at = json
+            .find(&format!("\"{key}\":"))
+            .unwrap_or_else(|| panic!("{key}: {json}"));
         json[at + key.len() + 3..]
             .split([',', '}'])
             .next()

@@ -36,7 +36,10 @@ fn main() {
         max_quads: 0,
         ..Default::default()
     };
-    println!("{:<34} {:<13} {:>9} {:>9} {:>6} {:>9}", "model", "method", "estimate", "quads", "ratio", "est. s");
+    println!(
+        "{:<34} {:<13} {:>9} {:>9} {:>6} {:>9}",
+        "model", "method", "estimate", "quads", "ratio", "est. s"
+    );
     for name in methods.split(',') {
         let m = method(name);
         let mut logs = Vec::new();
@@ -60,7 +63,11 @@ fn main() {
             };
             let ratio = est as f64 / made as f64;
             logs.push(ratio.ln());
-            let short = std::path::Path::new(path).file_name().unwrap().to_string_lossy().into_owned();
+            let short = std::path::Path::new(path)
+                .file_name()
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
             println!("{short:<34} {name:<13} {est:>9} {made:>9} {ratio:>6.2} {secs:>9.3}");
         }
         let n = logs.len().max(1) as f64;

@@ -49,14 +49,21 @@ const TOLERANCE: f64 = 0.30;
 fn the_estimate_is_within_30_percent_of_the_default_methods_count() {
     let paths = models();
     if std::env::var("QUADRILLE_MODELS").is_err() {
-        assert!(paths.len() >= 26, "expected the 26 CAD models, found {}", paths.len());
+        assert!(
+            paths.len() >= 26,
+            "expected the 26 CAD models, found {}",
+            paths.len()
+        );
     }
     let opts = MeshOptions {
         threads: Some(2),
         ..Default::default()
     };
     let mut off = Vec::new();
-    println!("{:<28} {:>9} {:>9} {:>6}", "model", "estimate", "quads", "ratio");
+    println!(
+        "{:<28} {:>9} {:>9} {:>6}",
+        "model", "estimate", "quads", "ratio"
+    );
     for path in &paths {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         let model = occt::load(path).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -68,7 +75,10 @@ fn the_estimate_is_within_30_percent_of_the_default_methods_count() {
         let ratio = alone as f64 / mesh.quads.len() as f64;
         println!("{name:<28} {alone:>9} {:>9} {ratio:>6.2}", mesh.quads.len());
         if (ratio - 1.0).abs() > TOLERANCE {
-            off.push(format!("{name}: estimate {alone}, made {}", mesh.quads.len()));
+            off.push(format!(
+                "{name}: estimate {alone}, made {}",
+                mesh.quads.len()
+            ));
         }
     }
     assert!(off.is_empty(), "estimates off by more than 30 %: {off:#?}");

@@ -229,7 +229,9 @@ mod tests {
         // rounded up: still within the limit
         assert!(text.contains("size 0.013 (size factor 0.52)"), "{text}");
         assert!(text.contains("max_quads 0"), "{text}");
-        let MeshError::TooManyQuads(mut t) = e else { unreachable!() };
+        let MeshError::TooManyQuads(mut t) = e else {
+            unreachable!()
+        };
         let cli = t.message("--size", "--size-factor", "--max-quads");
         assert!(cli.contains("--size 0.013 (--size-factor 0.52)"), "{cli}");
         assert!(cli.contains("--max-quads 0 lifts"), "{cli}");

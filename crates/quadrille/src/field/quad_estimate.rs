@@ -30,7 +30,9 @@ use geometry::{FaceId, Model};
 use crate::core::error::MeshError;
 use crate::core::options::default_size;
 use crate::core::patch::NodeRef;
-use crate::curves::curve_mesh::{discretize_all, largest_faces_first, plan_curves, plan_final_curves};
+use crate::curves::curve_mesh::{
+    discretize_all, largest_faces_first, plan_curves, plan_final_curves,
+};
 use crate::field::crossfield::{FaceMesh, FaceTopology};
 use crate::field::size_map::{build_size_map, typical_curvature, FaceBackground, SizeMapOptions};
 use crate::triangulate::face_triangulation::FaceTriangulation;
@@ -205,7 +207,12 @@ pub fn size_integral(
     let plan = plan_final_curves(model, h * scale, &sizes);
     let lengths: Vec<f64> = cms
         .iter()
-        .map(|m| m.points.windows(2).map(|w| geometry::vec3::dist(w[0], w[1])).sum())
+        .map(|m| {
+            m.points
+                .windows(2)
+                .map(|w| geometry::vec3::dist(w[0], w[1]))
+                .sum()
+        })
         .collect();
     for (f, face) in model.faces.iter().enumerate() {
         for u in face.curve_uses() {
@@ -238,7 +245,11 @@ mod tests {
             let s = size_integral(&model, h, &uniform(h)).unwrap();
             assert!((s.area[0] - 4.0).abs() < 1e-9, "area {}", s.area[0]);
             let want = 4.0 / (h * h);
-            assert!((s.total() / want - 1.0).abs() < 1e-9, "{} vs {want}", s.total());
+            assert!(
+                (s.total() / want - 1.0).abs() < 1e-9,
+                "{} vs {want}",
+                s.total()
+            );
         }
     }
 
@@ -251,7 +262,10 @@ mod tests {
         let h = 1e-5;
         let s = size_integral(&model, h, &uniform(h)).unwrap();
         let area: f64 = s.area.iter().sum();
-        assert!((area / (4.0 * std::f64::consts::PI) - 1.0).abs() < 0.02, "area {area}");
+        assert!(
+            (area / (4.0 * std::f64::consts::PI) - 1.0).abs() < 0.02,
+            "area {area}"
+        );
         assert!((s.total() * h * h / area - 1.0).abs() < 1e-9);
         // the background below the default size is the default size's
         assert_eq!(s.triangles, at_default.triangles);
