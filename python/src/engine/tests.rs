@@ -290,7 +290,12 @@ fn a_far_too_small_size_is_an_option_error_naming_the_python_options() {
         panic!("not refused")
     };
     assert_eq!(e.kind, ErrorKind::Option, "{e}");
-    for part in ["i01o_m1.step", "quads estimated", "size_factor", "max_quads 0 lifts"] {
+    for part in [
+        "i01o_m1.step",
+        "quads estimated",
+        "size_factor",
+        "max_quads 0 lifts",
+    ] {
         assert!(e.message.contains(part), "`{part}` missing: {e}");
     }
     assert!(!e.message.contains("--"), "no command-line flags: {e}");
