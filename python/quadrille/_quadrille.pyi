@@ -100,6 +100,7 @@ def mesh(
     cavities: bool = True,
     regular_pass: bool = True,
     quads_per_turn: float = 20.0,
+    max_quads: int = 50_000_000,
 ) -> QuadMesh:
     """Meshes a model with quads (methods: quasi-structured, unstructured, baseline, regular)."""
 

@@ -443,6 +443,8 @@ fn model_of(py: Python<'_>, model_or_path: &Bound<'_, PyAny>) -> PyResult<Py<Mod
 /// - patterns, defects, cavities, regular_pass: the quasi-structured
 ///   method's steps (False switches one off, as --no-patterns etc.).
 /// - quads_per_turn: quads per full turn of the normal on curved faces (0: off).
+/// - max_quads: refuse (OptionError) when the quad count estimated before
+///   meshing is above this; 0 lifts the limit.
 ///
 /// The interpreter is free while meshing (other threads run); Ctrl-C raises
 /// KeyboardInterrupt at once (the work stops at its next face). Raises
@@ -450,7 +452,8 @@ fn model_of(py: Python<'_>, model_or_path: &Bound<'_, PyAny>) -> PyResult<Py<Mod
 #[pyfunction(name = "mesh")]
 #[pyo3(signature = (model_or_path, size = None, size_factor = 1.0, method = "quasi-structured",
     threads = None, progress = None, patterns = true, defects = true, cavities = true,
-    regular_pass = true, quads_per_turn = quadrille::DEFAULT_QUADS_PER_TURN))]
+    regular_pass = true, quads_per_turn = quadrille::DEFAULT_QUADS_PER_TURN,
+    max_quads = quadrille::DEFAULT_MAX_QUADS as i64))]
 #[allow(clippy::too_many_arguments)]
 fn mesh_model(
     py: Python<'_>,
@@ -465,6 +468,7 @@ fn mesh_model(
     cavities: bool,
     regular_pass: bool,
     quads_per_turn: f64,
+    max_quads: i64,
 ) -> PyResult<QuadMesh> {
     let threads = match threads {
         Some(n) if n < 1 => {
@@ -474,6 +478,12 @@ fn mesh_model(
         }
         n => n.map(|n| n as usize),
     };
+    if max_quads < 0 {
+        return Err(OptionError::new_err(format!(
+            "max_quads {max_quads}: give a quad count (0: no limit)"
+        )));
+    }
+    let max_quads = max_quads as u64;
     let request = MeshRequest {
         size,
         size_factor,
@@ -486,6 +496,7 @@ fn mesh_model(
             regular_pass,
         },
         quads_per_turn,
+        max_quads,
     };
     // options first: a bad one is refused before a long load
     request.to_library(None).map_err(py_err)?;

@@ -189,6 +189,8 @@ pub struct MeshRequest {
     pub stages: Stages,
     /// Quads per full turn of the normal on curved faces (0: off).
     pub quads_per_turn: f64,
+    /// The size guard's limit on the estimated quad count (0: no limit).
+    pub max_quads: u64,
 }
 
 impl Default for MeshRequest {
@@ -200,6 +202,7 @@ impl Default for MeshRequest {
             threads: None,
             stages: Stages::ALL,
             quads_per_turn: quadrille::DEFAULT_QUADS_PER_TURN,
+            max_quads: quadrille::DEFAULT_MAX_QUADS,
         }
     }
 }
@@ -263,6 +266,7 @@ impl MeshRequest {
             progress: progress.clone(),
             regularize_progress: progress,
             quads_per_turn: self.quads_per_turn,
+            max_quads: self.max_quads,
         };
         Ok((opts, method))
     }
@@ -272,10 +276,14 @@ impl MeshRequest {
 fn meshing_error(path: &str, e: quadrille::MeshError) -> Error {
     use quadrille::MeshError as E;
     let kind = match e {
-        E::InvalidSize(_) | E::Sizing(_) => ErrorKind::Option,
+        E::InvalidSize(_) | E::Sizing(_) | E::TooManyQuads(_) => ErrorKind::Option,
         _ => ErrorKind::Meshing,
     };
-    Error::new(kind, format!("{path}: {e}"))
+    let message = match &e {
+        E::TooManyQuads(t) => t.message("size", "size_factor", "max_quads"),
+        e => e.to_string(),
+    };
+    Error::new(kind, format!("{path}: {message}"))
 }
 
 /// What a [`Job`] ends with: its value, an error, or cancelled.
@@ -440,6 +448,7 @@ pub fn report_json(
         "faces": faces,
         "nodes": mesh.nodes.len(),
         "quads": mesh.quads.len(),
+        "estimated_quads": report.estimated_quads,
         "patterns": report.patterns.iter().map(|(f, name)| json!({"face": f.0 + 1, "pattern": name})).collect::<Vec<_>>(),
         "fallback": report.fallback.iter().map(|(f, why)| json!({"face": f.0 + 1, "reason": why.to_string()})).collect::<Vec<_>>(),
         "defects": {

@@ -75,6 +75,7 @@ def test_bad_model_files(tmp_path):
         ({"threads": 0}, "threads"),
         ({"threads": -3}, "threads"),
         ({"quads_per_turn": -1}, "quads_per_turn"),
+        ({"max_quads": -1}, "max_quads"),
         ({"method": "baseline", "cavities": False}, "cavities=False"),
         ({"method": "regular", "patterns": False, "defects": False}, "patterns=False, defects=False"),
     ],
@@ -82,6 +83,22 @@ def test_bad_model_files(tmp_path):
 def test_bad_options(kwargs, words):
     with pytest.raises(quadrille.OptionError, match=words.replace("(", r"\(")):
         quadrille.mesh(SPHERE, **kwargs)
+
+
+def test_a_far_too_small_size_is_refused_before_meshing():
+    # the size guard: one line with the estimate, a size that fits and the
+    # option that lifts the limit
+    with pytest.raises(quadrille.OptionError) as e:
+        quadrille.mesh(CAD / "i01o_m1.step", size=1e-5)
+    msg = str(e.value)
+    assert "i01o_m1.step" in msg and "quads estimated" in msg, msg
+    assert "size_factor" in msg and "max_quads 0" in msg and "\n" not in msg, msg
+    # a limit of 10 refuses the default size; 0 lifts it
+    with pytest.raises(quadrille.OptionError, match="limit of 10 quads"):
+        quadrille.mesh(SPHERE, max_quads=10)
+    m = quadrille.mesh(SPHERE, max_quads=0)
+    assert len(m.quads) > 10
+    assert m.report["estimated_quads"] > 10
 
 
 def test_options_are_checked_before_loading(tmp_path):

@@ -85,11 +85,12 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         threads: args.threads,
         progress: bar.callback(),
         quads_per_turn: args.quads_per_turn,
+        max_quads: args.max_quads,
         ..MeshOptions::default()
     };
     let opts = options(args);
     let (out, report) = quadrille::mesh_coarse(&model, &mesh_opts, &opts, input)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
+        .map_err(|e| crate::cmd_mesh::meshing_error(&args.model, e))?;
     bar.finish();
     let t_write = Instant::now();
     let enc = if args.binary { MshEncoding::Binary } else { MshEncoding::Ascii };
@@ -183,6 +184,7 @@ fn json_report(r: &CoarseReport, s: &HighOrderStats, t_load: f64) -> serde_json:
     let total = t_load + t.total();
     serde_json::json!({
         "faces": l.input_quads,
+        "estimated_quads": r.estimated_quads,
         "p_init": l.initial_patches,
         "irregular": l.irregular_nodes,
         "variables": l.variables,

@@ -33,6 +33,19 @@ fn stages(args: &MeshArgs) -> Result<quadrille::Stages> {
     }
 }
 
+/// The library's error naming the model file; the size guard's refusal
+/// names the command-line options (`--size`, `--size-factor`, `--max-quads`).
+pub(crate) fn meshing_error(model: &std::path::Path, e: quadrille::MeshError) -> anyhow::Error {
+    match e {
+        quadrille::MeshError::TooManyQuads(t) => anyhow::anyhow!(
+            "{}: {}",
+            model.display(),
+            t.message("--size", "--size-factor", "--max-quads")
+        ),
+        e => anyhow::anyhow!("{}: {e}", model.display()),
+    }
+}
+
 /// The command-line name of a method.
 fn method_name(m: Method) -> &'static str {
     match m {
@@ -76,6 +89,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         progress: bar.callback(),
         regularize_progress: regularize_bar.callback_after(&bar),
         quads_per_turn: args.quads_per_turn,
+        max_quads: args.max_quads,
     };
     let t1 = Instant::now();
     let method = match args.method {
@@ -86,7 +100,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         Method::Coarse => unreachable!("the coarse method returned above"),
     };
     let (m, report) = quadrille::mesh_model_with(&model, &opts, method)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
+        .map_err(|e| meshing_error(&args.model, e))?;
     bar.finish();
     regularize_bar.finish();
     if !args.quiet {
@@ -176,7 +190,12 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
         eprint!(
             "{}",
-            timings_text(&report.times, threads, [t_load, t_mesh, t_improve, t_write])
+            timings_text(
+                &report.times,
+                threads,
+                [t_load, t_mesh, t_improve, t_write],
+                (report.estimated_quads, m.quads.len())
+            )
         );
     }
     if !args.quiet {
@@ -250,12 +269,24 @@ fn topology_summary(
 
 /// The `--timings` report: one line per stage (seconds), then the same as one
 /// `timings:` JSON line (`total` = load + meshing + improvement, writing excluded).
-/// `cli` holds the times measured by the command: load, meshing, regularization, writing.
-fn timings_text(t: &quadrille::StageTimes, threads: usize, cli: [f64; 4]) -> String {
+/// `cli` holds the times measured by the command: load, meshing, regularization, writing;
+/// `quads` the size guard's estimate and the quads made (a line of their own,
+/// and `estimated_quads`, `quads` in the JSON line).
+fn timings_text(
+    t: &quadrille::StageTimes,
+    threads: usize,
+    cli: [f64; 4],
+    quads: (u64, usize),
+) -> String {
     let [load, mesh, regularize, write] = cli;
     let s = |d: std::time::Duration| d.as_secs_f64();
-    let rows: [(&str, &str, f64); 17] = [
+    let rows: [(&str, &str, f64); 18] = [
         ("load", "load", load),
+        (
+            "estimate",
+            "quad count estimate (size guard)",
+            s(t.estimate),
+        ),
         ("fields", "cross fields and size map", s(t.fields)),
         ("curves", "curve planning and discretization", s(t.curves)),
         ("faces", "faces (wall time)", s(t.faces)),
@@ -288,10 +319,16 @@ fn timings_text(t: &quadrille::StageTimes, threads: usize, cli: [f64; 4]) -> Str
     for (_, label, v) in &rows {
         out.push_str(&format!("  {label:<37} {v:>9.4}\n"));
     }
-    let json: Vec<String> = rows
+    let (estimated, made) = quads;
+    out.push_str(&format!(
+        "quads: {made} made, {estimated} estimated before meshing (estimate / made = {:.2})\n",
+        estimated as f64 / made.max(1) as f64
+    ));
+    let mut json: Vec<String> = rows
         .iter()
         .map(|(key, _, v)| format!("\"{key}\":{v:.4}"))
         .collect();
+    json.push(format!("\"estimated_quads\":{estimated},\"quads\":{made}"));
     out.push_str(&format!("timings:{{{}}}\n", json.join(",")));
     out
 }
@@ -306,9 +343,10 @@ mod tests {
             frontal: std::time::Duration::from_millis(250),
             ..Default::default()
         };
-        let text = timings_text(&t, 2, [0.5, 1.0, 0.0, 0.25]);
+        let text = timings_text(&t, 2, [0.5, 1.0, 0.0, 0.25], (1234, 1000));
         for stage in [
             "load",
+            "quad count estimate",
             "cross fields",
             "curve planning",
             "patterns",
@@ -335,5 +373,14 @@ mod tests {
         assert!(json.contains("\"frontal\":0.2500"), "{json}");
         // load + meshing + regularize, writing excluded
         assert!(json.contains("\"total\":1.5000"), "{json}");
+        // the size guard's estimate beside the count made
+        assert!(
+            json.contains("\"estimated_quads\":1234,\"quads\":1000"),
+            "{json}"
+        );
+        assert!(
+            text.contains("1000 made, 1234 estimated") && text.contains("= 1.23"),
+            "{text}"
+        );
     }
 }

@@ -155,9 +155,15 @@ pub struct MeshArgs {
     /// quasi-structured: no last pass of the regular method's swaps, collapses and splits on what the cavities left.
     #[arg(long)]
     no_regular_pass: bool,
-    /// Print the time of each stage on stderr (a table, then one `timings:` JSON line).
+    /// Print the time of each stage on stderr (a table, then one `timings:` JSON
+    /// line), with the estimated and the made quad counts.
     #[arg(long)]
     timings: bool,
+    /// Refuse to mesh when the quad count estimated before meshing is above
+    /// N (the message says the memory it would take and a size that fits);
+    /// 0 lifts the limit.
+    #[arg(long, value_name = "N", default_value_t = quadrille::DEFAULT_MAX_QUADS)]
+    max_quads: u64,
     #[command(flatten)]
     coarse: CoarseArgs,
 }

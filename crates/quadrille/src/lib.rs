@@ -49,7 +49,7 @@ pub mod smoothing;
 pub mod topology;
 pub mod triangulate;
 
-pub use core::error::{FaceError, MeshError};
+pub use core::error::{FaceError, MeshError, TooManyQuads};
 pub use core::options::{default_size, resolve_size, ProgressFn, Size, DEFAULT_DIVISIONS};
 pub use methods::driver::SLIVER_LENGTH;
 pub use methods::options::{MeshOptions, Stages, DEFAULT_QUADS_PER_TURN};
@@ -57,4 +57,6 @@ pub use methods::report::{FaceOutcome, MadeBy, MeshReport, StageTimes};
 pub use methods::coarse::{
     check_input_mesh, mesh_coarse, CoarseMesh, CoarseOptions, CoarseReport, CoarseTimes,
 };
-pub use methods::{mesh_model, mesh_model_with, MeshMethod};
+pub use methods::{
+    estimate_quads, mesh_model, mesh_model_with, MeshMethod, BYTES_PER_QUAD, DEFAULT_MAX_QUADS,
+};

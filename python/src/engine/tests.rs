@@ -277,3 +277,27 @@ fn the_sphere_field_has_eight_plus_one_singularities() {
     )
     .is_err());
 }
+
+#[test]
+fn a_far_too_small_size_is_an_option_error_naming_the_python_options() {
+    let path = cad("i01o_m1.step");
+    let model = Arc::new(load(&path, 30.0).unwrap().model);
+    let request = MeshRequest {
+        size: Some(1e-5),
+        ..Default::default()
+    };
+    let job = start_mesh(model, path.display().to_string(), &request).unwrap();
+    let Outcome::Failed(e) = finish(&job) else {
+        panic!("not refused")
+    };
+    assert_eq!(e.kind, ErrorKind::Option, "{e}");
+    for part in [
+        "i01o_m1.step",
+        "quads estimated",
+        "size_factor",
+        "max_quads 0 lifts",
+    ] {
+        assert!(e.message.contains(part), "`{part}` missing: {e}");
+    }
+    assert!(!e.message.contains("--"), "no command-line flags: {e}");
+}

@@ -10,11 +10,14 @@
 //! - [`background`]: point location and field interpolation on the
 //!   background (ours);
 //! - [`field_report`]: all of the above for every face of a model
-//!   (`quadrille field`).
+//!   (`quadrille field`);
+//! - [`quad_estimate`]: `∫ dA / s²` of the size map on a background of
+//!   bounded resolution, before meshing (the size guard's input; ours).
 
 pub(crate) mod background;
 pub(crate) mod crossfield;
 pub(crate) mod field_report;
+pub(crate) mod quad_estimate;
 pub(crate) mod scaling;
 pub(crate) mod singularities;
 pub(crate) mod size_map;
@@ -24,6 +27,7 @@ pub use crossfield::linsolve::{LowerPattern, SparseSpd};
 pub use crossfield::topology::NONE;
 pub use crossfield::{compute_cross_field, CrossFieldOptions, FaceMesh, FaceTopology};
 pub use field_report::{model_fields, FieldOptions, ModelFields, BACKGROUND_REFINE};
+pub use quad_estimate::{size_integral, SizeIntegral, ESTIMATE_REFINE, PLAN_DIVISIONS};
 pub use scaling::conformal_scaling;
 pub use singularities::{extract_singularities, SingularitySite};
 pub use size_map::{build_size_map, Entity, FaceBackground, SizeMapOptions, DEFAULT_GRADIENT};

@@ -83,6 +83,9 @@ pub struct CoarseReport {
     pub used_input_layout: bool,
     /// Lines for the user: fallbacks and repairs.
     pub geometry_notes: Vec<String>,
+    /// The size guard's estimate of the default method's quad count
+    /// ([`crate::MeshReport::estimated_quads`]); `None` with a given input mesh.
+    pub estimated_quads: Option<u64>,
 }
 
 /// Checks that `mesh` can start the coarse method on `model`: quads only,
@@ -154,14 +157,16 @@ pub fn mesh_coarse(
     check_manifold(model)?;
     let mut times = CoarseTimes::default();
     let started = Instant::now();
+    let mut estimated_quads = None;
     let input = match input {
         Some(m) => {
             check_input_mesh(&m, model)?;
             m
         }
         None => {
-            let m = super::mesh_model(model, mesh_opts)?;
+            let (m, r) = super::mesh_model_with(model, mesh_opts, super::MeshMethod::default())?;
             times.quasi_structured = started.elapsed().as_secs_f64();
+            estimated_quads = Some(r.estimated_quads);
             m
         }
     };
@@ -204,6 +209,7 @@ pub fn mesh_coarse(
         resampled_elements: ho.resampled.len(),
         used_input_layout,
         geometry_notes: notes,
+        estimated_quads,
     };
     Ok((CoarseMesh { input, fine, high_order }, report))
 }

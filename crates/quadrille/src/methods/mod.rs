@@ -11,6 +11,8 @@
 //! - [`regular`]: the fully-regular paper's method (baseline, then
 //!   topological regularization);
 //! - [`driver`]: faces in parallel, curve refinement rounds, assembly;
+//! - [`guard`]: the size guard, the quad count estimated before meshing
+//!   and a run refused above [`MeshOptions::max_quads`];
 //! - [`options`], [`report`]: what a method takes and gives back.
 //!
 //! Coming methods get a file here each: `coarse` (coarse block layouts and
@@ -20,6 +22,7 @@
 pub(crate) mod baseline;
 pub(crate) mod coarse;
 pub(crate) mod driver;
+pub(crate) mod guard;
 pub(crate) mod options;
 pub(crate) mod quasi_structured;
 pub(crate) mod regular;
@@ -29,7 +32,7 @@ pub(crate) mod unstructured;
 #[cfg(test)]
 mod tests;
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use geometry::{CornerId, Model};
 use mesh::QuadMesh;
@@ -119,17 +122,16 @@ pub fn mesh_model_with(
         return Err(MeshError::NoFaces);
     }
     let h = resolve_size(model, opts.size)?;
-    // the field-guided methods mesh sliver curves as points (their corners
-    // one node; ids kept); the baseline, the regular method's input, meshes
-    // the model as it is
-    let collapsed = match method {
-        MeshMethod::Unstructured | MeshMethod::QuasiStructured(_) => collapse_slivers(model),
-        MeshMethod::Baseline | MeshMethod::Regular(_) => None,
-    };
+    let collapsed = meshed_model(model, &method);
     let (model, slivers) = match &collapsed {
         Some((copy, list)) => (copy, list.as_slice()),
         None => (model, &[][..]),
     };
+    // the size guard, before any curve is sampled at size h
+    let mut estimate_time = Duration::ZERO;
+    let estimated = report::timed(&mut estimate_time, "estimate", || {
+        in_pool(opts.threads, || guard::check(model, h, opts, &method))
+    })?;
     let merged: Vec<CornerId> = slivers
         .iter()
         .filter(|c| c.removed != c.kept)
@@ -148,9 +150,61 @@ pub fn mesh_model_with(
         }),
         MeshMethod::Regular(ropts) => regular::mesh_regular(model, h, opts, ropts),
     }?;
+    out.1.times.estimate = estimate_time;
+    out.1.estimated_quads = estimated;
     out.1.times.total = started.elapsed();
     out.1.slivers = slivers.iter().map(|c| (c.curve, c.length)).collect();
     Ok(out)
 }
 
+/// The model `method` meshes: the field-guided methods mesh sliver curves
+/// as points (their corners one node; ids kept), a copy with the list of
+/// curves collapsed; the baseline, the regular method's input, meshes the
+/// model as it is (`None`).
+fn meshed_model(
+    model: &Model,
+    method: &MeshMethod,
+) -> Option<(Model, Vec<geometry::slivers::Collapsed>)> {
+    match method {
+        MeshMethod::Unstructured | MeshMethod::QuasiStructured(_) => collapse_slivers(model),
+        MeshMethod::Baseline | MeshMethod::Regular(_) => None,
+    }
+}
+
+/// The quad count `method` is estimated to make on `model` with `opts`,
+/// without meshing: what the size guard of [`mesh_model_with`] compares
+/// with [`MeshOptions::max_quads`] (and reports as
+/// [`MeshReport::estimated_quads`]). Cheap at any size: the size map is
+/// integrated on a background no finer than the default size's
+/// ([`crate::field::size_integral`]); within 30 % of the default method's
+/// count on the bundled models at the default size.
+///
+/// ```
+/// use quadrille::{estimate_quads, MeshMethod, MeshOptions, Size};
+/// let model = geometry::primitives::square(1.0);
+/// let at = |h| MeshOptions { size: Size::Absolute(h), ..Default::default() };
+/// let coarse = estimate_quads(&model, &at(0.1), &MeshMethod::default()).unwrap();
+/// let fine = estimate_quads(&model, &at(1e-4), &MeshMethod::default()).unwrap();
+/// // about area / h² quads: a thousand times finer, a million times more
+/// let ratio = fine as f64 / coarse as f64;
+/// assert!(ratio > 0.5e6 && ratio < 2e6, "{ratio}");
+/// ```
+pub fn estimate_quads(
+    model: &Model,
+    opts: &MeshOptions,
+    method: &MeshMethod,
+) -> Result<u64, MeshError> {
+    model.validate()?;
+    if model.faces.is_empty() {
+        return Err(MeshError::NoFaces);
+    }
+    let h = resolve_size(model, opts.size)?;
+    let collapsed = meshed_model(model, method);
+    let model = collapsed.as_ref().map_or(model, |(m, _)| m);
+    in_pool(opts.threads, || {
+        guard::estimate_at(model, h, opts, method).map(|n| n.round() as u64)
+    })
+}
+
 pub use baseline::mesh_face;
+pub use guard::{BYTES_PER_QUAD, DEFAULT_MAX_QUADS};

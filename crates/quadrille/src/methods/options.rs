@@ -1,5 +1,5 @@
-//! The options every method takes: target size, threads, progress, and
-//! the topology stages of the quasi-structured method.
+//! The options every method takes: target size, threads, progress, the
+//! size guard's limit, and the topology stages of the quasi-structured method.
 
 use crate::core::options::{ProgressFn, Size};
 
@@ -20,6 +20,10 @@ pub struct MeshOptions {
     /// of half to twice the target size; 0 turns the bound off. Used by the
     /// quasi-structured and unstructured methods.
     pub quads_per_turn: f64,
+    /// The size guard: the most quads the run may be estimated to make
+    /// before anything is meshed, else [`crate::MeshError::TooManyQuads`];
+    /// 0 lifts the limit ([`crate::DEFAULT_MAX_QUADS`] by default).
+    pub max_quads: u64,
 }
 
 /// Default of [`MeshOptions::quads_per_turn`]: five quads across a 90°
@@ -42,6 +46,7 @@ impl Default for MeshOptions {
             progress: None,
             regularize_progress: None,
             quads_per_turn: DEFAULT_QUADS_PER_TURN,
+            max_quads: crate::methods::guard::DEFAULT_MAX_QUADS,
         }
     }
 }
@@ -57,6 +62,7 @@ impl std::fmt::Debug for MeshOptions {
                 &self.regularize_progress.as_ref().map(|_| "callback"),
             )
             .field("quads_per_turn", &self.quads_per_turn)
+            .field("max_quads", &self.max_quads)
             .finish()
     }
 }

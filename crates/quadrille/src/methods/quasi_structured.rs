@@ -80,6 +80,19 @@ fn size_map_floor(model: &Model, h: f64) -> f64 {
     (SIZE_MAP_MIN * h).min(COARSE_FLOOR * default_size(model))
 }
 
+/// The size map's options for target size `h`: bounded so that faces,
+/// curves and the baseline fallback agree (also what the size guard
+/// estimates the quad count from).
+pub(crate) fn size_map_options(model: &Model, h: f64, opts: &MeshOptions) -> SizeMapOptions {
+    SizeMapOptions {
+        min_size: Some(size_map_floor(model, h)),
+        max_size: Some(SIZE_MAP_MAX * h),
+        quads_per_turn: (opts.quads_per_turn.is_finite() && opts.quads_per_turn > 0.0)
+            .then_some(opts.quads_per_turn),
+        ..Default::default()
+    }
+}
+
 /// The background refinement of the fields for `stages`:
 /// [`PLAIN_BACKGROUND_REFINE`] for the plain method, the finer default as
 /// soon as a topology step will match singularities or fit patterns.
@@ -107,13 +120,7 @@ pub(crate) fn mesh_quasi_structured(
         )));
     }
     let mut times = StageTimes::default();
-    // the size map, bounded so that faces, curves and the baseline fallback agree
-    let sizing = SizeMapOptions {
-        min_size: Some(size_map_floor(model, h)),
-        max_size: Some(SIZE_MAP_MAX * h),
-        quads_per_turn: (opts.quads_per_turn > 0.0).then_some(opts.quads_per_turn),
-        ..Default::default()
-    };
+    let sizing = size_map_options(model, h, opts);
     let field_options = FieldOptions {
         size: Size::Absolute(h),
         sizing,

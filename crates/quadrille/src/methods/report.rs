@@ -19,6 +19,8 @@ use crate::topology::regular_pass::RegularPassReport;
 /// Timings never change the mesh.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct StageTimes {
+    /// The size guard's quad-count estimate ([`crate::methods::guard`]).
+    pub estimate: Duration,
     /// Cross fields, singularities and size map of every face (unstructured method).
     pub fields: Duration,
     /// Curve planning (quantization against the size map) and discretization.
@@ -89,6 +91,9 @@ pub struct MeshReport {
     /// Sliver curves meshed as points (shorter than [`crate::methods::driver::SLIVER_LENGTH`] of the
     /// diagonal: [`geometry::slivers`]), with their lengths, in curve order.
     pub slivers: Vec<(CurveId, f64)>,
+    /// The quad count the size guard estimated before meshing
+    /// ([`crate::estimate_quads`]).
+    pub estimated_quads: u64,
 }
 
 /// How one face's mesh was made.
@@ -141,6 +146,7 @@ impl PartialEq for MeshReport {
             && self.regular_pass == o.regular_pass
             && self.regularize == o.regularize
             && self.slivers == o.slivers
+            && self.estimated_quads == o.estimated_quads
     }
 }
 
