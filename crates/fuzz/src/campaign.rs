@@ -75,7 +75,10 @@ impl Seeds {
         if paths.is_empty() {
             return Err(format!("{}: no seed files", dir.display()));
         }
-        let bytes = paths.iter().map(|p| std::fs::read(p).map_err(|e| format!("{}: {e}", p.display()))).collect::<Result<_, _>>()?;
+        let bytes = paths
+            .iter()
+            .map(|p| std::fs::read(p).map_err(|e| format!("{}: {e}", p.display())))
+            .collect::<Result<_, _>>()?;
         Ok(Seeds { paths, bytes })
     }
 
@@ -84,7 +87,10 @@ impl Seeds {
     pub fn case(&self, seed: u64, case: u64) -> (String, Vec<u8>) {
         let mut rng = Rng::for_case(seed, case);
         let i = rng.below(self.paths.len());
-        let ext = self.paths[i].extension().map(|e| e.to_string_lossy().to_string()).unwrap_or_default();
+        let ext = self.paths[i]
+            .extension()
+            .map(|e| e.to_string_lossy().to_string())
+            .unwrap_or_default();
         (ext, mutant(&self.bytes[i], &self.bytes, &mut rng))
     }
 }
@@ -129,7 +135,10 @@ pub fn work(target: Target, seeds: &Seeds, seed: u64, from: u64, to: u64, scratc
 }
 
 fn limit_memory(bytes: u64) {
-    let lim = libc::rlimit { rlim_cur: bytes as libc::rlim_t, rlim_max: bytes as libc::rlim_t };
+    let lim = libc::rlimit {
+        rlim_cur: bytes as libc::rlim_t,
+        rlim_max: bytes as libc::rlim_t,
+    };
     // SAFETY: setrlimit with a valid struct; failure only leaves the limit off.
     unsafe {
         libc::setrlimit(libc::RLIMIT_AS, &lim);
@@ -168,7 +177,13 @@ impl Campaign {
         let seeds = Seeds::read(&self.seeds)?;
         std::fs::create_dir_all(&self.out).map_err(|e| format!("{}: {e}", self.out.display()))?;
         let started = Instant::now();
-        let mut sum = Summary { target: self.target, cases: 0, accepted: 0, defects: Vec::new(), seconds: 0.0 };
+        let mut sum = Summary {
+            target: self.target,
+            cases: 0,
+            accepted: 0,
+            defects: Vec::new(),
+            seconds: 0.0,
+        };
         let mut next = 0u64;
         while started.elapsed().as_secs_f64() < self.seconds && next < self.max_cases {
             let to = (next + self.target.batch()).min(self.max_cases);
@@ -251,16 +266,32 @@ impl Campaign {
         Ok(case + 1)
     }
 
-    fn record(&self, seeds: &Seeds, case: u64, kind: DefectKind, detail: String, sum: &mut Summary) -> Result<(), String> {
+    fn record(
+        &self,
+        seeds: &Seeds,
+        case: u64,
+        kind: DefectKind,
+        detail: String,
+        sum: &mut Summary,
+    ) -> Result<(), String> {
         let (ext, data) = seeds.case(self.seed, case);
         let tag = match kind {
             DefectKind::Panic => "panic",
             DefectKind::Crash => "crash",
             DefectKind::Hang => "hang",
         };
-        let file = self.out.join(format!("{}-{tag}-{}-{case}.{ext}", self.target.name(), self.seed));
+        let file = self.out.join(format!(
+            "{}-{tag}-{}-{case}.{ext}",
+            self.target.name(),
+            self.seed
+        ));
         std::fs::write(&file, data).map_err(|e| format!("{}: {e}", file.display()))?;
-        sum.defects.push(Defect { case, kind, detail, file });
+        sum.defects.push(Defect {
+            case,
+            kind,
+            detail,
+            file,
+        });
         Ok(())
     }
 }

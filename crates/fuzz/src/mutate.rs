@@ -8,9 +8,29 @@ use crate::rng::Rng;
 /// Numbers that tend to break readers: zero, negatives, counts past `u32` and
 /// `usize`, huge and tiny floats, NaN and infinities.
 const EDGE_NUMBERS: &[&str] = &[
-    "0", "-1", "1", "2", "-0", "65535", "2147483647", "2147483648", "4294967295", "4294967296",
-    "9223372036854775807", "18446744073709551615", "99999999999999999999", "1e308", "-1e308",
-    "1e-320", "nan", "NaN", "inf", "-inf", "1e400", "0.5", "-3",
+    "0",
+    "-1",
+    "1",
+    "2",
+    "-0",
+    "65535",
+    "2147483647",
+    "2147483648",
+    "4294967295",
+    "4294967296",
+    "9223372036854775807",
+    "18446744073709551615",
+    "99999999999999999999",
+    "1e308",
+    "-1e308",
+    "1e-320",
+    "nan",
+    "NaN",
+    "inf",
+    "-inf",
+    "1e400",
+    "0.5",
+    "-3",
 ];
 
 /// A mutant of `seed`: one to four mutations, chosen by `rng`; `others` are
@@ -118,7 +138,10 @@ fn is_number_byte(b: u8) -> bool {
 
 /// Deletes, repeats or swaps whole lines.
 fn line_edit(data: &mut Vec<u8>, rng: &mut Rng) {
-    let mut lines: Vec<Vec<u8>> = data.split_inclusive(|&b| b == b'\n').map(|l| l.to_vec()).collect();
+    let mut lines: Vec<Vec<u8>> = data
+        .split_inclusive(|&b| b == b'\n')
+        .map(|l| l.to_vec())
+        .collect();
     if lines.is_empty() {
         return;
     }

@@ -26,8 +26,16 @@ pub enum Target {
 }
 
 /// Every target, in the order campaigns run them.
-pub const ALL_TARGETS: [Target; 8] =
-    [Target::Stl, Target::Obj, Target::Ply, Target::Msh, Target::Step, Target::Iges, Target::Brep, Target::Mesh];
+pub const ALL_TARGETS: [Target; 8] = [
+    Target::Stl,
+    Target::Obj,
+    Target::Ply,
+    Target::Msh,
+    Target::Step,
+    Target::Iges,
+    Target::Brep,
+    Target::Mesh,
+];
 
 impl Target {
     /// Its name on the command line and in reports.
@@ -82,7 +90,10 @@ impl Target {
             Target::Stl => {
                 out.push(put("cube.stl", stl_ascii().as_bytes())?);
                 let (p, t) = cube_triangles();
-                out.push(put("cube_binary.stl", &trimesh::read::write_stl_binary(&p, &t))?);
+                out.push(put(
+                    "cube_binary.stl",
+                    &trimesh::read::write_stl_binary(&p, &t),
+                )?);
             }
             Target::Obj => out.push(put("cube.obj", obj_text().as_bytes())?),
             Target::Ply => {
@@ -92,7 +103,10 @@ impl Target {
             Target::Msh => {
                 use mesh::msh::{write_msh_to, MshEncoding, MshWriteOptions};
                 let (model, quads) = mesh::fixtures::cube(1.0, 2);
-                for (name, enc) in [("cube.msh", MshEncoding::Ascii), ("cube_binary.msh", MshEncoding::Binary)] {
+                for (name, enc) in [
+                    ("cube.msh", MshEncoding::Ascii),
+                    ("cube_binary.msh", MshEncoding::Binary),
+                ] {
                     let mut buf = Vec::new();
                     write_msh_to(&mut buf, &quads, Some(&model), MshWriteOptions::new(enc))
                         .map_err(|e| e.to_string())?;
@@ -106,7 +120,11 @@ impl Target {
                 out.push(put("square_v22.msh", MSH22_SQUARE.as_bytes())?);
             }
             Target::Step => {
-                for name in ["s16o_torus.stp", "s15o_cylinder.stp", "s10o_cyl_cutsphere.stp"] {
+                for name in [
+                    "s16o_torus.stp",
+                    "s15o_cylinder.stp",
+                    "s10o_cyl_cutsphere.stp",
+                ] {
                     let bytes = std::fs::read(step(name)).map_err(|e| format!("{name}: {e}"))?;
                     out.push(put(name, &bytes)?);
                 }
@@ -121,7 +139,8 @@ impl Target {
             }
             Target::Mesh => {
                 out.push(put("cube.stl", stl_ascii().as_bytes())?);
-                let bytes = std::fs::read(step("s16o_torus.stp")).map_err(|e| format!("s16o_torus.stp: {e}"))?;
+                let bytes = std::fs::read(step("s16o_torus.stp"))
+                    .map_err(|e| format!("s16o_torus.stp: {e}"))?;
                 out.push(put("s16o_torus.stp", &bytes)?);
             }
         }
@@ -136,10 +155,13 @@ impl Target {
     pub fn run(self, data: &[u8], ext: &str, scratch: &Path) -> Result<String, String> {
         let name = PathBuf::from(format!("case.{ext}"));
         match self {
-            Target::Stl | Target::Obj | Target::Ply => import_triangles(data, ext, &name).map(|m| summary(&m)),
+            Target::Stl | Target::Obj | Target::Ply => {
+                import_triangles(data, ext, &name).map(|m| summary(&m))
+            }
             Target::Msh => {
                 let quads = mesh::msh::read_msh_bytes(data, &name).map(|r| r.mesh.quads.len());
-                let ho = mesh::msh::read_high_order_msh_bytes(data, &name).map(|m| m.element_face.len());
+                let ho =
+                    mesh::msh::read_high_order_msh_bytes(data, &name).map(|m| m.element_face.len());
                 let tris = import_triangles(data, ext, &name).map(|m| summary(&m));
                 let answer = format!("{quads:?} {ho:?} {tris:?}");
                 if quads.is_ok() || ho.is_ok() || tris.is_ok() {
@@ -148,14 +170,19 @@ impl Target {
                     Err(answer)
                 }
             }
-            Target::Step | Target::Iges | Target::Brep => load_cad(data, ext, scratch).map(|m| summary(&m)),
+            Target::Step | Target::Iges | Target::Brep => {
+                load_cad(data, ext, scratch).map(|m| summary(&m))
+            }
             Target::Mesh => {
                 let model = if trimesh::Format::from_extension(ext).is_some() {
                     import_triangles(data, ext, &name)?
                 } else {
                     load_cad(data, ext, scratch)?
                 };
-                let opts = quadrille::MeshOptions { threads: Some(1), ..Default::default() };
+                let opts = quadrille::MeshOptions {
+                    threads: Some(1),
+                    ..Default::default()
+                };
                 let m = quadrille::mesh_model(&model, &opts).map_err(|e| e.to_string())?;
                 Ok(format!("{} quads", m.quads.len()))
             }
@@ -168,9 +195,12 @@ fn summary(m: &geometry::Model) -> String {
 }
 
 fn import_triangles(data: &[u8], ext: &str, name: &Path) -> Result<geometry::Model, String> {
-    let format = trimesh::Format::from_extension(ext).ok_or_else(|| format!("not a triangle format: {ext}"))?;
+    let format = trimesh::Format::from_extension(ext)
+        .ok_or_else(|| format!("not a triangle format: {ext}"))?;
     let soup = trimesh::read::read_bytes(data, format, name).map_err(|e| e.to_string())?;
-    trimesh::build(soup, &trimesh::Options::default(), name).map(|i| i.model).map_err(|e| e.to_string())
+    trimesh::build(soup, &trimesh::Options::default(), name)
+        .map(|i| i.model)
+        .map_err(|e| e.to_string())
 }
 
 fn load_cad(data: &[u8], ext: &str, scratch: &Path) -> Result<geometry::Model, String> {
@@ -183,10 +213,21 @@ fn load_cad(data: &[u8], ext: &str, scratch: &Path) -> Result<geometry::Model, S
 
 /// The 8 corners and 12 triangles of the unit cube, outward.
 fn cube_triangles() -> (Vec<geometry::Vec3>, Vec<[u32; 3]>) {
-    let p: Vec<geometry::Vec3> =
-        (0..8).map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64]).collect();
-    let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
-    let t = quads.iter().flat_map(|q: &[u32; 4]| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
+    let p: Vec<geometry::Vec3> = (0..8)
+        .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+        .collect();
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let t = quads
+        .iter()
+        .flat_map(|q: &[u32; 4]| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
     (p, t)
 }
 

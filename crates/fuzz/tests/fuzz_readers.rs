@@ -17,7 +17,9 @@ fn cad_dir() -> PathBuf {
 fn every_seed_is_accepted() {
     let dir = tempfile::tempdir().unwrap();
     for t in ALL_TARGETS {
-        let seeds = t.write_seeds(&dir.path().join(t.name()), &cad_dir()).unwrap();
+        let seeds = t
+            .write_seeds(&dir.path().join(t.name()), &cad_dir())
+            .unwrap();
         assert!(!seeds.is_empty());
         for p in seeds {
             let data = std::fs::read(&p).unwrap();
@@ -33,8 +35,14 @@ fn every_seed_is_accepted() {
 /// nor all refused.
 #[test]
 fn a_fuzzing_campaign_finds_no_defect() {
-    let total: f64 = std::env::var("QUADRILLE_FUZZ_SECONDS").ok().and_then(|s| s.parse().ok()).unwrap_or(60.0);
-    let seed: u64 = std::env::var("QUADRILLE_FUZZ_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(1);
+    let total: f64 = std::env::var("QUADRILLE_FUZZ_SECONDS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(60.0);
+    let seed: u64 = std::env::var("QUADRILLE_FUZZ_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
     let out = tempfile::tempdir().unwrap();
     let mut report = String::new();
     let mut defects = Vec::new();
@@ -51,16 +59,32 @@ fn a_fuzzing_campaign_finds_no_defect() {
             exe: PathBuf::from(env!("CARGO_BIN_EXE_quadrille-fuzz")),
         };
         let s = c.run(|_| {}).unwrap();
-        report += &format!("{}: {} cases, {} accepted, {} defects\n", t.name(), s.cases, s.accepted, s.defects.len());
+        report += &format!(
+            "{}: {} cases, {} accepted, {} defects\n",
+            t.name(),
+            s.cases,
+            s.accepted,
+            s.defects.len()
+        );
         let least = if t == Target::Mesh { 3 } else { 20 };
         assert!(s.cases >= least, "{report}");
         for d in &s.defects {
             // keep the input for the log (the temporary folder goes away)
             let data = std::fs::read(&d.file).unwrap();
-            defects.push(format!("{:?} {:?} case {} seed {seed}: {} ({} bytes)", t, d.kind, d.case, d.detail, data.len()));
+            defects.push(format!(
+                "{:?} {:?} case {} seed {seed}: {} ({} bytes)",
+                t,
+                d.kind,
+                d.case,
+                d.detail,
+                data.len()
+            ));
         }
         if t != Target::Mesh {
-            assert!(s.accepted < s.cases, "{t:?}: every mutant accepted?\n{report}");
+            assert!(
+                s.accepted < s.cases,
+                "{t:?}: every mutant accepted?\n{report}"
+            );
         }
     }
     eprintln!("{report}");
@@ -68,27 +92,46 @@ fn a_fuzzing_campaign_finds_no_defect() {
 }
 
 /// Inputs that once panicked, crashed or hung (`regressions/<target>/`)
-/// now give an answer, an error or a mesh, without a panic.
+/// now give an answer, an error or a mesh: each replayed in a process of its
+/// own (a CAD read that times out leaves OCCT busy in its process), which
+/// must end normally, within three times the fuzzer's hang limit (the CAD
+/// read limit is 5 s for files this small; the rest is room for a loaded
+/// machine).
 #[test]
 fn regression_inputs_get_an_answer() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("regressions");
-    let scratch = tempfile::tempdir().unwrap();
     let mut n = 0;
     for t in ALL_TARGETS {
-        let dir = root.join(t.name());
-        let Ok(seeds) = Seeds::read(&dir) else { continue };
-        for (p, data) in seeds.paths.iter().zip(&seeds.bytes) {
-            let ext = p.extension().map(|e| e.to_string_lossy().to_string()).unwrap_or_default();
+        let Ok(seeds) = Seeds::read(&root.join(t.name())) else {
+            continue;
+        };
+        for p in &seeds.paths {
             let started = std::time::Instant::now();
-            let r = std::panic::catch_unwind(|| t.run(data, &ext, scratch.path()));
-            assert!(r.is_ok(), "{} panics again", p.display());
-            // a hang found by the fuzzer now ends within the CAD read limit
-            // (5 s for files this small); three times the fuzzer's hang limit
-            // leaves room for a loaded machine
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_quadrille-fuzz"))
+                .args(["replay", t.name()])
+                .arg(p)
+                .output()
+                .unwrap();
             let secs = started.elapsed().as_secs_f64();
-            assert!(secs < 3.0 * t.hang_seconds() as f64, "{} took {secs:.1} s", p.display());
+            let said = String::from_utf8_lossy(&out.stdout);
+            assert!(
+                out.status.success(),
+                "{}: {:?} {said}",
+                p.display(),
+                out.status
+            );
+            assert!(
+                said.starts_with("ok: ") || said.starts_with("error: "),
+                "{}: {said}",
+                p.display()
+            );
+            assert!(
+                secs < 3.0 * t.hang_seconds() as f64,
+                "{} took {secs:.1} s",
+                p.display()
+            );
             n += 1;
         }
     }
-    eprintln!("{n} regression inputs");
+    assert!(n >= 10, "only {n} regression inputs found");
 }

@@ -286,6 +286,13 @@ fn open_with<T: Send + 'static>(
     }
     let cpath = CString::new(path.as_os_str().as_bytes())
         .map_err(|_| unreadable("the path holds a NUL byte".into()))?;
+    if let Some(earlier) = STUCK_READ.lock().ok().and_then(|g| g.clone()) {
+        return Err(unreadable(format!(
+            "OpenCASCADE is still busy with {}, whose reading did not finish: \
+             restart the program to read more CAD files",
+            earlier.display()
+        )));
+    }
     let limit = read_time_limit(meta.len());
     let timed_out = unreadable(format!(
         "OpenCASCADE did not finish reading it in {} s, so it is most likely damaged \
@@ -303,7 +310,13 @@ fn open_with<T: Send + 'static>(
         let mut out: *mut ffi::OcctModel = std::ptr::null_mut();
         // SAFETY: cpath is NUL-terminated, out and err are valid for the call.
         let rc = unsafe {
-            ffi::occt_load(cpath.as_ptr(), format.code(), &mut out, err.as_mut_ptr().cast(), err.len())
+            ffi::occt_load(
+                cpath.as_ptr(),
+                format.code(),
+                &mut out,
+                err.as_mut_ptr().cast(),
+                err.len(),
+            )
         };
         let msg = c_message(&err);
         match (rc, ffi::ModelPtr::new(out)) {
@@ -313,18 +326,31 @@ fn open_with<T: Send + 'static>(
                 detail: msg,
             }),
             (ffi::ERR_OPEN, _) | (ffi::ERR_EXCEPTION, _) => Err(unreadable(msg)),
-            (rc, _) => Err(unreadable(format!("the OCCT shim failed with code {rc} {msg}"))),
+            (rc, _) => Err(unreadable(format!(
+                "the OCCT shim failed with code {rc} {msg}"
+            ))),
         }
     };
-    read_with_deadline(read, limit).unwrap_or(Err(timed_out))
+    read_with_deadline(read, limit).unwrap_or_else(|| {
+        if let Ok(mut g) = STUCK_READ.lock() {
+            *g = Some(path.to_path_buf());
+        }
+        Err(timed_out)
+    })
 }
+
+/// The file whose reading timed out: its thread still runs and holds OCCT's
+/// reader lock, so later reads are refused at once rather than waiting.
+static STUCK_READ: std::sync::Mutex<Option<std::path::PathBuf>> = std::sync::Mutex::new(None);
 
 /// Seconds OCCT may take to read a file of `len` bytes before the file counts
 /// as damaged: 5 s plus 20 s per MB (a damaged IGES or BREP file can send
 /// OCCT's reader into an endless loop; sound files read at well over 1 MB/s),
 /// or `QUADRILLE_CAD_READ_SECONDS`.
 fn read_time_limit(len: u64) -> std::time::Duration {
-    let from_env = std::env::var("QUADRILLE_CAD_READ_SECONDS").ok().and_then(|s| s.parse::<f64>().ok());
+    let from_env = std::env::var("QUADRILLE_CAD_READ_SECONDS")
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok());
     let secs = match from_env {
         Some(s) if s > 0.0 => s,
         _ => 5.0 + 20.0 * len as f64 / 1e6,
@@ -336,8 +362,7 @@ fn read_time_limit(len: u64) -> std::time::Duration {
 /// reader thread, with faults inside OCCT turned into errors throughout
 /// (`occt_signals_begin`), and waits at most `limit`; `None` when it did not
 /// finish — that thread is then left to itself (OCCT's loops cannot be
-/// interrupted), and a later read in this process waits for its lock and
-/// times out too.
+/// interrupted) and later reads are refused ([`STUCK_READ`]).
 fn read_with_deadline<T: Send + 'static>(
     read: impl FnOnce() -> T + Send + 'static,
     limit: std::time::Duration,
@@ -353,7 +378,10 @@ fn read_with_deadline<T: Send + 'static>(
     };
     // OCCT recurses deeply on big assemblies: a large stack (reserved, not
     // committed)
-    let spawned = std::thread::Builder::new().name("occt-read".into()).stack_size(256 << 20).spawn(reader);
+    let spawned = std::thread::Builder::new()
+        .name("occt-read".into())
+        .stack_size(256 << 20)
+        .spawn(reader);
     if spawned.is_err() {
         return None;
     }

@@ -107,7 +107,7 @@ struct OcctUse {
   OcctCurve2d* pcurve;  // owned by the caller (free with occt_curve2d_free); may be null
 };
 
-static std::mutex g_read_mutex;
+static std::recursive_mutex g_read_mutex;
 
 static void set_err(char* buf, size_t len, const std::string& msg) {
   if (buf == nullptr || len == 0) return;
@@ -190,22 +190,22 @@ class SignalsAsExceptions {
   bool have_alt_ = false;
 };
 
-// OCCT's handlers are process-wide: one scope at a time, nested scopes of
-// the same thread reuse the outer one.
-static std::mutex g_signal_mutex;
+// OCCT's handlers are process-wide: one scope at a time (under the reader
+// mutex, the one lock of this file, so no two locks can be taken in
+// opposite orders), nested scopes of the same thread reuse the outer one.
 static thread_local int t_signal_depth = 0;
 
 class SignalScope {
  public:
   SignalScope() {
     if (t_signal_depth++ == 0) {
-      g_signal_mutex.lock();
+      g_read_mutex.lock();
       signals_.reset(new SignalsAsExceptions());
     }
   }
   ~SignalScope() {
     signals_.reset();
-    if (--t_signal_depth == 0) g_signal_mutex.unlock();
+    if (--t_signal_depth == 0) g_read_mutex.unlock();
   }
   SignalScope(const SignalScope&) = delete;
   SignalScope& operator=(const SignalScope&) = delete;
@@ -272,7 +272,7 @@ int occt_load(const char* path, int kind, OcctModel** out, char* err, size_t err
   return guarded(err, errlen, [&]() -> int {
     TopoDS_Shape shape;
     {
-      std::lock_guard<std::mutex> lock(g_read_mutex);
+      std::lock_guard<std::recursive_mutex> lock(g_read_mutex);
       silence_messages();
       int rc = fault_guarded(err, errlen, [&]() -> int {
       if (kind == 0 || kind == 1) {
@@ -352,7 +352,7 @@ void occt_signals_end(void* scope) { delete static_cast<SignalScope*>(scope); }
 /// (B-rep mode, so edges stay shared), 2 BREP.
 int occt_write(const OcctModel* m, const char* path, int kind, char* err, size_t errlen) {
   return guarded(err, errlen, [&]() -> int {
-    std::lock_guard<std::mutex> lock(g_read_mutex);
+    std::lock_guard<std::recursive_mutex> lock(g_read_mutex);
     silence_messages();
     return fault_guarded(err, errlen, [&]() -> int {
     bool ok = false;

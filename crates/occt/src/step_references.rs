@@ -14,7 +14,8 @@ pub(crate) fn reference_error(text: &[u8]) -> Option<String> {
     if let Some(r) = undefined_reference(text) {
         return Some(format!("it refers to #{r}, which it does not define"));
     }
-    oriented_edge_cycle(text).map(|at| format!("ORIENTED_EDGE {at} refers, through oriented edges, to itself"))
+    oriented_edge_cycle(text)
+        .map(|at| format!("ORIENTED_EDGE {at} refers, through oriented edges, to itself"))
 }
 
 /// The lowest instance referred to (`#N` on the right of `=`, outside
@@ -30,7 +31,10 @@ fn undefined_reference(text: &[u8]) -> Option<u64> {
             match rhs[i] {
                 b'\'' => quoted = !quoted,
                 b'#' if !quoted => {
-                    let n = rhs[i + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
+                    let n = rhs[i + 1..]
+                        .iter()
+                        .take_while(|b| b.is_ascii_digit())
+                        .count();
                     if let Some(r) = number(&rhs[i + 1..i + 1 + n]) {
                         used.push(r);
                     }
@@ -85,8 +89,12 @@ fn oriented_edge_cycle(text: &[u8]) -> Option<String> {
 fn oriented_edge_elements(text: &[u8]) -> HashMap<u64, u64> {
     let mut out = HashMap::new();
     for (id, rhs) in instances(text) {
-        let Some(args) = rhs.trim_ascii().strip_prefix(b"ORIENTED_EDGE") else { continue };
-        let Some(args) = args.trim_ascii().strip_prefix(b"(") else { continue };
+        let Some(args) = rhs.trim_ascii().strip_prefix(b"ORIENTED_EDGE") else {
+            continue;
+        };
+        let Some(args) = args.trim_ascii().strip_prefix(b"(") else {
+            continue;
+        };
         if let Some(r) = top_level_args(args).get(3).and_then(|a| reference(a)) {
             out.insert(id, r);
         }
@@ -151,7 +159,10 @@ fn top_level_args(list: &[u8]) -> Vec<&[u8]> {
 
 /// The instance number of a `#N` argument.
 fn reference(arg: &[u8]) -> Option<u64> {
-    std::str::from_utf8(arg.trim_ascii().strip_prefix(b"#")?).ok()?.parse().ok()
+    std::str::from_utf8(arg.trim_ascii().strip_prefix(b"#")?)
+        .ok()?
+        .parse()
+        .ok()
 }
 
 #[cfg(test)]
@@ -162,7 +173,10 @@ mod tests {
     fn a_cycle_of_oriented_edges_is_found() {
         let good = b"DATA;\n#1=EDGE_CURVE('',#5,#6,#7,.T.);\n#2=ORIENTED_EDGE('',*,*,#1,.T.);\n#3=ORIENTED_EDGE('a;b',*,*,#2,.F.);\nENDSEC;";
         assert_eq!(oriented_edge_cycle(good), None);
-        assert_eq!(oriented_edge_elements(good), HashMap::from([(2, 1), (3, 2)]));
+        assert_eq!(
+            oriented_edge_elements(good),
+            HashMap::from([(2, 1), (3, 2)])
+        );
         let selfref = b"#4 = ORIENTED_EDGE ( '', *, *, #4, .T. ) ;";
         assert_eq!(oriented_edge_cycle(selfref).as_deref(), Some("#4"));
         let pair = b"#2=ORIENTED_EDGE('',*,*,#3,.T.);#3=ORIENTED_EDGE('(x,',*,*,#2,.T.);#9=ORIENTED_EDGE('',*,*,#2,.T.);";
@@ -177,6 +191,9 @@ mod tests {
         assert_eq!(reference_error(ok), None);
         let bad = b"#2=VERTEX_POINT('',#1);#3=EDGE_CURVE('',#2,#12,#9,.T.);";
         assert_eq!(undefined_reference(bad), Some(1));
-        assert_eq!(reference_error(bad).unwrap(), "it refers to #1, which it does not define");
+        assert_eq!(
+            reference_error(bad).unwrap(),
+            "it refers to #1, which it does not define"
+        );
     }
 }

@@ -167,7 +167,10 @@ fn truncated_step_with_forged_terminator_is_refused() {
         // caught by the reference check before OCCT's parser (or, past it,
         // by OCCT's own check list)
         let msg = e.to_string();
-        assert!(msg.contains("which it does not define") || msg.contains("structural error"), "{label}: {e}");
+        assert!(
+            msg.contains("which it does not define") || msg.contains("structural error"),
+            "{label}: {e}"
+        );
         message_names_file(&e, &p);
     }
 }
