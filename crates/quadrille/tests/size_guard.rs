@@ -13,33 +13,14 @@ use quadrille::{
     estimate_quads, mesh_model_with, MeshError, MeshMethod, MeshOptions, ProgressFn, Size,
 };
 
+mod common;
+
 fn cad(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../data/cad")
         .join(name)
 }
 
-fn models() -> Vec<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad");
-    let filter: Vec<String> = std::env::var("QUADRILLE_MODELS")
-        .map(|s| s.split(',').map(str::to_string).collect())
-        .unwrap_or_default();
-    let mut out: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
-        .unwrap_or_default();
-    out.retain(|p| {
-        let ext = p
-            .extension()
-            .and_then(|e| e.to_str())
-            .unwrap_or("")
-            .to_ascii_lowercase();
-        let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        (ext == "step" || ext == "stp")
-            && (filter.is_empty() || filter.iter().any(|f| name.contains(f.as_str())))
-    });
-    out.sort();
-    out
-}
 
 /// Largest relative error of the estimate against the count made, at the
 /// default size with the default method (issue 32: within 30 %).
@@ -47,7 +28,7 @@ const TOLERANCE: f64 = 0.30;
 
 #[test]
 fn the_estimate_is_within_30_percent_of_the_default_methods_count() {
-    let paths = models();
+    let paths = common::cad_models();
     if std::env::var("QUADRILLE_MODELS").is_err() {
         assert!(
             paths.len() >= 26,

@@ -15,27 +15,6 @@ use std::time::Instant;
 
 use quadrille::{mesh_model_with, MeshMethod, MeshOptions, Size, Stages};
 
-fn models() -> Vec<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad");
-    let filter: Vec<String> = std::env::var("QUADRILLE_MODELS")
-        .map(|s| s.split(',').map(str::to_string).collect())
-        .unwrap_or_default();
-    let mut out: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
-        .unwrap_or_default();
-    out.retain(|p| {
-        let ext = p
-            .extension()
-            .and_then(|e| e.to_str())
-            .unwrap_or("")
-            .to_ascii_lowercase();
-        let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        (ext == "step" || ext == "stp")
-            && (filter.is_empty() || filter.iter().any(|f| name.contains(f.as_str())))
-    });
-    out.sort();
-    out
-}
 
 /// Share of face-interior nodes whose valence is not 4.
 fn irregular_share(mesh: &mesh::QuadMesh) -> f64 {
@@ -53,7 +32,7 @@ fn irregular_share(mesh: &mesh::QuadMesh) -> f64 {
 
 #[test]
 fn every_cad_model_meshes_validly_with_the_unstructured_method() {
-    let paths = models();
+    let paths = common::cad_models();
     if std::env::var("QUADRILLE_MODELS").is_err() {
         assert!(
             paths.len() >= 26,

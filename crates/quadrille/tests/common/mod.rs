@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 use std::collections::HashMap;
+use std::path::PathBuf;
 
 use geometry::vec3::{self, Vec3};
 use geometry::{CurveId, FaceId, Model};
@@ -312,4 +313,28 @@ pub fn boundary_mesh_edges(model: &Model, mesh: &QuadMesh) -> usize {
             cf[c.idx()].len() == 1 && uses == 1
         })
         .count()
+}
+
+/// The bundled CAD models (`data/cad/*.step|stp`), sorted; `QUADRILLE_MODELS`
+/// (comma-separated parts of names) keeps only those it names.
+pub fn cad_models() -> Vec<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/cad");
+    let filter: Vec<String> = std::env::var("QUADRILLE_MODELS")
+        .map(|s| s.split(',').map(str::to_string).collect())
+        .unwrap_or_default();
+    let mut out: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    out.retain(|p| {
+        let ext = p
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
+        let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        (ext == "step" || ext == "stp")
+            && (filter.is_empty() || filter.iter().any(|f| name.contains(f.as_str())))
+    });
+    out.sort();
+    out
 }
