@@ -162,6 +162,10 @@ def test_other_threads_run_while_meshing():
 CTRL_C = r"""
 import os, signal, sys, threading, time
 import quadrille
+# a job started in the background by a non-interactive shell (a CI runner,
+# say) inherits SIGINT ignored, and Python then keeps it ignored: the test is
+# about our interrupt, so Python's own Ctrl-C handler is put in place
+signal.signal(signal.SIGINT, signal.default_int_handler)
 model = quadrille.load(sys.argv[1])
 threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
 t = time.perf_counter()
