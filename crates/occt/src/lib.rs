@@ -331,12 +331,28 @@ fn open_with<T: Send + 'static>(
             ))),
         }
     };
-    read_with_deadline(read, limit).unwrap_or_else(|| {
-        if let Ok(mut g) = STUCK_READ.lock() {
-            *g = Some(path.to_path_buf());
+    match read_with_deadline(read, limit) {
+        Ok(answer) => answer,
+        Err(NoAnswer::TimedOut) => {
+            if let Ok(mut g) = STUCK_READ.lock() {
+                *g = Some(path.to_path_buf());
+            }
+            Err(timed_out)
         }
-        Err(timed_out)
-    })
+        Err(NoAnswer::Lost(why)) => Err(ImportError::Unreadable {
+            path: owned(),
+            format: format.name(),
+            detail: why.into(),
+        }),
+    }
+}
+
+/// Why the reader thread gave no answer.
+enum NoAnswer {
+    /// It ran past the time limit (and still runs).
+    TimedOut,
+    /// It could not start, or ended without answering.
+    Lost(&'static str),
 }
 
 /// The file whose reading timed out: its thread still runs and holds OCCT's
@@ -360,13 +376,13 @@ fn read_time_limit(len: u64) -> std::time::Duration {
 
 /// Runs `read` (OCCT's reader, then what is built from its shape) on a
 /// reader thread, with faults inside OCCT turned into errors throughout
-/// (`occt_signals_begin`), and waits at most `limit`; `None` when it did not
-/// finish — that thread is then left to itself (OCCT's loops cannot be
-/// interrupted) and later reads are refused ([`STUCK_READ`]).
+/// (`occt_signals_begin`), and waits at most `limit`. When it did not
+/// finish, that thread is left to itself (OCCT's loops cannot be
+/// interrupted) and the caller refuses later reads ([`STUCK_READ`]).
 fn read_with_deadline<T: Send + 'static>(
     read: impl FnOnce() -> T + Send + 'static,
     limit: std::time::Duration,
-) -> Option<T> {
+) -> Result<T, NoAnswer> {
     let (tx, rx) = std::sync::mpsc::channel();
     let reader = move || {
         // SAFETY: begin and end pair up on this thread.
@@ -383,9 +399,14 @@ fn read_with_deadline<T: Send + 'static>(
         .stack_size(256 << 20)
         .spawn(reader);
     if spawned.is_err() {
-        return None;
+        return Err(NoAnswer::Lost("could not start the reader thread"));
     }
-    rx.recv_timeout(limit).ok()
+    rx.recv_timeout(limit).map_err(|e| match e {
+        std::sync::mpsc::RecvTimeoutError::Timeout => NoAnswer::TimedOut,
+        std::sync::mpsc::RecvTimeoutError::Disconnected => {
+            NoAnswer::Lost("the reader thread ended without an answer (a bug)")
+        }
+    })
 }
 
 /// The first and last `PEEK` bytes of a file of `len` bytes.
