@@ -25,6 +25,8 @@
 //! - [`direct`]: simple faces meshed by a pattern;
 //! - [`frontal`]: frontal points along the cross field;
 //! - [`topology`]: defects, cavities, regularization;
+//! - [`coarse`]: the coarse high-order method's stages;
+//! - [`curvenet`]: quads from closed 3D curve cycles;
 //! - [`methods`]: the recipes ([`MeshMethod`]) and the driver.
 //!
 //! Each folder exposes the items other crates use (re-exported in its
@@ -39,6 +41,7 @@ pub mod coarse;
 pub mod combinatorics;
 pub mod core;
 pub mod curves;
+pub mod curvenet;
 pub mod direct;
 pub mod field;
 #[cfg(any(test, feature = "fixtures"))]

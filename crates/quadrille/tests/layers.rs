@@ -9,7 +9,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The folders of `src`, bottom to top (ARCHITECTURE.md, "The `quadrille` crate").
-const LAYERS: [&str; 11] = [
+const LAYERS: [&str; 12] = [
     "core",
     "combinatorics",
     "curves",
@@ -20,6 +20,7 @@ const LAYERS: [&str; 11] = [
     "frontal",
     "topology",
     "coarse",
+    "curvenet",
     "methods",
 ];
 

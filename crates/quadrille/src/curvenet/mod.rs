@@ -1,0 +1,60 @@
+//! Quad meshes from closed 3D curve cycles, with no surface inside (paper
+//! curve-network-quadrangulation; spec `curve-network-quadrangulation.md`).
+//!
+//! The stages hand these types to each other:
+//!
+//! - a cycle to mesh is a [`CycleLoops`]: its outer loop and its holes, each a
+//!   closed polyline ([`LoopPolyline`]) with the points that must stay segment
+//!   endpoints;
+//! - segmentation and matching (§1–§4) turn it into a [`PairedCycle`]: one
+//!   closed polyline (holes joined by connectors) cut into segments, and the
+//!   segments paired, each pair the two ends of one poly-chord;
+//! - layout and geometry (§5–§6) turn a [`PairedCycle`] into quads.
+
+/// A closed polyline: one loop of a cycle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoopPolyline {
+    /// The points in order; the loop closes from the last point back to the
+    /// first, which is not repeated.
+    pub points: Vec<[f64; 3]>,
+    /// Indices into `points` that must stay segment endpoints: the input's
+    /// corners and T-junctions, and junctions where the curves meet at an
+    /// angle (spec §1, §7.2). Ascending, no repeats.
+    pub fixed: Vec<usize>,
+}
+
+/// One cycle marked for surfacing: an outer loop and its holes.
+///
+/// The outer loop runs counter-clockwise seen from the side the quads face;
+/// holes run the other way, so the surface is always on the left.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CycleLoops {
+    /// The outer loop.
+    pub outer: LoopPolyline,
+    /// The holes, in input order.
+    pub holes: Vec<LoopPolyline>,
+}
+
+/// A cycle cut into segments with its segments paired (the output of §1–§4,
+/// the input of §5).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PairedCycle {
+    /// The closed polyline the segments are cut from. Holes are joined to the
+    /// outer loop by connectors traversed once on each side, so a position may
+    /// appear twice under two indices.
+    pub points: Vec<[f64; 3]>,
+    /// The first point of each segment, ascending: segment `s` runs from
+    /// `starts[s]` to `starts[s + 1]`, the last one around to `starts[0]`.
+    /// Always an even count.
+    pub starts: Vec<usize>,
+    /// The matched segments `(i, j)` with `i < j`, one per poly-chord, every
+    /// segment in exactly one pair.
+    pub pairs: Vec<(usize, usize)>,
+    /// The matching cost of each pair (spec §2), in `pairs` order.
+    pub costs: Vec<f64>,
+    /// Per segment: a connector or cut that must not be split (spec §1, §5.1).
+    pub unsplittable: Vec<bool>,
+    /// The cycle's diameter D, the largest distance between two of its points;
+    /// every length in the method is measured in D.
+    pub diameter: f64,
+}
