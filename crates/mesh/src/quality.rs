@@ -52,6 +52,26 @@ pub fn quad_sicn(p: &[Vec3; 4], n: &[Vec3; 4]) -> f64 {
     corner_sicn(p, n).into_iter().fold(f64::INFINITY, f64::min)
 }
 
+/// The quad's SICN as both validity judges see it, the number every
+/// acceptance test of the meshers compares: [`quad_sicn`] with the CAD
+/// normals `n`, replaced by [`quad_element_sicn`] when the CAD normals find
+/// the quad valid but the element geometry does not (a quad Gmsh's `minSICN`
+/// would call inverted in the written file is rejected).
+///
+/// A quad already invalid with the CAD normals keeps its CAD value: that one
+/// varies smoothly as a node moves, which the untangling needs, while the
+/// element judge jumps when corner 1, its reference, flips.
+pub fn quad_sicn_both_judges(p: &[Vec3; 4], n: &[Vec3; 4]) -> f64 {
+    let cad = quad_sicn(p, n);
+    if cad > 0.0 {
+        let element = quad_element_sicn(p);
+        if element < 0.0 {
+            return element;
+        }
+    }
+    cad
+}
+
 /// Quad scaled Jacobian: the minimum of [`corner_scaled_jacobian`].
 pub fn quad_scaled_jacobian(p: &[Vec3; 4], n: &[Vec3; 4]) -> f64 {
     corner_scaled_jacobian(p, n)
@@ -274,5 +294,39 @@ mod tests {
             [0.0, 1.0, 0.0],
         ];
         assert_eq!(element_corner_sicn(&nan), [0.0; 4]);
+    }
+
+    /// A bow-tie with each corner's normal along its own cross product:
+    /// every CAD-normal corner value is positive, but corners 2 and 3 turn
+    /// against corner 1, so Gmsh would call it inverted and the acceptance
+    /// value is the element judge's; a quad invalid with the CAD normals
+    /// keeps its CAD value.
+    #[test]
+    fn both_judges_reject_what_either_rejects() {
+        let bow = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 1.0, 0.0],
+        ];
+        let up = [0.0, 0.0, 1.0];
+        let down = [0.0, 0.0, -1.0];
+        let own = [up, up, down, down];
+        assert!(quad_sicn(&bow, &own) > 0.0);
+        let element = quad_element_sicn(&bow);
+        assert!(element < 0.0);
+        assert_eq!(quad_sicn_both_judges(&bow, &own), element);
+        // with one outside normal the CAD judge already rejects it
+        assert_eq!(quad_sicn_both_judges(&bow, &Z), quad_sicn(&bow, &Z));
+        assert!(quad_sicn(&bow, &Z) < 0.0);
+        // a valid square: both judges agree, the CAD value is kept
+        let square = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        assert_eq!(quad_sicn_both_judges(&square, &Z), quad_sicn(&square, &Z));
+        assert!((quad_sicn_both_judges(&square, &Z) - 1.0).abs() < 1e-12);
     }
 }

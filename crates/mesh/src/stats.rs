@@ -26,7 +26,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::quadmesh::{NodeClass, QuadMesh};
-use crate::quality::{corner_scaled_jacobian, corner_sicn, element_corner_sicn};
+use crate::quality::{
+    corner_scaled_jacobian, corner_sicn, element_corner_sicn, quad_sicn_both_judges,
+};
 
 /// CAD corners whose interior angle in a face is below this (degrees) excuse
 /// the quads touching them from minimum-SICN bars (DESIGN.md §5).
@@ -253,6 +255,18 @@ pub fn quad_sicn_values(mesh: &QuadMesh, model: Option<&Model>) -> Vec<f64> {
         .iter()
         .zip(&normals)
         .map(|(q, n)| min4(corner_sicn(&quad_points(mesh, q), n)))
+        .collect()
+}
+
+/// Every quad's SICN by both judges ([`crate::quality::quad_sicn_both_judges`],
+/// the normals of [`quad_corner_normals`]): what the meshers' final checks
+/// compare, so no written quad is inverted for either judge.
+pub fn quad_acceptance_sicn_values(mesh: &QuadMesh, model: Option<&Model>) -> Vec<f64> {
+    let normals = quad_corner_normals(mesh, model);
+    mesh.quads
+        .iter()
+        .zip(&normals)
+        .map(|(q, n)| quad_sicn_both_judges(&quad_points(mesh, q), n))
         .collect()
 }
 

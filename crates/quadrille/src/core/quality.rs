@@ -4,7 +4,7 @@
 
 use geometry::vec3::{self, Vec3};
 use geometry::Face;
-use mesh::quality::corner_sicn;
+use mesh::quality::quad_sicn_both_judges;
 
 use crate::core::patch::{LocalNode, NodeRef};
 
@@ -36,7 +36,9 @@ pub fn quad_uv_centre(nodes: &[LocalNode], q: &[u32; 4]) -> [f64; 2] {
 }
 
 /// Minimum corner SICN of quad `q` measured with the CAD normals (−1 when a
-/// normal is undefined).
+/// normal is undefined), lowered to the element-geometry SICN where that is
+/// negative ([`mesh::quality::quad_sicn_both_judges`]): every per-face
+/// decision rejects a quad either validity judge calls inverted.
 pub fn quad_quality(face: &Face, nodes: &[LocalNode], pos: &[Vec3], q: &[u32; 4]) -> f64 {
     quad_quality_with(face, nodes, pos, q, &[None; 4])
 }
@@ -70,9 +72,7 @@ pub fn quad_quality_with(
             }
         }
     }
-    corner_sicn(&p, &n)
-        .into_iter()
-        .fold(f64::INFINITY, f64::min)
+    quad_sicn_both_judges(&p, &n)
 }
 
 /// Cosine of the largest angle between a curve node's normal and the

@@ -243,7 +243,7 @@ pub(crate) fn mesh_quasi_structured(
     let mut mesh = assemble(model, &cms, &results, merged)?;
     // the final judge is the mesh statistics' SICN on the assembled mesh:
     // a face with a quad it finds inverted is meshed again with the baseline
-    let sicn = mesh::stats::quad_sicn_values(&mesh, Some(model));
+    let sicn = mesh::stats::quad_acceptance_sicn_values(&mesh, Some(model));
     let mut again: BTreeSet<usize> = BTreeSet::new();
     for (q, v) in sicn.iter().enumerate() {
         let f = mesh.quad_face[q].idx();

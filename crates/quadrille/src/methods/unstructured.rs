@@ -935,7 +935,7 @@ mod tests {
             let (mesh, report) =
                 mesh_model_with(&m, &MeshOptions::default(), MeshMethod::default()).unwrap();
             assert!(report.fallback.is_empty(), "{:?}", report.fallback);
-            let sicn = mesh::stats::quad_sicn_values(&mesh, Some(&m));
+            let sicn = mesh::stats::quad_acceptance_sicn_values(&mesh, Some(&m));
             assert!(!sicn.is_empty() && sicn.iter().all(|&s| s > 0.0));
             // fewer quads than the baseline's three per triangle
             let base = mesh_model_with(&m, &MeshOptions::default(), MeshMethod::Baseline)

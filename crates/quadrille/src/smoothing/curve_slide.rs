@@ -32,7 +32,7 @@ use std::collections::{BTreeMap, HashMap};
 
 use geometry::{vec3, FaceId, Model, Vec3};
 use mesh::quadmesh::{NodeClass, QuadMesh};
-use mesh::quality::quad_sicn;
+use mesh::quality::quad_sicn_both_judges;
 
 use crate::smoothing::kernels::{ascent_floor, ASCENT_DONE, ASCENT_GOOD, COMPASS};
 
@@ -446,7 +446,7 @@ impl Fixed<'_> {
                 let mut nq = state.normals(q);
                 nq[at] = n;
                 let p = self.quads[q as usize].map(|w| if w == v { x } else { state.pos(w) });
-                new_q.push((nq, quad_sicn(&p, &nq)));
+                new_q.push((nq, quad_sicn_both_judges(&p, &nq)));
             }
             let sum: f64 = new_q.iter().map(|(_, s)| s).sum();
             let floor_ok = cn
@@ -573,7 +573,8 @@ fn measure(
         .zip(mesh::stats::quad_corner_normals_of(mesh, model, &fresh))
     {
         normals[q as usize] = n;
-        sicn[q as usize] = quad_sicn(&mesh.quads[q as usize].map(|v| mesh.nodes[v as usize]), &n);
+        sicn[q as usize] =
+            quad_sicn_both_judges(&mesh.quads[q as usize].map(|v| mesh.nodes[v as usize]), &n);
     }
     around.extend(fresh);
     around.sort_unstable();

@@ -143,7 +143,7 @@ pub fn inverted_count(fq: &FaceQuads, face: &Face) -> usize {
                 };
                 face.corner_normal(at, c).unwrap_or(own)
             });
-            mesh::quality::corner_sicn(&p, &n).iter().any(|&s| s < 0.0)
+            mesh::quality::quad_sicn_both_judges(&p, &n) < 0.0
         })
         .count()
 }

@@ -72,7 +72,7 @@ fn inverted_by_face(model: &Model, mesh: &QuadMesh) -> Vec<usize> {
     if mesh.quad_face.len() != mesh.quads.len() {
         return out;
     }
-    let sicn = mesh::stats::quad_sicn_values(mesh, Some(model));
+    let sicn = mesh::stats::quad_acceptance_sicn_values(mesh, Some(model));
     for (s, f) in sicn.iter().zip(&mesh.quad_face) {
         if *s < 0.0 {
             if let Some(c) = out.get_mut(f.idx()) {
