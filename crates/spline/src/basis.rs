@@ -86,7 +86,12 @@ mod tests {
         let d = basis_derivatives(&kv, kv.find_span(u), u, 2);
         let v = 1.0 - u;
         let b = [v * v * v, 3.0 * u * v * v, 3.0 * u * u * v, u * u * u];
-        let db = [-3.0 * v * v, 3.0 * v * v - 6.0 * u * v, 6.0 * u * v - 3.0 * u * u, 3.0 * u * u];
+        let db = [
+            -3.0 * v * v,
+            3.0 * v * v - 6.0 * u * v,
+            6.0 * u * v - 3.0 * u * u,
+            3.0 * u * u,
+        ];
         let ddb = [6.0 * v, -12.0 * v + 6.0 * u, 6.0 * v - 12.0 * u, 6.0 * u];
         for j in 0..4 {
             assert!((d[0][j] - b[j]).abs() < 1e-14);
@@ -97,8 +102,11 @@ mod tests {
 
     #[test]
     fn partition_of_unity_and_derivative_by_differences() {
-        let kv = KnotVector::new(3, vec![0.0, 0.0, 0.0, 0.0, 0.2, 0.5, 0.5, 0.9, 1.0, 1.0, 1.0, 1.0])
-            .unwrap();
+        let kv = KnotVector::new(
+            3,
+            vec![0.0, 0.0, 0.0, 0.0, 0.2, 0.5, 0.5, 0.9, 1.0, 1.0, 1.0, 1.0],
+        )
+        .unwrap();
         for i in 0..=50 {
             let u = i as f64 / 50.0;
             let span = kv.find_span(u);

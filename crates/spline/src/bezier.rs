@@ -50,7 +50,10 @@ impl BezierElement {
     /// S, S_s, S_t at the patch parameters (s, t) inside this element.
     pub fn derivatives(&self, s: f64, t: f64) -> (Point3, Vec3, Vec3) {
         let (p, q) = self.degree;
-        let (hs, ht) = (self.s_range.1 - self.s_range.0, self.t_range.1 - self.t_range.0);
+        let (hs, ht) = (
+            self.s_range.1 - self.s_range.0,
+            self.t_range.1 - self.t_range.0,
+        );
         let (bs, dbs) = bernstein(p, (s - self.s_range.0) / hs);
         let (bt, dbt) = bernstein(q, (t - self.t_range.0) / ht);
         let (mut x, mut xs, mut xt) = ([0.0; 3], [0.0; 3], [0.0; 3]);
@@ -156,16 +159,22 @@ pub fn jacobian_check(
                 let (x, xs, xt) = el.derivatives(s, t);
                 let n = reference_normal(x, s, t);
                 let ln = norm(n);
-                let j = if ln > 0.0 { dot(cross(xs, xt), n) / ln } else { f64::NAN };
+                let j = if ln > 0.0 {
+                    dot(cross(xs, xt), n) / ln
+                } else {
+                    f64::NAN
+                };
                 let scaled = j / (norm(xs) * norm(xt));
                 rep.points += 1;
                 if !(j > 0.0) {
                     rep.non_positive += 1;
                 }
-                rep.min_jacobian = rep.min_jacobian.min(if j.is_nan() { f64::NEG_INFINITY } else { j });
-                rep.min_scaled_jacobian = rep
-                    .min_scaled_jacobian
-                    .min(if scaled.is_nan() { -1.0 } else { scaled });
+                rep.min_jacobian =
+                    rep.min_jacobian
+                        .min(if j.is_nan() { f64::NEG_INFINITY } else { j });
+                rep.min_scaled_jacobian =
+                    rep.min_scaled_jacobian
+                        .min(if scaled.is_nan() { -1.0 } else { scaled });
             }
         }
     }
@@ -187,7 +196,11 @@ mod tests {
             for &s in &g {
                 // Linear precision: control points at the Greville abscissae
                 // give S(s,t) = (s, t, ...) exactly in x and y.
-                let x = if fold { s - 1.6 * s * (1.0 - s) * 3.0 * (s - 0.5).max(0.0) * 4.0 } else { s };
+                let x = if fold {
+                    s - 1.6 * s * (1.0 - s) * 3.0 * (s - 0.5).max(0.0) * 4.0
+                } else {
+                    s
+                };
                 net.push([x, t, 0.2 * (s * 3.0).sin() * t]);
             }
         }
@@ -208,7 +221,10 @@ mod tests {
                     let t = el.t_range.0 + b * (el.t_range.1 - el.t_range.0);
                     let (x, xs, xt) = el.derivatives(s, t);
                     let (y, ys, yt) = p.derivatives(s, t);
-                    worst = worst.max(dist(x, y)).max(dist(xs, ys) * 1e-2).max(dist(xt, yt) * 1e-2);
+                    worst = worst
+                        .max(dist(x, y))
+                        .max(dist(xs, ys) * 1e-2)
+                        .max(dist(xt, yt) * 1e-2);
                 }
             }
             assert!(worst < 1e-12, "spans {spans}: {worst:e}");
@@ -221,12 +237,20 @@ mod tests {
         let good = jacobian_check(&sheet(3, false), &up).unwrap();
         assert_eq!(good.points, 9 * 16);
         assert!(good.is_positive(), "{good:?}");
-        assert!(good.min_scaled_jacobian > 0.5 && good.min_scaled_jacobian <= 1.0, "{good:?}");
+        assert!(
+            good.min_scaled_jacobian > 0.5 && good.min_scaled_jacobian <= 1.0,
+            "{good:?}"
+        );
         let folded = jacobian_check(&sheet(3, true), &up).unwrap();
         assert!(!folded.is_positive(), "{folded:?}");
         assert!(folded.min_jacobian < 0.0 && folded.min_scaled_jacobian < 0.0);
         // The same good patch judged against the opposite normal is inverted everywhere.
         let down = |_: Point3, _: f64, _: f64| [0.0, 0.0, -2.0];
-        assert_eq!(jacobian_check(&sheet(3, false), &down).unwrap().non_positive, 9 * 16);
+        assert_eq!(
+            jacobian_check(&sheet(3, false), &down)
+                .unwrap()
+                .non_positive,
+            9 * 16
+        );
     }
 }

@@ -129,10 +129,19 @@ mod tests {
             let b = bottom(1.0);
             let e = top(1.0);
             let w = 0.2 * (std::f64::consts::PI * t).sin();
-            [b[0] + (e[0] - b[0]) * t + w, b[1] + (e[1] - b[1]) * t, b[2] + (e[2] - b[2]) * t]
+            [
+                b[0] + (e[0] - b[0]) * t + w,
+                b[1] + (e[1] - b[1]) * t,
+                b[2] + (e[2] - b[2]) * t,
+            ]
         };
         for spans in [1, 3, 4] {
-            let (cb, ct, cl, cr) = (fit(bottom, spans), fit(top, spans), fit(left, 2), fit(right, 2));
+            let (cb, ct, cl, cr) = (
+                fit(bottom, spans),
+                fit(top, spans),
+                fit(left, 2),
+                fit(right, 2),
+            );
             let patch = coons_patch(&cb, &ct, &cl, &cr).unwrap();
             assert_eq!((patch.n_s(), patch.n_t()), (spans + 3, 5));
             let mut worst: f64 = 0.0;
@@ -160,9 +169,13 @@ mod tests {
         for (s, t) in [(0.2, 0.3), (0.5, 0.5), (0.9, 0.1), (0.37, 0.81)] {
             let mut want = [0.0; 3];
             for k in 0..3 {
-                want[k] = (1.0 - t) * cb.eval(s)[k] + t * ct.eval(s)[k] + (1.0 - s) * cl.eval(t)[k]
+                want[k] = (1.0 - t) * cb.eval(s)[k]
+                    + t * ct.eval(s)[k]
+                    + (1.0 - s) * cl.eval(t)[k]
                     + s * cr.eval(t)[k]
-                    - ((1.0 - s) * (1.0 - t) * p00[k] + s * (1.0 - t) * p10[k] + (1.0 - s) * t * p01[k]
+                    - ((1.0 - s) * (1.0 - t) * p00[k]
+                        + s * (1.0 - t) * p10[k]
+                        + (1.0 - s) * t * p01[k]
                         + s * t * p11[k]);
             }
             assert!(dist(patch.eval(s, t), want) < 1e-12);
@@ -171,15 +184,29 @@ mod tests {
 
     #[test]
     fn four_lines_in_a_plane_give_the_bilinear_patch() {
-        let (a, b, c, d) = ([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.5, 1.5, 0.0], [2.5, 1.0, 0.0]);
-        let line = |p: Point3, q: Point3, spans| fit(move |u| add(scale(p, 1.0 - u), scale(q, u)), spans);
-        let patch = coons_patch(&line(a, b, 3), &line(c, d, 3), &line(a, c, 4), &line(b, d, 4)).unwrap();
+        let (a, b, c, d) = (
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [0.5, 1.5, 0.0],
+            [2.5, 1.0, 0.0],
+        );
+        let line =
+            |p: Point3, q: Point3, spans| fit(move |u| add(scale(p, 1.0 - u), scale(q, u)), spans);
+        let patch = coons_patch(
+            &line(a, b, 3),
+            &line(c, d, 3),
+            &line(a, c, 4),
+            &line(b, d, 4),
+        )
+        .unwrap();
         for k in 0..=10 {
             for l in 0..=10 {
                 let (s, t) = (k as f64 / 10.0, l as f64 / 10.0);
                 let mut want = [0.0; 3];
                 for m in 0..3 {
-                    want[m] = (1.0 - s) * (1.0 - t) * a[m] + s * (1.0 - t) * b[m] + (1.0 - s) * t * c[m]
+                    want[m] = (1.0 - s) * (1.0 - t) * a[m]
+                        + s * (1.0 - t) * b[m]
+                        + (1.0 - s) * t * c[m]
                         + s * t * d[m];
                 }
                 assert!(dist(patch.eval(s, t), want) < 1e-12);
@@ -193,7 +220,10 @@ mod tests {
         let ct = fit(|s| [s, 1.0, 0.0], 3);
         let cl = fit(|t| [0.0, t, 0.0], 2);
         let cr = fit(|t| [1.0, t, 0.0], 2);
-        assert!(coons_patch(&cb, &ct, &cl, &cr).unwrap_err().to_string().contains("s-knots"));
+        assert!(coons_patch(&cb, &ct, &cl, &cr)
+            .unwrap_err()
+            .to_string()
+            .contains("s-knots"));
         let ct2 = fit(|s| [s, 1.2, 0.0], 2);
         let e = coons_patch(&cb, &ct2, &cl, &cr).unwrap_err().to_string();
         assert!(e.contains("top-left corner"), "{e}");

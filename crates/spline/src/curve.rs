@@ -55,10 +55,10 @@ impl BSplineCurve {
         let span = self.knots.find_span(u);
         let d = basis_derivatives(&self.knots, span, u, 1);
         let (mut c, mut dc) = ([0.0; 3], [0.0; 3]);
-        for j in 0..=p {
+        for (j, (&n0, &n1)) in d[0].iter().zip(&d[1]).enumerate() {
             let cp = self.control[span - p + j];
-            c = axpy(c, d[0][j], cp);
-            dc = axpy(dc, d[1][j], cp);
+            c = axpy(c, n0, cp);
+            dc = axpy(dc, n1, cp);
         }
         (c, dc)
     }
@@ -152,9 +152,7 @@ pub fn fit_curve(points: &[Point3], params: &[f64], spans: usize) -> Result<BSpl
     })?;
     let mut control = Vec::with_capacity(n);
     control.push(first);
-    for i in 0..u {
-        control.push([atb[0][i], atb[1][i], atb[2][i]]);
-    }
+    control.extend((0..u).map(|i| [atb[0][i], atb[1][i], atb[2][i]]));
     control.push(last);
     BSplineCurve::new(knots, control)
 }

@@ -36,7 +36,10 @@ fn pack(tokens: &[String], width: usize) -> Vec<String> {
             lines.push(String::new());
         }
         while rest.len() > width {
-            lines.last_mut().expect("never empty").push_str(&rest[..width]);
+            lines
+                .last_mut()
+                .expect("never empty")
+                .push_str(&rest[..width]);
             lines.push(String::new());
             rest = &rest[width..];
         }
@@ -72,7 +75,12 @@ fn timestamp() -> String {
     let d = doy - (153 * mp + 2) / 5 + 1;
     let m = if mp < 10 { mp + 3 } else { mp - 9 };
     let y = yoe + era * 400 + i64::from(m <= 2);
-    format!("{y:04}{m:02}{d:02}.{:02}{:02}{:02}", rem / 3600, rem % 3600 / 60, rem % 60)
+    format!(
+        "{y:04}{m:02}{d:02}.{:02}{:02}{:02}",
+        rem / 3600,
+        rem % 3600 / 60,
+        rem % 60
+    )
 }
 
 /// The multipatch as IGES text; `file_name` goes into the Global section.
@@ -163,7 +171,15 @@ pub fn to_iges_string(mp: &Multipatch, file_name: &str) -> Result<String> {
         );
         let d2 = format!(
             "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
-            128, 0, 0, p.len(), 0, "", "", "PATCH", k + 1
+            128,
+            0,
+            0,
+            p.len(),
+            0,
+            "",
+            "",
+            "PATCH",
+            k + 1
         );
         line(&d1, 'D', 2 * k + 1);
         line(&d2, 'D', 2 * k + 2);
@@ -176,7 +192,13 @@ pub fn to_iges_string(mp: &Multipatch, file_name: &str) -> Result<String> {
             seq += 1;
         }
     }
-    let term = format!("S{:>7}G{:>7}D{:>7}P{:>7}", 1, glines.len(), 2 * params.len(), seq - 1);
+    let term = format!(
+        "S{:>7}G{:>7}D{:>7}P{:>7}",
+        1,
+        glines.len(),
+        2 * params.len(),
+        seq - 1
+    );
     line(&term, 'T', 1);
     Ok(out)
 }
@@ -201,7 +223,10 @@ mod tests {
         let mp = two_squares(3);
         let text = to_iges_string(&mp, "x.igs").unwrap();
         let lines: Vec<&str> = text.lines().collect();
-        assert!(lines.iter().all(|l| l.len() == 80), "every record is 80 columns");
+        assert!(
+            lines.iter().all(|l| l.len() == 80),
+            "every record is 80 columns"
+        );
         // Sections in order, each numbered from 1 without gaps.
         let mut order = String::new();
         let mut counts = std::collections::BTreeMap::new();

@@ -131,7 +131,9 @@ mod tests {
     fn bad_files_are_errors() {
         let text = to_json_string(&two_squares(1));
         assert!(from_json_str("{").is_err());
-        let e = from_json_str(&text.replace(FORMAT, "other")).unwrap_err().to_string();
+        let e = from_json_str(&text.replace(FORMAT, "other"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("expected"), "{e}");
         let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
         v["patches"][0]["size"] = serde_json::json!([5, 4]);

@@ -254,11 +254,16 @@ mod tests {
     fn bad_knots_are_errors() {
         assert!(KnotVector::clamped_uniform(3, 0).is_err());
         assert!(KnotVector::new(3, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]).is_err());
-        assert!(KnotVector::new(3, vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.4, 1.0, 1.0, 1.0, 1.0]).is_err());
+        assert!(
+            KnotVector::new(3, vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.4, 1.0, 1.0, 1.0, 1.0]).is_err()
+        );
         assert!(KnotVector::new(3, vec![0.0, 0.0, 0.0, 0.1, 1.0, 1.0, 1.0, 1.0]).is_err());
-        let msg = KnotVector::new(3, vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0])
-            .unwrap_err()
-            .to_string();
+        let msg = KnotVector::new(
+            3,
+            vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0],
+        )
+        .unwrap_err()
+        .to_string();
         assert!(msg.contains("repeats 4 times"), "{msg}");
         assert!(KnotVector::new(3, vec![0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0]).is_ok());
     }

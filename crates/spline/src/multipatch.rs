@@ -74,7 +74,9 @@ impl Multipatch {
             }
         }
         if let Some(i) = points.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
-            return Err(SplineError::Multipatch(format!("control point {i} is not finite")));
+            return Err(SplineError::Multipatch(format!(
+                "control point {i} is not finite"
+            )));
         }
         Ok(Self { points, patches })
     }
@@ -105,14 +107,19 @@ impl Multipatch {
     /// errors if such sides have different control-point counts.
     pub fn max_shared_gap(&self) -> Result<f64> {
         // Sides keyed by their (ordered) end-point indices.
-        let mut by_ends: BTreeMap<(usize, usize), Vec<(usize, usize, Vec<usize>)>> = BTreeMap::new();
+        // (first, last index) → (patch, side, index sequence from first to last).
+        type SidesByEnds = BTreeMap<(usize, usize), Vec<(usize, usize, Vec<usize>)>>;
+        let mut by_ends: SidesByEnds = BTreeMap::new();
         for (k, g) in self.patches.iter().enumerate() {
             for side in 0..4 {
                 let mut seq = g.side(side);
                 if seq[0] > seq[seq.len() - 1] {
                     seq.reverse();
                 }
-                by_ends.entry((seq[0], seq[seq.len() - 1])).or_default().push((k, side, seq));
+                by_ends
+                    .entry((seq[0], seq[seq.len() - 1]))
+                    .or_default()
+                    .push((k, side, seq));
             }
         }
         let mut gap: f64 = 0.0;
@@ -166,7 +173,9 @@ impl Multipatch {
                 }
             }
         }
-        (0..self.points.len()).filter(|&i| find(&mut parent, i) == i).count()
+        (0..self.points.len())
+            .filter(|&i| find(&mut parent, i) == i)
+            .count()
     }
 
     /// Every patch refined by `r` (uniform Boehm insertion), keeping the
@@ -211,7 +220,11 @@ impl Multipatch {
                 let seq = old.side(side);
                 let cells = side_cells(side);
                 let flip = seq[0] > seq[seq.len() - 1];
-                let canon: Vec<usize> = if flip { seq.iter().rev().copied().collect() } else { seq };
+                let canon: Vec<usize> = if flip {
+                    seq.iter().rev().copied().collect()
+                } else {
+                    seq
+                };
                 let mut cells_c = cells.clone();
                 if flip {
                     cells_c.reverse();
@@ -266,11 +279,17 @@ pub struct ArcUse {
 impl ArcUse {
     /// The arc in its stored direction.
     pub fn forward(arc: ArcId) -> Self {
-        Self { arc, reversed: false }
+        Self {
+            arc,
+            reversed: false,
+        }
     }
     /// The arc reversed.
     pub fn reverse(arc: ArcId) -> Self {
-        Self { arc, reversed: true }
+        Self {
+            arc,
+            reversed: true,
+        }
     }
 }
 
@@ -308,7 +327,11 @@ impl MultipatchBuilder {
             )));
         }
         let cp = curve.control_points();
-        let size = cp.iter().map(|p| dist(*p, cp[0])).fold(0.0, f64::max).max(1.0);
+        let size = cp
+            .iter()
+            .map(|p| dist(*p, cp[0]))
+            .fold(0.0, f64::max)
+            .max(1.0);
         for (which, node, p) in [("start", start, cp[0]), ("end", end, cp[cp.len() - 1])] {
             let gap = dist(p, self.points[node]);
             if !(gap <= 1e-9 * size) {
@@ -325,13 +348,18 @@ impl MultipatchBuilder {
         }
         idx.push(end);
         let snapped: Vec<Point3> = idx.iter().map(|&i| self.points[i]).collect();
-        self.arcs.push((BSplineCurve::new(curve.knots().clone(), snapped)?, idx));
+        self.arcs
+            .push((BSplineCurve::new(curve.knots().clone(), snapped)?, idx));
         Ok(ArcId(self.arcs.len() - 1))
     }
 
     fn side(&self, u: ArcUse) -> Result<(BSplineCurve, Vec<usize>)> {
         let (c, idx) = self.arcs.get(u.arc.0).ok_or_else(|| {
-            SplineError::Multipatch(format!("arc {} does not exist ({} arcs)", u.arc.0, self.arcs.len()))
+            SplineError::Multipatch(format!(
+                "arc {} does not exist ({} arcs)",
+                u.arc.0,
+                self.arcs.len()
+            ))
         })?;
         Ok(if u.reversed {
             (c.reversed(), idx.iter().rev().copied().collect())
@@ -351,8 +379,12 @@ impl MultipatchBuilder {
         interior: impl FnOnce(&BSplinePatch) -> Result<BSplinePatch>,
     ) -> Result<usize> {
         let k = self.patches.len();
-        let [(cb, ib), (ct, it), (cl, il), (cr, ir)] =
-            [self.side(sides[0])?, self.side(sides[1])?, self.side(sides[2])?, self.side(sides[3])?];
+        let [(cb, ib), (ct, it), (cl, il), (cr, ir)] = [
+            self.side(sides[0])?,
+            self.side(sides[1])?,
+            self.side(sides[2])?,
+            self.side(sides[3])?,
+        ];
         let corner_pairs = [
             ("bottom-left", ib[0], il[0]),
             ("bottom-right", ib[ib.len() - 1], ir[0]),

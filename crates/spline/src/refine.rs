@@ -10,11 +10,17 @@ use crate::vec3::{add, scale, Point3};
 /// Inserts the knot `u` once (Boehm): returns the new knots and the
 /// `n + 1` new control points. `u` must lie inside the domain and appear
 /// fewer than `degree` times already.
-pub fn insert_knot(knots: &KnotVector, control: &[Point3], u: f64) -> Result<(KnotVector, Vec<Point3>)> {
+pub fn insert_knot(
+    knots: &KnotVector,
+    control: &[Point3],
+    u: f64,
+) -> Result<(KnotVector, Vec<Point3>)> {
     let p = knots.degree();
     let (a, b) = knots.domain();
     if !(u > a && u < b) {
-        return Err(SplineError::Refine(format!("knot {u} is not inside the domain ({a}, {b})")));
+        return Err(SplineError::Refine(format!(
+            "knot {u} is not inside the domain ({a}, {b})"
+        )));
     }
     let mult = knots.multiplicity(u);
     if mult >= p {
@@ -61,7 +67,9 @@ fn uniform_split_knots(knots: &KnotVector, r: usize) -> Vec<f64> {
 
 fn check_factor(r: usize) -> Result<()> {
     if r == 0 {
-        return Err(SplineError::Refine("refinement factor must be at least 1, got 0".into()));
+        return Err(SplineError::Refine(
+            "refinement factor must be at least 1, got 0".into(),
+        ));
     }
     Ok(())
 }
@@ -78,11 +86,17 @@ pub fn refine_curve(curve: &BSplineCurve, r: usize) -> Result<BSplineCurve> {
 }
 
 /// Inserts `s_knots` in s and `t_knots` in t (each once, in order).
-pub fn insert_knots_patch(patch: &BSplinePatch, s_knots: &[f64], t_knots: &[f64]) -> Result<BSplinePatch> {
+pub fn insert_knots_patch(
+    patch: &BSplinePatch,
+    s_knots: &[f64],
+    t_knots: &[f64],
+) -> Result<BSplinePatch> {
     let (ns, nt) = (patch.n_s(), patch.n_t());
     // Rows (fixed j) refined in s.
     let mut ks = patch.knots_s().clone();
-    let mut rows: Vec<Vec<Point3>> = (0..nt).map(|j| (0..ns).map(|i| patch.control_point(i, j)).collect()).collect();
+    let mut rows: Vec<Vec<Point3>> = (0..nt)
+        .map(|j| (0..ns).map(|i| patch.control_point(i, j)).collect())
+        .collect();
     for &u in s_knots {
         let mut new_ks = ks.clone();
         for row in rows.iter_mut() {
@@ -95,7 +109,9 @@ pub fn insert_knots_patch(patch: &BSplinePatch, s_knots: &[f64], t_knots: &[f64]
     let ns2 = ks.num_control_points();
     // Columns (fixed i) refined in t.
     let mut kt = patch.knots_t().clone();
-    let mut cols: Vec<Vec<Point3>> = (0..ns2).map(|i| rows.iter().map(|row| row[i]).collect()).collect();
+    let mut cols: Vec<Vec<Point3>> = (0..ns2)
+        .map(|i| rows.iter().map(|row| row[i]).collect())
+        .collect();
     for &u in t_knots {
         let mut new_kt = kt.clone();
         for col in cols.iter_mut() {
@@ -140,7 +156,11 @@ mod tests {
         for j in 0..n {
             for i in 0..n {
                 let (x, y) = (i as f64 / (n - 1) as f64, j as f64 / (n - 1) as f64);
-                net.push([x + 0.1 * y * y, y, (3.0 * x).sin() * (2.0 * y).cos() + ((i * 7 + j * 3) % 5) as f64 * 0.05]);
+                net.push([
+                    x + 0.1 * y * y,
+                    y,
+                    (3.0 * x).sin() * (2.0 * y).cos() + ((i * 7 + j * 3) % 5) as f64 * 0.05,
+                ]);
             }
         }
         BSplinePatch::new(kv.clone(), kv, net).unwrap()
@@ -153,7 +173,9 @@ mod tests {
             let p = refine(&wavy(spans), r).unwrap();
             assert_eq!((p.n_s(), p.n_t()), (want, want), "spans {spans} refine {r}");
             assert_eq!(p.knots_s().num_spans(), spans * r);
-            assert!(p.knots_s().breakpoints()[1..spans * r].iter().all(|&k| p.knots_s().multiplicity(k) == 1));
+            assert!(p.knots_s().breakpoints()[1..spans * r]
+                .iter()
+                .all(|&k| p.knots_s().multiplicity(k) == 1));
         }
     }
 
@@ -177,7 +199,17 @@ mod tests {
     #[test]
     fn curve_refinement_and_errors() {
         let kv = KnotVector::clamped_uniform(3, 2).unwrap();
-        let c = BSplineCurve::new(kv.clone(), vec![[0.0; 3], [1.0, 2.0, 0.0], [2.0, -1.0, 1.0], [3.0, 0.0, 0.0], [4.0, 1.0, 2.0]]).unwrap();
+        let c = BSplineCurve::new(
+            kv.clone(),
+            vec![
+                [0.0; 3],
+                [1.0, 2.0, 0.0],
+                [2.0, -1.0, 1.0],
+                [3.0, 0.0, 0.0],
+                [4.0, 1.0, 2.0],
+            ],
+        )
+        .unwrap();
         let f = refine_curve(&c, 3).unwrap();
         assert_eq!(f.control_points().len(), 9);
         for k in 0..=50 {

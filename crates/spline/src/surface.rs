@@ -79,13 +79,13 @@ impl BSplinePatch {
         let bt = basis_derivatives(&self.knots_t, st, t, 1);
         let ns = self.n_s();
         let (mut x, mut xs, mut xt) = ([0.0; 3], [0.0; 3], [0.0; 3]);
-        for b in 0..=q {
+        for (b, (&t0, &t1)) in bt[0].iter().zip(&bt[1]).enumerate() {
             let j = st - q + b;
-            for a in 0..=p {
+            for (a, (&s0, &s1)) in bs[0].iter().zip(&bs[1]).enumerate() {
                 let cp = self.control[j * ns + ss - p + a];
-                x = axpy(x, bs[0][a] * bt[0][b], cp);
-                xs = axpy(xs, bs[1][a] * bt[0][b], cp);
-                xt = axpy(xt, bs[0][a] * bt[1][b], cp);
+                x = axpy(x, s0 * t0, cp);
+                xs = axpy(xs, s1 * t0, cp);
+                xt = axpy(xt, s0 * t1, cp);
             }
         }
         (x, xs, xt)
@@ -105,10 +105,22 @@ impl BSplinePatch {
     pub fn boundary(&self, side: usize) -> Option<BSplineCurve> {
         let (ns, nt) = (self.n_s(), self.n_t());
         let (knots, pts): (&KnotVector, Vec<Point3>) = match side {
-            0 => (&self.knots_s, (0..ns).map(|i| self.control_point(i, 0)).collect()),
-            1 => (&self.knots_t, (0..nt).map(|j| self.control_point(ns - 1, j)).collect()),
-            2 => (&self.knots_s, (0..ns).map(|i| self.control_point(i, nt - 1)).collect()),
-            3 => (&self.knots_t, (0..nt).map(|j| self.control_point(0, j)).collect()),
+            0 => (
+                &self.knots_s,
+                (0..ns).map(|i| self.control_point(i, 0)).collect(),
+            ),
+            1 => (
+                &self.knots_t,
+                (0..nt).map(|j| self.control_point(ns - 1, j)).collect(),
+            ),
+            2 => (
+                &self.knots_s,
+                (0..ns).map(|i| self.control_point(i, nt - 1)).collect(),
+            ),
+            3 => (
+                &self.knots_t,
+                (0..nt).map(|j| self.control_point(0, j)).collect(),
+            ),
             _ => return None,
         };
         BSplineCurve::new(knots.clone(), pts).ok()
@@ -132,8 +144,8 @@ mod tests {
         let t3 = [0.0, 0.0, 0.0, 1.0];
         let mut net = Vec::new();
         for j in 0..4 {
-            for i in 0..4 {
-                net.push([i as f64 / 3.0, j as f64 / 3.0, s2[i] * t1[j] + t3[j]]);
+            for (i, s2i) in s2.iter().enumerate() {
+                net.push([i as f64 / 3.0, j as f64 / 3.0, s2i * t1[j] + t3[j]]);
             }
         }
         BSplinePatch::new(kv.clone(), kv, net).unwrap()

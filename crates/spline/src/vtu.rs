@@ -54,11 +54,22 @@ pub fn to_vtu_string(mp: &Multipatch) -> Result<String> {
     let w = &mut s;
     // Writing to a String cannot fail.
     let _ = writeln!(w, "<?xml version=\"1.0\"?>");
-    let _ = writeln!(w, "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">");
+    let _ = writeln!(
+        w,
+        "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">"
+    );
     let _ = writeln!(w, "<UnstructuredGrid>");
-    let _ = writeln!(w, "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">", points.len(), offsets.len());
+    let _ = writeln!(
+        w,
+        "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
+        points.len(),
+        offsets.len()
+    );
     let _ = writeln!(w, "<PointData RationalWeights=\"RationalWeights\">");
-    let _ = writeln!(w, "<DataArray type=\"Float64\" Name=\"RationalWeights\" format=\"ascii\">");
+    let _ = writeln!(
+        w,
+        "<DataArray type=\"Float64\" Name=\"RationalWeights\" format=\"ascii\">"
+    );
     for _ in &points {
         let _ = write!(w, "1 ");
     }
@@ -69,29 +80,47 @@ pub fn to_vtu_string(mp: &Multipatch) -> Result<String> {
         let _ = write!(w, "{p} {q} 0 ");
     }
     let _ = writeln!(w, "\n</DataArray>");
-    let _ = writeln!(w, "<DataArray type=\"Int32\" Name=\"Patch\" format=\"ascii\">");
+    let _ = writeln!(
+        w,
+        "<DataArray type=\"Int32\" Name=\"Patch\" format=\"ascii\">"
+    );
     for k in &patch_of {
         let _ = write!(w, "{k} ");
     }
     let _ = writeln!(w, "\n</DataArray>\n</CellData>");
-    let _ = writeln!(w, "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">");
+    let _ = writeln!(
+        w,
+        "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
+    );
     for p in &points {
         let _ = writeln!(w, "{} {} {}", p[0], p[1], p[2]);
     }
     let _ = writeln!(w, "</DataArray>\n</Points>\n<Cells>");
-    let _ = writeln!(w, "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">");
+    let _ = writeln!(
+        w,
+        "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">"
+    );
     for c in &conn {
         let _ = write!(w, "{c} ");
     }
-    let _ = writeln!(w, "\n</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">");
+    let _ = writeln!(
+        w,
+        "\n</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">"
+    );
     for o in &offsets {
         let _ = write!(w, "{o} ");
     }
-    let _ = writeln!(w, "\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">");
+    let _ = writeln!(
+        w,
+        "\n</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">"
+    );
     for _ in &offsets {
         let _ = write!(w, "{VTK_BEZIER_QUADRILATERAL} ");
     }
-    let _ = writeln!(w, "\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>");
+    let _ = writeln!(
+        w,
+        "\n</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>"
+    );
     Ok(s)
 }
 
@@ -110,7 +139,19 @@ mod tests {
         let o = vtk_node_order(3, 3);
         assert_eq!(o.len(), 16);
         assert_eq!(&o[..4], &[(0, 0), (3, 0), (3, 3), (0, 3)]);
-        assert_eq!(&o[4..12], &[(1, 0), (2, 0), (3, 1), (3, 2), (1, 3), (2, 3), (0, 1), (0, 2)]);
+        assert_eq!(
+            &o[4..12],
+            &[
+                (1, 0),
+                (2, 0),
+                (3, 1),
+                (3, 2),
+                (1, 3),
+                (2, 3),
+                (0, 1),
+                (0, 2)
+            ]
+        );
         assert_eq!(&o[12..], &[(1, 1), (2, 1), (1, 2), (2, 2)]);
         let mut sorted = o.clone();
         sorted.sort();

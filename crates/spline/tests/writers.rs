@@ -7,7 +7,9 @@
 use spline::iges::write_iges;
 use spline::json::{read_json, write_json};
 use spline::vtu::{to_vtu_string, write_vtu};
-use spline::{fit_curve, jacobian_check, ArcUse, BSplineCurve, Multipatch, MultipatchBuilder, Point3};
+use spline::{
+    fit_curve, jacobian_check, ArcUse, BSplineCurve, Multipatch, MultipatchBuilder, Point3,
+};
 use std::process::Command;
 
 fn python() -> String {
@@ -62,7 +64,14 @@ fn dome_multipatch(spans: usize) -> Multipatch {
     let mut v = [[None; 3]; 2];
     for j in 0..3 {
         for i in 0..2 {
-            h[j][i] = Some(b.add_arc(node[j][i], node[j][i + 1], &arc_on_dome(xy(i, j), xy(i + 1, j), spans)).unwrap());
+            h[j][i] = Some(
+                b.add_arc(
+                    node[j][i],
+                    node[j][i + 1],
+                    &arc_on_dome(xy(i, j), xy(i + 1, j), spans),
+                )
+                .unwrap(),
+            );
         }
     }
     for j in 0..2 {
@@ -72,16 +81,29 @@ fn dome_multipatch(spans: usize) -> Multipatch {
                 let c = arc_on_dome(xy(i, j + 1), xy(i, j), spans);
                 v[j][i] = Some(b.add_arc(node[j + 1][i], node[j][i], &c).unwrap());
             } else {
-                v[j][i] = Some(b.add_arc(node[j][i], node[j + 1][i], &arc_on_dome(xy(i, j), xy(i, j + 1), spans)).unwrap());
+                v[j][i] = Some(
+                    b.add_arc(
+                        node[j][i],
+                        node[j + 1][i],
+                        &arc_on_dome(xy(i, j), xy(i, j + 1), spans),
+                    )
+                    .unwrap(),
+                );
             }
         }
     }
-    let side = |i: usize, j: usize| if i == 1 { ArcUse::reverse(v[j][i].unwrap()) } else { ArcUse::forward(v[j][i].unwrap()) };
-    for j in 0..2 {
-        for i in 0..2 {
+    let side = |i: usize, j: usize| {
+        if i == 1 {
+            ArcUse::reverse(v[j][i].unwrap())
+        } else {
+            ArcUse::forward(v[j][i].unwrap())
+        }
+    };
+    for (j, rows) in h.windows(2).enumerate() {
+        for (i, (low, high)) in rows[0].iter().zip(&rows[1]).enumerate() {
             b.add_coons_patch([
-                ArcUse::forward(h[j][i].unwrap()),
-                ArcUse::forward(h[j + 1][i].unwrap()),
+                ArcUse::forward(low.unwrap()),
+                ArcUse::forward(high.unwrap()),
                 side(i, j),
                 side(i + 1, j),
             ])
@@ -110,7 +132,10 @@ fn dome_is_watertight_connected_and_positive() {
         for k in 0..4 {
             let rep = jacobian_check(&mp.patch(k).unwrap(), &|_, _, _| [0.0, 0.0, 1.0]).unwrap();
             assert!(rep.is_positive(), "spans {spans} patch {k}: {rep:?}");
-            eprintln!("spans {spans} refine {r} patch {k}: min scaled Jacobian {:.4}", rep.min_scaled_jacobian);
+            eprintln!(
+                "spans {spans} refine {r} patch {k}: min scaled Jacobian {:.4}",
+                rep.min_scaled_jacobian
+            );
         }
     }
 }
@@ -131,13 +156,19 @@ fn vtu_is_well_formed() {
     let text = to_vtu_string(&mp).unwrap();
     // 4 patches × 6 × 6 Bézier elements, 16 nodes each.
     let cells = 4 * 36;
-    assert!(text.contains(&format!("NumberOfPoints=\"{}\" NumberOfCells=\"{cells}\"", 16 * cells)));
+    assert!(text.contains(&format!(
+        "NumberOfPoints=\"{}\" NumberOfCells=\"{cells}\"",
+        16 * cells
+    )));
     let array = |name: &str| -> Vec<f64> {
         let start = text.find(&format!("Name=\"{name}\"")).unwrap();
         let body = &text[start..];
         let open = body.find('>').unwrap() + 1;
         let close = body.find("</DataArray>").unwrap();
-        body[open..close].split_whitespace().map(|x| x.parse().unwrap()).collect()
+        body[open..close]
+            .split_whitespace()
+            .map(|x| x.parse().unwrap())
+            .collect()
     };
     let types = array("types");
     assert_eq!(types.len(), cells);
@@ -171,10 +202,22 @@ fn vtu_is_well_formed() {
     // the test Python: the file is parsed as XML there instead.
     if python_module_available("xml.etree.ElementTree") {
         let script = "import sys, xml.etree.ElementTree as ET\nr = ET.parse(sys.argv[1]).getroot()\np = r.find('UnstructuredGrid/Piece')\nc = p.find('Cells')\nt = [int(x) for x in c.find(\"DataArray[@Name='types']\").text.split()]\nk = [int(x) for x in c.find(\"DataArray[@Name='connectivity']\").text.split()]\nx = p.find('Points/DataArray').text.split()\nprint(r.get('type'), p.get('NumberOfCells'), len(t), set(t) == {77}, len(k), len(x) // 3, max(k) + 1)";
-        let out = Command::new(python()).args(["-c", script, path.to_str().unwrap()]).output().unwrap();
-        assert!(out.status.success(), "XML parse failed: {}", String::from_utf8_lossy(&out.stderr));
+        let out = Command::new(python())
+            .args(["-c", script, path.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "XML parse failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let s = String::from_utf8_lossy(&out.stdout);
-        let want = format!("UnstructuredGrid {cells} {cells} True {} {} {}", 16 * cells, 16 * cells, 16 * cells);
+        let want = format!(
+            "UnstructuredGrid {cells} {cells} True {} {} {}",
+            16 * cells,
+            16 * cells,
+            16 * cells
+        );
         assert_eq!(s.trim(), want);
     }
     std::fs::remove_dir_all(&dir).unwrap();
@@ -191,7 +234,10 @@ fn iges_reads_back_in_gmsh() {
         return;
     }
     let uv = [(0.0, 0.0), (0.3, 0.7), (0.5, 0.5), (0.91, 0.13), (1.0, 1.0)];
-    let uv_flat: Vec<String> = uv.iter().flat_map(|(u, v)| [u.to_string(), v.to_string()]).collect();
+    let uv_flat: Vec<String> = uv
+        .iter()
+        .flat_map(|(u, v)| [u.to_string(), v.to_string()])
+        .collect();
     let script = r#"
 import sys, gmsh
 gmsh.initialize()
@@ -212,10 +258,19 @@ gmsh.finalize()
         .args(["-c", script, path.to_str().unwrap(), &uv_flat.join(",")])
         .output()
         .unwrap();
-    assert!(out.status.success(), "gmsh failed: {}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "gmsh failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let text = String::from_utf8_lossy(&out.stdout);
-    let lines: Vec<Vec<&str>> = text.lines().map(|l| l.split_whitespace().collect()).collect();
-    let faces: usize = lines.iter().find(|l| l[0] == "faces").unwrap()[1].parse().unwrap();
+    let lines: Vec<Vec<&str>> = text
+        .lines()
+        .map(|l| l.split_whitespace().collect())
+        .collect();
+    let faces: usize = lines.iter().find(|l| l[0] == "faces").unwrap()[1]
+        .parse()
+        .unwrap();
     assert_eq!(faces, mp.patches().len(), "one face per type-128 entity");
     let mut worst: f64 = 0.0;
     for (k, (b, v)) in lines
@@ -225,7 +280,11 @@ gmsh.finalize()
         .enumerate()
     {
         let bounds: Vec<f64> = b[2..].iter().map(|x| x.parse().unwrap()).collect();
-        assert_eq!(bounds, vec![0.0, 0.0, 1.0, 1.0], "face {k}: bounds = the knot range");
+        assert_eq!(
+            bounds,
+            vec![0.0, 0.0, 1.0, 1.0],
+            "face {k}: bounds = the knot range"
+        );
         let vals: Vec<f64> = v[2..].iter().map(|x| x.parse().unwrap()).collect();
         let patch = mp.patch(k).unwrap();
         for (m, (u, w)) in uv.iter().enumerate() {

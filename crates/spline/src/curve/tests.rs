@@ -2,7 +2,11 @@ use super::*;
 use crate::vec3::dist;
 
 fn cubic(t: f64) -> Point3 {
-    [1.0 + 2.0 * t - t * t * t, t * t - 3.0 * t * t * t, 0.5 - t + 4.0 * t * t]
+    [
+        1.0 + 2.0 * t - t * t * t,
+        t * t - 3.0 * t * t * t,
+        0.5 - t + 4.0 * t * t,
+    ]
 }
 
 #[test]
@@ -71,8 +75,14 @@ fn circle_fit_error_is_bounded_and_falls_with_spans() {
         let bound = 4.0 * 5.0 / 384.0 * std::f64::consts::TAU.powi(4) * h.powi(4);
         let err = circle_error(spans);
         eprintln!("{spans:2} {err:.3e}  {bound:.3e}");
-        assert!(err < bound, "K={spans}: error {err:e} above bound {bound:e}");
-        assert!(err < prev / 8.0, "K={spans}: error {err:e} did not fall 8x from {prev:e}");
+        assert!(
+            err < bound,
+            "K={spans}: error {err:e} above bound {bound:e}"
+        );
+        assert!(
+            err < prev / 8.0,
+            "K={spans}: error {err:e} did not fall 8x from {prev:e}"
+        );
         prev = err;
     }
 }

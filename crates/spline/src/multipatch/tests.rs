@@ -23,10 +23,17 @@ pub(crate) fn arc(a: Point3, b: Point3, bulge: f64, spans: usize) -> BSplineCurv
 /// arc used forward by one patch and reversed by the other.
 pub(crate) fn two_squares(spans: usize) -> Multipatch {
     let mut b = MultipatchBuilder::new();
-    let n: Vec<usize> = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0], [2.0, 1.0, 0.0]]
-        .iter()
-        .map(|&p| b.add_node(p))
-        .collect();
+    let n: Vec<usize> = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [2.0, 1.0, 0.0],
+    ]
+    .iter()
+    .map(|&p| b.add_node(p))
+    .collect();
     let pos = |b: &MultipatchBuilder, i: usize| b.points[n[i]];
     let mk = |b: &mut MultipatchBuilder, i: usize, j: usize, bulge: f64| {
         let (pa, pb) = (pos(b, i), pos(b, j));
@@ -40,10 +47,20 @@ pub(crate) fn two_squares(spans: usize) -> Multipatch {
     // The shared arc stored top to bottom: patch 0 uses it reversed.
     let m41 = mk(&mut b, 4, 1, 0.2);
     let r25 = mk(&mut b, 2, 5, -0.05);
-    b.add_coons_patch([ArcUse::forward(b01), ArcUse::forward(t34), ArcUse::forward(l03), ArcUse::reverse(m41)])
-        .unwrap();
-    b.add_coons_patch([ArcUse::forward(b12), ArcUse::forward(t45), ArcUse::reverse(m41), ArcUse::forward(r25)])
-        .unwrap();
+    b.add_coons_patch([
+        ArcUse::forward(b01),
+        ArcUse::forward(t34),
+        ArcUse::forward(l03),
+        ArcUse::reverse(m41),
+    ])
+    .unwrap();
+    b.add_coons_patch([
+        ArcUse::forward(b12),
+        ArcUse::forward(t45),
+        ArcUse::reverse(m41),
+        ArcUse::forward(r25),
+    ])
+    .unwrap();
     b.build().unwrap()
 }
 
@@ -103,16 +120,39 @@ fn detects_gaps_disconnection_and_bad_input() {
     // An unused point is a second component.
     let mut pts = mp.points().to_vec();
     pts.push([9.0; 3]);
-    assert_eq!(Multipatch::from_parts(pts, mp.patches().to_vec()).unwrap().components(), 2);
+    assert_eq!(
+        Multipatch::from_parts(pts, mp.patches().to_vec())
+            .unwrap()
+            .components(),
+        2
+    );
     let mut bad = mp.patches().to_vec();
     bad[0].indices[0] = 10_000;
-    assert!(Multipatch::from_parts(mp.points().to_vec(), bad).unwrap_err().to_string().contains("index 10000"));
+    assert!(Multipatch::from_parts(mp.points().to_vec(), bad)
+        .unwrap_err()
+        .to_string()
+        .contains("index 10000"));
     // A patch whose corners are different nodes.
     let mut b = MultipatchBuilder::new();
-    let (n0, n1, n2) = (b.add_node([0.0; 3]), b.add_node([1.0, 0.0, 0.0]), b.add_node([0.0, 1.0, 0.0]));
-    let a = b.add_arc(n0, n1, &arc([0.0; 3], [1.0, 0.0, 0.0], 0.0, 1)).unwrap();
-    let c = b.add_arc(n0, n2, &arc([0.0; 3], [0.0, 1.0, 0.0], 0.0, 1)).unwrap();
-    let e = b.add_coons_patch([ArcUse::forward(a), ArcUse::forward(a), ArcUse::forward(c), ArcUse::forward(c)]);
+    let (n0, n1, n2) = (
+        b.add_node([0.0; 3]),
+        b.add_node([1.0, 0.0, 0.0]),
+        b.add_node([0.0, 1.0, 0.0]),
+    );
+    let a = b
+        .add_arc(n0, n1, &arc([0.0; 3], [1.0, 0.0, 0.0], 0.0, 1))
+        .unwrap();
+    let c = b
+        .add_arc(n0, n2, &arc([0.0; 3], [0.0, 1.0, 0.0], 0.0, 1))
+        .unwrap();
+    let e = b.add_coons_patch([
+        ArcUse::forward(a),
+        ArcUse::forward(a),
+        ArcUse::forward(c),
+        ArcUse::forward(c),
+    ]);
     assert!(e.unwrap_err().to_string().contains("corner"));
-    assert!(b.add_arc(n0, n1, &arc([0.0; 3], [1.0, 0.5, 0.0], 0.0, 1)).is_err());
+    assert!(b
+        .add_arc(n0, n1, &arc([0.0; 3], [1.0, 0.5, 0.0], 0.0, 1))
+        .is_err());
 }
