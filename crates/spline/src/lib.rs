@@ -28,7 +28,7 @@ pub use coons::coons_patch;
 pub use curve::{fit_curve, BSplineCurve};
 pub use error::SplineError;
 pub use knots::KnotVector;
-pub use multipatch::{ArcId, ArcUse, Multipatch, MultipatchBuilder, PatchGrid};
+pub use multipatch::{ArcId, ArcUse, Multipatch, MultipatchBuilder, PatchGrid, SharedSides};
 pub use refine::{insert_knot, refine, refine_curve};
 pub use surface::BSplinePatch;
 pub use vec3::{Point3, Vec3};

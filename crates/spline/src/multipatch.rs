@@ -46,6 +46,15 @@ impl PatchGrid {
     }
 }
 
+/// What [`Multipatch::shared_sides`] found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SharedSides {
+    /// Pairs of patch sides along one arc.
+    pub pairs: usize,
+    /// The largest control-point distance across those pairs: 0 when watertight.
+    pub max_gap: f64,
+}
+
 /// Control points shared by index between untrimmed tensor-product patches.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Multipatch {
@@ -101,44 +110,62 @@ impl Multipatch {
         )
     }
 
-    /// The largest distance between corresponding control points of two
-    /// patch sides that cover the same arc (same end points, one the reverse
-    /// of the other or equal, judged by position): 0 when watertight. Also
-    /// errors if such sides have different control-point counts.
-    pub fn max_shared_gap(&self) -> Result<f64> {
-        // Sides keyed by their (ordered) end-point indices.
-        // (first, last index) → (patch, side, index sequence from first to last).
-        type SidesByEnds = BTreeMap<(usize, usize), Vec<(usize, usize, Vec<usize>)>>;
-        let mut by_ends: SidesByEnds = BTreeMap::new();
-        for (k, g) in self.patches.iter().enumerate() {
+    /// The pairs of patch sides that run along one arc, and the largest
+    /// distance between their corresponding control points (0 when
+    /// watertight). Two sides are taken as one arc when they join the same
+    /// end points, have as many control points, and their polygons lie
+    /// within a tenth of the side's polygon length of each other (either
+    /// direction for a closed arc); sides farther apart between the same two
+    /// nodes are distinct arcs (a bigon) and are not compared.
+    pub fn shared_sides(&self) -> SharedSides {
+        // (first, last index) → (side's polygon, oriented from the smaller end index).
+        let mut by_ends: BTreeMap<(usize, usize), Vec<Vec<usize>>> = BTreeMap::new();
+        for g in &self.patches {
             for side in 0..4 {
                 let mut seq = g.side(side);
-                if seq[0] > seq[seq.len() - 1] {
-                    seq.reverse();
+                let rev: Vec<usize> = seq.iter().rev().copied().collect();
+                if rev < seq {
+                    seq = rev;
                 }
                 by_ends
                     .entry((seq[0], seq[seq.len() - 1]))
                     .or_default()
-                    .push((k, side, seq));
+                    .push(seq);
             }
         }
-        let mut gap: f64 = 0.0;
+        let mut out = SharedSides {
+            pairs: 0,
+            max_gap: 0.0,
+        };
+        let gap = |a: &[usize], b: &[usize]| -> f64 {
+            a.iter()
+                .zip(b)
+                .map(|(&i, &j)| dist(self.points[i], self.points[j]))
+                .fold(0.0, f64::max)
+        };
         for sides in by_ends.values() {
-            for w in sides.windows(2) {
-                let ((ka, sa, a), (kb, sb, b)) = (&w[0], &w[1]);
-                if a.len() != b.len() {
-                    return Err(SplineError::Multipatch(format!(
-                        "patch {ka} side {sa} and patch {kb} side {sb} share end points but have {} and {} control points",
-                        a.len(),
-                        b.len()
-                    )));
-                }
-                for (&i, &j) in a.iter().zip(b) {
-                    gap = gap.max(dist(self.points[i], self.points[j]));
+            for (m, a) in sides.iter().enumerate() {
+                let length: f64 = a
+                    .windows(2)
+                    .map(|w| dist(self.points[w[0]], self.points[w[1]]))
+                    .sum();
+                for b in &sides[m + 1..] {
+                    if a.len() != b.len() {
+                        continue;
+                    }
+                    let mut g = gap(a, b);
+                    if a[0] == a[a.len() - 1] {
+                        let rb: Vec<usize> = b.iter().rev().copied().collect();
+                        g = g.min(gap(a, &rb));
+                    }
+                    if g <= 0.1 * length {
+                        out.pairs += 1;
+                        out.max_gap = out.max_gap.max(g);
+                    }
                 }
             }
         }
-        Ok(gap)
+        out
     }
 
     /// The number of connected components of the control-point graph
@@ -219,7 +246,7 @@ impl Multipatch {
             for side in 0..4 {
                 let seq = old.side(side);
                 let cells = side_cells(side);
-                let flip = seq[0] > seq[seq.len() - 1];
+                let flip = seq.iter().rev().lt(seq.iter());
                 let canon: Vec<usize> = if flip {
                     seq.iter().rev().copied().collect()
                 } else {

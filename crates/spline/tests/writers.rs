@@ -6,6 +6,7 @@
 
 use spline::iges::write_iges;
 use spline::json::{read_json, write_json};
+use spline::multipatch::SharedSides;
 use spline::vtu::{to_vtu_string, write_vtu};
 use spline::{
     fit_curve, jacobian_check, ArcUse, BSplineCurve, Multipatch, MultipatchBuilder, Point3,
@@ -127,7 +128,13 @@ fn dome_is_watertight_connected_and_positive() {
         assert!(mp.patches().iter().all(|g| (g.n_s(), g.n_t()) == (n, n)));
         // 4 n² minus the shared: 4 interior arcs of n points, centre counted 4 times → 4n² − 4n + 1.
         assert_eq!(mp.points().len(), 4 * n * n - 4 * n + 1);
-        assert_eq!(mp.max_shared_gap().unwrap(), 0.0);
+        assert_eq!(
+            mp.shared_sides(),
+            SharedSides {
+                pairs: 4,
+                max_gap: 0.0
+            }
+        );
         assert_eq!(mp.components(), 1);
         for k in 0..4 {
             let rep = jacobian_check(&mp.patch(k).unwrap(), &|_, _, _| [0.0, 0.0, 1.0]).unwrap();

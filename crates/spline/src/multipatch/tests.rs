@@ -72,7 +72,13 @@ fn shared_arcs_share_indices_and_close_exactly() {
     assert_eq!(a.side(1), b.side(3));
     // 6 nodes + 7 arcs × 4 interior points + 2 × 4 × 4 patch interiors.
     assert_eq!(mp.points().len(), 6 + 7 * 4 + 2 * 16);
-    assert_eq!(mp.max_shared_gap().unwrap(), 0.0);
+    assert_eq!(
+        mp.shared_sides(),
+        SharedSides {
+            pairs: 1,
+            max_gap: 0.0
+        }
+    );
     assert_eq!(mp.components(), 1);
     // The evaluated boundaries coincide bit for bit.
     let (pa, pb) = (mp.patch(0).unwrap(), mp.patch(1).unwrap());
@@ -90,7 +96,13 @@ fn refined_multipatch_stays_conforming() {
     assert_eq!(fine.patches()[0].side(1), fine.patches()[1].side(3));
     // 2 × 121 minus the 11 shared.
     assert_eq!(fine.points().len(), 2 * 121 - 11);
-    assert_eq!(fine.max_shared_gap().unwrap(), 0.0);
+    assert_eq!(
+        fine.shared_sides(),
+        SharedSides {
+            pairs: 1,
+            max_gap: 0.0
+        }
+    );
     assert_eq!(fine.components(), 1);
     for k in 0..2 {
         let (p, q) = (mp.patch(k).unwrap(), fine.patch(k).unwrap());
@@ -116,7 +128,9 @@ fn detects_gaps_disconnection_and_bad_input() {
         patches[1].indices[j * ns] = points.len() - 1;
     }
     let broken = Multipatch::from_parts(points, patches).unwrap();
-    assert!((broken.max_shared_gap().unwrap() - 1e-3).abs() < 1e-12);
+    let found = broken.shared_sides();
+    assert_eq!(found.pairs, 1);
+    assert!((found.max_gap - 1e-3).abs() < 1e-12);
     // An unused point is a second component.
     let mut pts = mp.points().to_vec();
     pts.push([9.0; 3]);
@@ -155,4 +169,51 @@ fn detects_gaps_disconnection_and_bad_input() {
     assert!(b
         .add_arc(n0, n1, &arc([0.0; 3], [1.0, 0.5, 0.0], 0.0, 1))
         .is_err());
+}
+
+#[test]
+fn distinct_arcs_between_the_same_nodes_are_not_compared() {
+    // Two patches on the same four nodes: they share top, left and right,
+    // but their bottoms are two different arcs from A to B (a bigon).
+    let mut b = MultipatchBuilder::new();
+    let (pa, pb, pc, pd) = (
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+    );
+    let (na, nb, nc, nd) = (
+        b.add_node(pa),
+        b.add_node(pb),
+        b.add_node(pc),
+        b.add_node(pd),
+    );
+    let flat = b.add_arc(na, nb, &arc(pa, pb, 0.0, 2)).unwrap();
+    let bulged = b.add_arc(na, nb, &arc(pa, pb, 0.6, 2)).unwrap();
+    let top = b.add_arc(nc, nd, &arc(pc, pd, 0.0, 2)).unwrap();
+    let left = b.add_arc(na, nc, &arc(pa, pc, 0.0, 2)).unwrap();
+    let right = b.add_arc(nb, nd, &arc(pb, pd, 0.0, 2)).unwrap();
+    let f = ArcUse::forward;
+    b.add_coons_patch([f(flat), f(top), f(left), f(right)])
+        .unwrap();
+    b.add_coons_patch([f(bulged), f(top), f(left), f(right)])
+        .unwrap();
+    let mp = b.build().unwrap();
+    assert_eq!(
+        mp.shared_sides(),
+        SharedSides {
+            pairs: 3,
+            max_gap: 0.0
+        }
+    );
+    let fine = mp.refined(2).unwrap();
+    assert_eq!(
+        fine.shared_sides(),
+        SharedSides {
+            pairs: 3,
+            max_gap: 0.0
+        }
+    );
+    // 4 corners + 5 arcs × 5 interior points + 2 × 5 × 5 patch interiors.
+    assert_eq!(fine.points().len(), 4 + 5 * 5 + 2 * 25);
 }
