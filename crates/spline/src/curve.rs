@@ -72,6 +72,16 @@ impl BSplineCurve {
     }
 }
 
+/// The largest distance between `points` and the curve at their `params`:
+/// the fit error to report (spec §14.5) and to compare with a tolerance.
+pub fn max_fit_error(curve: &BSplineCurve, points: &[Point3], params: &[f64]) -> f64 {
+    points
+        .iter()
+        .zip(params)
+        .map(|(x, &t)| crate::vec3::dist(curve.eval(t), *x))
+        .fold(0.0, f64::max)
+}
+
 /// Fits a cubic B-spline with `spans` uniform spans on [0, 1] to `points`
 /// sampled at `params` by least squares, with the first and last control
 /// points equal to the first and last points (so curves meeting at a node

@@ -25,7 +25,7 @@ pub mod vtu;
 
 pub use bezier::{extract_bezier, jacobian_check, BezierElement, JacobianReport};
 pub use coons::coons_patch;
-pub use curve::{fit_curve, BSplineCurve};
+pub use curve::{fit_curve, max_fit_error, BSplineCurve};
 pub use error::SplineError;
 pub use knots::KnotVector;
 pub use multipatch::{ArcId, ArcUse, Multipatch, MultipatchBuilder, PatchGrid, SharedSides};

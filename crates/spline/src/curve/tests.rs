@@ -23,6 +23,7 @@ fn fit_reproduces_cubic_polynomial() {
             worst = worst.max(dist(c.eval(t), cubic(t)));
         }
         assert!(worst < 1e-12, "spans {spans}: error {worst:e}");
+        assert!(max_fit_error(&c, &points, &params) < 1e-12);
         assert_eq!(c.eval(0.0), points[0]);
         assert_eq!(c.control_points()[0], points[0]);
         assert_eq!(*c.control_points().last().unwrap(), points[m - 1]);
@@ -42,6 +43,18 @@ fn derivative_matches_difference_and_reversal() {
         let t = i as f64 / 10.0;
         assert!(dist(r.eval(1.0 - t), c.eval(t)) < 1e-13);
     }
+}
+
+/// 400 samples of the unit circle, parameter = angle / 2π.
+fn circle_samples() -> (Vec<Point3>, Vec<f64>) {
+    let m = 400;
+    let tau = std::f64::consts::TAU;
+    let params: Vec<f64> = (0..m).map(|i| i as f64 / (m - 1) as f64).collect();
+    let points = params
+        .iter()
+        .map(|&t| [(tau * t).cos(), (tau * t).sin(), 0.0])
+        .collect();
+    (points, params)
 }
 
 /// Max distance to the unit circle over a dense sampling of the fitted curve.
@@ -74,6 +87,16 @@ fn circle_fit_error_is_bounded_and_falls_with_spans() {
         let h = 1.0 / spans as f64;
         let bound = 4.0 * 5.0 / 384.0 * std::f64::consts::TAU.powi(4) * h.powi(4);
         let err = circle_error(spans);
+        let (points, params) = circle_samples();
+        let fit_err = max_fit_error(
+            &fit_curve(&points, &params, spans).unwrap(),
+            &points,
+            &params,
+        );
+        assert!(
+            fit_err <= 1.05 * err && fit_err > 0.5 * err,
+            "K={spans}: sample error {fit_err:e}"
+        );
         eprintln!("{spans:2} {err:.3e}  {bound:.3e}");
         assert!(
             err < bound,

@@ -217,3 +217,55 @@ fn distinct_arcs_between_the_same_nodes_are_not_compared() {
     // 4 corners + 5 arcs × 5 interior points + 2 × 5 × 5 patch interiors.
     assert_eq!(fine.points().len(), 4 + 5 * 5 + 2 * 25);
 }
+
+#[test]
+fn a_tube_closing_on_its_own_seam() {
+    // One patch around a cylinder (the annulus of spec §9 footnote 3): the
+    // bottom and top are closed circles, left and right the same seam arc.
+    let tau = std::f64::consts::TAU;
+    let circle = |z: f64| {
+        let params: Vec<f64> = (0..200).map(|i| i as f64 / 199.0).collect();
+        let pts: Vec<Point3> = params
+            .iter()
+            .map(|&t| [(tau * t).cos(), (tau * t).sin(), z])
+            .collect();
+        fit_curve(&pts, &params, 4).unwrap()
+    };
+    let mut b = MultipatchBuilder::new();
+    let (na, nb) = (b.add_node([1.0, 0.0, 0.0]), b.add_node([1.0, 0.0, 1.0]));
+    let bottom = b.add_arc(na, na, &circle(0.0)).unwrap();
+    let top = b.add_arc(nb, nb, &circle(1.0)).unwrap();
+    let seam = b
+        .add_arc(na, nb, &arc([1.0, 0.0, 0.0], [1.0, 0.0, 1.0], 0.0, 4))
+        .unwrap();
+    let f = ArcUse::forward;
+    b.add_coons_patch([f(bottom), f(top), f(seam), f(seam)])
+        .unwrap();
+    let mp = b.build().unwrap();
+    for m in [mp.clone(), mp.refined(2).unwrap()] {
+        let g = &m.patches()[0];
+        let (ns, nt) = (g.n_s(), g.n_t());
+        assert_eq!(g.side(1), g.side(3));
+        assert_eq!(m.points().len(), (ns - 1) * nt);
+        assert_eq!(
+            m.shared_sides(),
+            SharedSides {
+                pairs: 1,
+                max_gap: 0.0
+            }
+        );
+        assert_eq!(m.components(), 1);
+        let p = m.patch(0).unwrap();
+        for k in 0..=10 {
+            let t = k as f64 / 10.0;
+            assert_eq!(p.eval(0.0, t), p.eval(1.0, t));
+        }
+        // Outward normal: S_s (around) × S_t (up) points away from the axis.
+        let outward = |x: Point3, _: f64, _: f64| [x[0], x[1], 0.0];
+        let rep = crate::bezier::jacobian_check(&p, &outward).unwrap();
+        assert!(
+            rep.is_positive() && rep.min_scaled_jacobian > 0.9,
+            "{rep:?}"
+        );
+    }
+}
