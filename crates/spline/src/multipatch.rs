@@ -100,9 +100,14 @@ impl Multipatch {
         &self.patches
     }
 
-    /// Patch `k` as a stand-alone B-spline patch.
+    /// Patch `k` as a stand-alone B-spline patch (an error past the last).
     pub fn patch(&self, k: usize) -> Result<BSplinePatch> {
-        let g = &self.patches[k];
+        let g = self.patches.get(k).ok_or_else(|| {
+            SplineError::Multipatch(format!(
+                "patch {k} does not exist ({} patches)",
+                self.patches.len()
+            ))
+        })?;
         BSplinePatch::new(
             g.knots_s.clone(),
             g.knots_t.clone(),

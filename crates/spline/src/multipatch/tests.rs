@@ -140,6 +140,11 @@ fn detects_gaps_disconnection_and_bad_input() {
             .components(),
         2
     );
+    assert!(mp
+        .patch(2)
+        .unwrap_err()
+        .to_string()
+        .contains("patch 2 does not exist"));
     let mut bad = mp.patches().to_vec();
     bad[0].indices[0] = 10_000;
     assert!(Multipatch::from_parts(mp.points().to_vec(), bad)
