@@ -490,3 +490,43 @@ fn layout_sides_are_segments_or_rungs() {
         }
     }
 }
+
+/// Fig. 12's spherical octant (three 90° arcs, each split in two): three
+/// curved patches around one valence-3 vertex on the symmetry axis; the
+/// interior edges are curved rungs, not straight lines.
+#[test]
+fn spherical_octant_has_a_centre_on_its_axis() {
+    let k = 16;
+    let q = std::f64::consts::FRAC_PI_2;
+    let mut pts = Vec::new();
+    for i in 0..k {
+        let t = q * i as f64 / k as f64;
+        pts.push([t.cos(), t.sin(), 0.0]);
+    }
+    for i in 0..k {
+        let t = q * i as f64 / k as f64;
+        pts.push([0.0, t.cos(), t.sin()]);
+    }
+    for i in 0..k {
+        let t = q * i as f64 / k as f64;
+        pts.push([t.sin(), 0.0, t.cos()]);
+    }
+    let starts = (0..6).map(|s| s * k / 2).collect();
+    let c = paired(pts, starts, &[(0, 3), (1, 4), (2, 5)]);
+    let cq = quadrangulate(&c, 0.1).unwrap();
+    let (sj, _) = check_invariants(&c, &cq);
+    report("spherical octant", &c, &cq, sj);
+    assert_eq!(cq.patches, 3);
+    assert_eq!(cq.interior_vertex_valences, vec![3]);
+    let g = cq.layout.positions[6];
+    assert!((g[0] - g[1]).abs() < 1e-9 && (g[1] - g[2]).abs() < 1e-9, "centre {g:?} off the axis");
+    // Three quads around the symmetric centre: its three interior edges are
+    // the same curve turned by 120°, and they bulge out of the flat chord
+    // from the arc midpoint to the centre.
+    let rung_nodes: Vec<Vec3> = cq.nodes.iter().copied().filter(|p| (p[1] - p[2]).abs() < 1e-12 && p[0] > 1e-9 && p[0] < g[0] - 1e-9).collect();
+    assert!(!rung_nodes.is_empty(), "the rung from (0, .7, .7) to the centre lies in the plane y = z");
+    let m = [0.0, 0.5f64.sqrt(), 0.5f64.sqrt()];
+    let bulge = rung_nodes.iter().map(|p| geometry::vec3::segment_distance(*p, m, g)).fold(0.0, f64::max);
+    eprintln!("octant rung bulge {bulge}");
+    assert!(bulge > 1e-3, "the rung is straight (bulge {bulge})");
+}
