@@ -538,13 +538,15 @@ pub(crate) fn build_layout(cycle: &PairedCycle, chords: &[Chord], orders: &[Vec<
         vertex_of[f] = s;
     }
     let mut count = n;
-    for f in 0..arr.faces {
-        if f != outer && vertex_of[f] == usize::MAX {
-            vertex_of[f] = count;
+    for (f, v) in vertex_of.iter_mut().enumerate() {
+        if f != outer && *v == usize::MAX {
+            *v = count;
             count += 1;
         }
     }
-    let expected = n + crossing_count(chords) + 1 - chords.len().min(crossing_count(chords) + 1);
+    // Faces of a connected pseudo-line arrangement: n at the boundary and
+    // crossings − chords + 1 inside.
+    let expected = (n + crossing_count(chords) + 1).saturating_sub(chords.len());
     if count != expected {
         return Err(LayoutError::Arrangement { found: count, expected });
     }
@@ -612,10 +614,7 @@ const MAX_PATHS: usize = 32;
 fn shortest_paths(n: usize, chords: &[Chord], orders: &[Vec<usize>], embedded: &[bool], c: usize) -> Vec<Vec<(usize, usize)>> {
     let arr = Arrangement::build(n, chords, orders, embedded);
     let mut adj: Vec<Vec<(usize, usize, usize)>> = vec![Vec::new(); arr.faces];
-    for a in 0..chords.len() {
-        if !embedded[a] {
-            continue;
-        }
+    for (a, _) in embedded.iter().enumerate().filter(|(_, &e)| e) {
         let along = arr.along(n, chords, a);
         for t in 0..along.len() - 1 {
             let f = arr.left(along[t], along[t + 1]);
