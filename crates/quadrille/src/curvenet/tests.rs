@@ -113,6 +113,16 @@ fn check_invariants(cycle: &PairedCycle, cq: &CycleQuads) -> (f64, usize) {
         .map(|s| cq.intervals[chords.iter().position(|&(i, j)| i == s || j == s).unwrap()])
         .sum();
     assert_eq!(boundary_edges, expected, "boundary edges = the sampled segments");
+    // A welded disk: every node used, Euler characteristic 1.
+    let mut used = vec![false; cq.nodes.len()];
+    for q in &cq.quads {
+        for &k in q {
+            used[k] = true;
+        }
+    }
+    assert!(used.iter().all(|&u| u), "a node in no quad");
+    assert_eq!(cq.nodes.len() + cq.quads.len(), uses.len() + 1, "V - E + F = 1");
+    assert_eq!(cq.boundary.iter().filter(|&&b| b).count(), boundary_edges, "boundary nodes = boundary edges");
     assert!((boundary_length - total).abs() < 1e-6 * total, "boundary edges cover the polyline once");
     // Node normals from the quads (right-hand rule), then the scaled Jacobian.
     let mut normals = vec![[0.0; 3]; cq.nodes.len()];
@@ -529,4 +539,24 @@ fn spherical_octant_has_a_centre_on_its_axis() {
     let bulge = rung_nodes.iter().map(|p| geometry::vec3::segment_distance(*p, m, g)).fold(0.0, f64::max);
     eprintln!("octant rung bulge {bulge}");
     assert!(bulge > 1e-3, "the rung is straight (bulge {bulge})");
+}
+
+/// Regular 2k-gons with every chord joining opposite sides: all chords cross
+/// pairwise, k(k−1)/2 patches and (k−1)(k−2)/2 interior vertices.
+#[test]
+fn all_crossing_chords_on_regular_polygons() {
+    for k in [4usize, 5, 6] {
+        let n = 2 * k;
+        let corners: Vec<Vec3> = (0..n)
+            .map(|s| {
+                let a = 2.0 * std::f64::consts::PI * s as f64 / n as f64;
+                [a.cos(), a.sin(), 0.0]
+            })
+            .collect();
+        let pairs: Vec<(usize, usize)> = (0..k).map(|s| (s, s + k)).collect();
+        let c = polygon_cycle(&corners, &pairs);
+        let cq = run_planar(&format!("regular {n}-gon, opposite sides"), &c, 0.1);
+        assert_eq!(cq.patches, k * (k - 1) / 2);
+        assert_eq!(cq.layout.interior_vertices(), (k - 1) * (k - 2) / 2);
+    }
 }
