@@ -62,7 +62,10 @@ fn on_cycle(chords: &[Chord], a: usize, b: usize) -> bool {
     seen[a] = true;
     while let Some(x) = stack.pop() {
         for y in 0..chords.len() {
-            if !seen[y] && chords_cross(chords[x], chords[y]) && !((x == a && y == b) || (x == b && y == a)) {
+            if !seen[y]
+                && chords_cross(chords[x], chords[y])
+                && !((x == a && y == b) || (x == b && y == a))
+            {
                 seen[y] = true;
                 stack.push(y);
             }
@@ -94,7 +97,13 @@ pub fn swap_candidates(cycle: &PairedCycle) -> Vec<(usize, usize, [Chord; 2])> {
 }
 
 /// The cycle with pairs `a` and `b` replaced by `new`, costs from `cost`.
-pub fn swapped(cycle: &PairedCycle, a: usize, b: usize, new: [Chord; 2], cost: &dyn Fn(usize, usize) -> f64) -> PairedCycle {
+pub fn swapped(
+    cycle: &PairedCycle,
+    a: usize,
+    b: usize,
+    new: [Chord; 2],
+    cost: &dyn Fn(usize, usize) -> f64,
+) -> PairedCycle {
     let mut out = cycle.clone();
     out.pairs[a] = new[0];
     out.pairs[b] = new[1];
@@ -103,7 +112,13 @@ pub fn swapped(cycle: &PairedCycle, a: usize, b: usize, new: [Chord; 2], cost: &
 }
 
 /// Judges one swap by the three rules.
-pub fn evaluate_swap(cycle: &PairedCycle, a: usize, b: usize, new: [Chord; 2], cost: &dyn Fn(usize, usize) -> f64) -> Result<SwapVerdict, LayoutError> {
+pub fn evaluate_swap(
+    cycle: &PairedCycle,
+    a: usize,
+    b: usize,
+    new: [Chord; 2],
+    cost: &dyn Fn(usize, usize) -> f64,
+) -> Result<SwapVerdict, LayoutError> {
     validate(cycle)?;
     let chords = chords_of(cycle);
     let before_layout = embed(cycle)?;
@@ -116,7 +131,10 @@ pub fn evaluate_swap(cycle: &PairedCycle, a: usize, b: usize, new: [Chord; 2], c
         Some(_) => embed(&after).map_or(f64::NEG_INFINITY, |l| layout_quality(&l).0),
         None => f64::NEG_INFINITY,
     };
-    let worst = chords.iter().map(|&(i, j)| cost(i, j)).fold(f64::NEG_INFINITY, f64::max);
+    let worst = chords
+        .iter()
+        .map(|&(i, j)| cost(i, j))
+        .fold(f64::NEG_INFINITY, f64::max);
     let new_costs = [cost(new[0].0, new[0].1), cost(new[1].0, new[1].1)];
     let old_sum = cost(chords[a].0, chords[a].1) + cost(chords[b].0, chords[b].1);
     Ok(SwapVerdict {
@@ -135,7 +153,10 @@ pub fn evaluate_swap(cycle: &PairedCycle, a: usize, b: usize, new: [Chord; 2], c
 
 /// Makes valid swaps, least cost increase first, until none is left; returns
 /// the final pairing and the swaps made in order.
-pub fn remove_dislocations(cycle: &PairedCycle, cost: &dyn Fn(usize, usize) -> f64) -> Result<(PairedCycle, Vec<SwapVerdict>), LayoutError> {
+pub fn remove_dislocations(
+    cycle: &PairedCycle,
+    cost: &dyn Fn(usize, usize) -> f64,
+) -> Result<(PairedCycle, Vec<SwapVerdict>), LayoutError> {
     let mut cur = cycle.clone();
     let mut made = Vec::new();
     // Each swap lowers the cycle count, so this ends.
@@ -143,7 +164,11 @@ pub fn remove_dislocations(cycle: &PairedCycle, cost: &dyn Fn(usize, usize) -> f
         let mut best: Option<(f64, usize, usize, [Chord; 2], SwapVerdict)> = None;
         for (a, b, new) in swap_candidates(&cur) {
             let v = evaluate_swap(&cur, a, b, new, cost)?;
-            if v.valid() && best.as_ref().is_none_or(|bst| v.cost_increase < bst.0 - 1e-15) {
+            if v.valid()
+                && best
+                    .as_ref()
+                    .is_none_or(|bst| v.cost_increase < bst.0 - 1e-15)
+            {
                 best = Some((v.cost_increase, a, b, new, v));
             }
         }

@@ -64,12 +64,17 @@ impl Polyline {
         let k = self.cumulative.partition_point(|&c| c <= s).clamp(1, m - 1);
         let (c0, c1) = (self.cumulative[k - 1], self.cumulative[k]);
         let f = if c1 > c0 { (s - c0) / (c1 - c0) } else { 0.0 };
-        add(self.points[k - 1], scale(sub(self.points[k], self.points[k - 1]), f))
+        add(
+            self.points[k - 1],
+            scale(sub(self.points[k], self.points[k - 1]), f),
+        )
     }
 
     /// `intervals + 1` points at equal arc-length steps, ends exact.
     pub fn resample(&self, intervals: usize) -> Vec<Vec3> {
-        (0..=intervals).map(|k| self.at(k as f64 / intervals as f64)).collect()
+        (0..=intervals)
+            .map(|k| self.at(k as f64 / intervals as f64))
+            .collect()
     }
 }
 
@@ -81,7 +86,14 @@ fn f0(t: f64) -> f64 {
 /// The bicubically blended Coons patch of four sides: `bottom` from P00 to
 /// P10 (parameter u), `top` from P01 to P11, `left` from P00 to P01
 /// (parameter v), `right` from P10 to P11; all by normalised arc length.
-pub fn coons_point(bottom: &Polyline, right: &Polyline, top: &Polyline, left: &Polyline, u: f64, v: f64) -> Vec3 {
+pub fn coons_point(
+    bottom: &Polyline,
+    right: &Polyline,
+    top: &Polyline,
+    left: &Polyline,
+    u: f64,
+    v: f64,
+) -> Vec3 {
     let (a0, a1) = (f0(u), 1.0 - f0(u));
     let (b0, b1) = (f0(v), 1.0 - f0(v));
     let p00 = bottom.at(0.0);
@@ -130,7 +142,11 @@ pub fn place_interior_vertices(layout: &Layout, diameter: f64) -> Result<Vec<Vec
                 if g < nb {
                     continue;
                 }
-                let (ea, c, eb) = (q.corners[(t + 1) % 4], q.corners[(t + 2) % 4], q.corners[(t + 3) % 4]);
+                let (ea, c, eb) = (
+                    q.corners[(t + 1) % 4],
+                    q.corners[(t + 2) % 4],
+                    q.corners[(t + 3) % 4],
+                );
                 let w = if iteration == 0 {
                     1.0
                 } else {
@@ -163,7 +179,10 @@ fn solve_dense(mut a: Vec<f64>, mut b: Vec<Vec3>, m: usize) -> Result<Vec<Vec3>,
             .max_by(|&r, &s| a[r * m + col].abs().total_cmp(&a[s * m + col].abs()))
             .unwrap_or(col);
         if a[piv * m + col].abs() <= 1e-13 * scale_max {
-            return Err(LayoutError::Singular { vertices: m, row: col });
+            return Err(LayoutError::Singular {
+                vertices: m,
+                row: col,
+            });
         }
         if piv != col {
             for k in 0..m {
@@ -232,7 +251,10 @@ pub fn straight_edge_curves(layout: &Layout, cycle: &PairedCycle) -> Vec<Polylin
         .iter()
         .map(|e| match e.kind {
             EdgeKind::Boundary(s) => Polyline::new(segment_points(cycle, s)),
-            EdgeKind::Interior => Polyline::new(vec![layout.positions[e.ends[0]], layout.positions[e.ends[1]]]),
+            EdgeKind::Interior => Polyline::new(vec![
+                layout.positions[e.ends[0]],
+                layout.positions[e.ends[1]],
+            ]),
         })
         .collect()
 }
@@ -290,7 +312,10 @@ pub fn rung_curves(layout: &Layout, cycle: &PairedCycle) -> Vec<Polyline> {
         }
         let left_rail = Polyline::new(rails[0].clone());
         let right_rail = Polyline::new(rails[1].clone());
-        let (ll, rl) = (left_rail.length().max(1e-300), right_rail.length().max(1e-300));
+        let (ll, rl) = (
+            left_rail.length().max(1e-300),
+            right_rail.length().max(1e-300),
+        );
         let first = oriented(&straight, layout, pieces[0].edge, pieces[0].left);
         let last = oriented(&straight, layout, pieces[m].edge, pieces[m].left);
         for t in 1..m {

@@ -14,8 +14,9 @@
 
 use std::collections::{HashMap, VecDeque};
 
+use super::cut::find_cut;
 use super::geometry::{layout_quality, place_interior_vertices};
-use super::{CycleLoops, LoopPolyline, PairedCycle};
+use super::PairedCycle;
 
 /// Why a paired cycle has no quad layout: one line naming the place and the
 /// numbers.
@@ -26,7 +27,11 @@ pub enum LayoutError {
     SegmentCount { segments: usize },
     /// A segment start is out of range or the starts do not ascend.
     #[error("curvenet layout: segment start {index} ({value}) is out of the {points} points or not ascending")]
-    BadStart { index: usize, value: usize, points: usize },
+    BadStart {
+        index: usize,
+        value: usize,
+        points: usize,
+    },
     /// The pairs do not cover every segment exactly once.
     #[error("curvenet layout: segment {segment} is in {times} pairs, need exactly 1")]
     BadPairs { segment: usize, times: usize },
@@ -35,15 +40,27 @@ pub enum LayoutError {
     NotFinite { index: usize },
     /// The chord graph is disconnected: the cycle must be cut (see [`find_cut`]).
     #[error("curvenet layout: the chord graph has {components} components; cut the cycle between segment starts {from} and {to} and redo each part")]
-    Disconnected { components: usize, from: usize, to: usize },
+    Disconnected {
+        components: usize,
+        from: usize,
+        to: usize,
+    },
     /// A chord could not be embedded crossing exactly its interleaving chords.
     #[error("curvenet layout: chord {chord} crosses {found} chords on its shortest path, expected {expected}")]
-    Embedding { chord: usize, found: usize, expected: usize },
+    Embedding {
+        chord: usize,
+        found: usize,
+        expected: usize,
+    },
     /// The arrangement's faces do not form a quad layout.
-    #[error("curvenet layout: the arrangement has {found} faces at the boundary, expected {expected}")]
+    #[error(
+        "curvenet layout: the arrangement has {found} faces at the boundary, expected {expected}"
+    )]
     Arrangement { found: usize, expected: usize },
     /// Eq. (1) for the interior vertices has a singular matrix.
-    #[error("curvenet geometry: Eq. (1) for {vertices} interior vertices is singular at row {row}")]
+    #[error(
+        "curvenet geometry: Eq. (1) for {vertices} interior vertices is singular at row {row}"
+    )]
     Singular { vertices: usize, row: usize },
     /// The target edge length is not a positive finite number.
     #[error("curvenet sampling: edge length h = {h} must be positive and finite")]
@@ -104,7 +121,11 @@ pub fn validate(cycle: &PairedCycle) -> Result<(), LayoutError> {
     }
     for (i, &s) in cycle.starts.iter().enumerate() {
         if s >= cycle.points.len() || (i > 0 && s <= cycle.starts[i - 1]) {
-            return Err(LayoutError::BadStart { index: i, value: s, points: cycle.points.len() });
+            return Err(LayoutError::BadStart {
+                index: i,
+                value: s,
+                points: cycle.points.len(),
+            });
         }
     }
     for (i, p) in cycle.points.iter().enumerate() {
@@ -116,7 +137,10 @@ pub fn validate(cycle: &PairedCycle) -> Result<(), LayoutError> {
     for &(i, j) in &cycle.pairs {
         for s in [i, j] {
             if s >= n {
-                return Err(LayoutError::BadPairs { segment: s, times: 0 });
+                return Err(LayoutError::BadPairs {
+                    segment: s,
+                    times: 0,
+                });
             }
             times[s] += 1;
         }
@@ -125,206 +149,21 @@ pub fn validate(cycle: &PairedCycle) -> Result<(), LayoutError> {
         }
     }
     if let Some(s) = (0..n).find(|&s| times[s] != 1) {
-        return Err(LayoutError::BadPairs { segment: s, times: times[s] });
+        return Err(LayoutError::BadPairs {
+            segment: s,
+            times: times[s],
+        });
     }
     Ok(())
 }
 
 /// The chords of the cycle's pairs, each ordered first < second.
 pub fn chords_of(cycle: &PairedCycle) -> Vec<Chord> {
-    cycle.pairs.iter().map(|&(i, j)| (i.min(j), i.max(j))).collect()
-}
-
-/// One part of a cut cycle: a closed polyline whose closing edge (from its
-/// last point back to its first) is the cut.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CutPart {
-    /// The part as a cycle to segment and pair again; the segment starts of
-    /// the original cycle that fall in this part are its fixed points, and so
-    /// are the two ends of the cut (its first and last point).
-    pub loops: CycleLoops,
-    /// The original segments this part keeps, in order.
-    pub segments: Vec<usize>,
-    /// The closing edge is the cut: it must stay one segment (unsplittable).
-    pub closing_edge_unsplittable: bool,
-}
-
-/// The cut of a disconnected chord graph (Fig. 10): a straight segment between
-/// two segment starts that separates chord components.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CycleCut {
-    /// Point index (into the cycle's points) of the cut's first end: the start
-    /// of the first segment of part 0.
-    pub from: usize,
-    /// Point index of the cut's other end: the start of the first segment of
-    /// part 1.
-    pub to: usize,
-    /// The two sub-cycles: segments `from..to` closed by the cut, then the rest.
-    pub parts: [CutPart; 2],
-}
-
-/// The cut of a disconnected chord graph, or `None` when it is connected: the
-/// shortest run of consecutive segments that no pair leaves, closed by the
-/// straight cut between its end points.
-pub fn find_cut(cycle: &PairedCycle) -> Result<Option<CycleCut>, LayoutError> {
-    validate(cycle)?;
-    let chords = chords_of(cycle);
-    let comps = chord_components(&chords);
-    if comps.iter().all(|&c| c == 0) {
-        return Ok(None);
-    }
-    let n = cycle.starts.len();
-    let mut mate = vec![0; n];
-    for &(i, j) in &chords {
-        mate[i] = j;
-        mate[j] = i;
-    }
-    // The shortest closed run [a, a + len) (cyclic), ties by the lowest a.
-    for len in 2..n - 1 {
-        for a in 0..n {
-            let inside = |s: usize| (s + n - a) % n < len;
-            if (0..len).all(|t| inside(mate[(a + t) % n])) {
-                let b = (a + len) % n;
-                let parts = [
-                    cut_part(cycle, a, b),
-                    cut_part(cycle, b, a),
-                ];
-                return Ok(Some(CycleCut {
-                    from: cycle.starts[a],
-                    to: cycle.starts[b],
-                    parts,
-                }));
-            }
-        }
-    }
-    // Components never interleave, so a closed run exists; unreachable for
-    // valid input, reported rather than panicking.
-    Err(LayoutError::Disconnected { components: comps.iter().max().map_or(0, |m| m + 1), from: 0, to: 0 })
-}
-
-/// The sub-cycle of segments `a, a+1, …` up to (not including) `b`, cyclic.
-fn cut_part(cycle: &PairedCycle, a: usize, b: usize) -> CutPart {
-    let n = cycle.starts.len();
-    let np = cycle.points.len();
-    let (pa, pb) = (cycle.starts[a], cycle.starts[b]);
-    let count = (pb + np - pa) % np;
-    let points: Vec<[f64; 3]> = (0..=count).map(|t| cycle.points[(pa + t) % np]).collect();
-    let mut segments = Vec::new();
-    let mut fixed = Vec::new();
-    let mut s = a;
-    while s != b {
-        segments.push(s);
-        fixed.push((cycle.starts[s] + np - pa) % np);
-        s = (s + 1) % n;
-    }
-    fixed.push(count);
-    CutPart {
-        loops: CycleLoops { outer: LoopPolyline { points, fixed }, holes: Vec::new() },
-        segments,
-        closing_edge_unsplittable: true,
-    }
-}
-
-/// Merges neighbouring parallel chords (i, j) and (i+1, j−1) when both
-/// junctions between their segments are smooth (spec §5.1): the polyline
-/// turns by less than `max_turn` radians there and the junction is not in
-/// `keep` (corners, T-junctions, junctions the caller must keep). Segments
-/// merge with their neighbour; costs of merged pairs are the larger of the two.
-pub fn merge_smooth_chords(cycle: &PairedCycle, keep: &[usize], max_turn: f64) -> Result<PairedCycle, LayoutError> {
-    validate(cycle)?;
-    let mut cur = cycle.clone();
-    'outer: loop {
-        let n = cur.starts.len();
-        if n <= 4 {
-            return Ok(cur);
-        }
-        let chords = chords_of(&cur);
-        let mut mate = vec![0; n];
-        for &(i, j) in &chords {
-            mate[i] = j;
-            mate[j] = i;
-        }
-        for i in 0..n {
-            let j = mate[i];
-            let (i1, j1) = ((i + 1) % n, (j + n - 1) % n);
-            if mate[i1] != j1 || i1 == j || i1 == j1 {
-                continue;
-            }
-            let (p, q) = (cur.starts[i1], cur.starts[j]);
-            if keep.contains(&p) || keep.contains(&q) {
-                continue;
-            }
-            if turn_angle(&cur.points, p) >= max_turn || turn_angle(&cur.points, q) >= max_turn {
-                continue;
-            }
-            if cur.unsplittable[i] || cur.unsplittable[i1] || cur.unsplittable[j] || cur.unsplittable[j1] {
-                continue;
-            }
-            // Drop the starts of segments i1 and j: i absorbs i1, j1 absorbs j.
-            let drop = [i1, j];
-            let old_index: Vec<usize> = (0..n).filter(|s| !drop.contains(s)).collect();
-            let new_of = |s: usize| -> usize {
-                let owner = if s == i1 { i } else if s == j { j1 } else { s };
-                old_index.iter().position(|&o| o == owner).unwrap_or(0)
-            };
-            let mut pairs = Vec::new();
-            let mut costs = Vec::new();
-            for (k, &(a, b)) in cur.pairs.iter().enumerate() {
-                let (a, b) = (a.min(b), a.max(b));
-                if (a, b) == (i.min(j), i.max(j)) {
-                    let other = cur.pairs.iter().position(|&(x, y)| (x.min(y), x.max(y)) == (i1.min(j1), i1.max(j1)));
-                    let c = other.map_or(cur.costs[k], |o| cur.costs[k].max(cur.costs[o]));
-                    let (x, y) = (new_of(i), new_of(j1));
-                    pairs.push((x.min(y), x.max(y)));
-                    costs.push(c);
-                } else if (a, b) != (i1.min(j1), i1.max(j1)) {
-                    let (x, y) = (new_of(a), new_of(b));
-                    pairs.push((x.min(y), x.max(y)));
-                    costs.push(cur.costs.get(k).copied().unwrap_or(0.0));
-                }
-            }
-            let starts: Vec<usize> = old_index.iter().map(|&o| cur.starts[o]).collect();
-            let unsplittable: Vec<bool> = old_index.iter().map(|&o| cur.unsplittable[o]).collect();
-            // Keep the starts ascending: rotate when segment 0's start dropped.
-            let mut order: Vec<usize> = (0..starts.len()).collect();
-            order.sort_by_key(|&k| starts[k]);
-            let rank: Vec<usize> = {
-                let mut r = vec![0; order.len()];
-                for (pos, &k) in order.iter().enumerate() {
-                    r[k] = pos;
-                }
-                r
-            };
-            let unsplittable_v: Vec<bool> = unsplittable_vec(&unsplittable, &order);
-            cur = PairedCycle {
-                points: cur.points.clone(),
-                starts: order.iter().map(|&k| starts[k]).collect(),
-                pairs: pairs.iter().map(|&(x, y)| (rank[x].min(rank[y]), rank[x].max(rank[y]))).collect(),
-                costs,
-                unsplittable: unsplittable_v,
-                diameter: cur.diameter,
-            };
-            continue 'outer;
-        }
-        return Ok(cur);
-    }
-}
-
-fn unsplittable_vec(v: &[bool], order: &[usize]) -> Vec<bool> {
-    order.iter().map(|&k| v[k]).collect()
-}
-
-/// The turning angle of the closed polyline at point `p`, in radians.
-pub fn turn_angle(points: &[[f64; 3]], p: usize) -> f64 {
-    use geometry::vec3::{dot, norm, sub};
-    let n = points.len();
-    let a = sub(points[p], points[(p + n - 1) % n]);
-    let b = sub(points[(p + 1) % n], points[p]);
-    let d = norm(a) * norm(b);
-    if d <= 0.0 {
-        return std::f64::consts::PI;
-    }
-    (dot(a, b) / d).clamp(-1.0, 1.0).acos()
+    cycle
+        .pairs
+        .iter()
+        .map(|&(i, j)| (i.min(j), i.max(j)))
+        .collect()
 }
 
 /// Which side of the layout an edge is.
@@ -471,7 +310,11 @@ impl Arrangement {
                 let (bp, bn) = (along[b][tb], along[b][tb + 2]);
                 let (i, j) = chords[a];
                 let right_to_left = i < chords[b].0 && chords[b].0 < j;
-                rot[x] = if right_to_left { vec![an, bn, ap, bp] } else { vec![an, bp, ap, bn] };
+                rot[x] = if right_to_left {
+                    vec![an, bn, ap, bp]
+                } else {
+                    vec![an, bp, ap, bn]
+                };
             }
         }
         let mut he_base = vec![0; next + 1];
@@ -497,7 +340,12 @@ impl Arrangement {
             }
             faces += 1;
         }
-        Arrangement { rot, he_base, face, faces }
+        Arrangement {
+            rot,
+            he_base,
+            face,
+            faces,
+        }
     }
 
     /// The face left of the half-edge u → v.
@@ -525,7 +373,11 @@ impl Arrangement {
 }
 
 /// Builds the layout of fully embedded chords with straight-edge geometry.
-pub(crate) fn build_layout(cycle: &PairedCycle, chords: &[Chord], orders: &[Vec<usize>]) -> Result<Layout, LayoutError> {
+pub(crate) fn build_layout(
+    cycle: &PairedCycle,
+    chords: &[Chord],
+    orders: &[Vec<usize>],
+) -> Result<Layout, LayoutError> {
     let n = cycle.starts.len();
     let arr = Arrangement::build(n, chords, orders, &vec![true; chords.len()]);
     let outer = arr.left(n, 0);
@@ -533,7 +385,10 @@ pub(crate) fn build_layout(cycle: &PairedCycle, chords: &[Chord], orders: &[Vec<
     for s in 0..n {
         let f = arr.left(s, n + s);
         if vertex_of[f] != usize::MAX || f == outer {
-            return Err(LayoutError::Arrangement { found: s, expected: n });
+            return Err(LayoutError::Arrangement {
+                found: s,
+                expected: n,
+            });
         }
         vertex_of[f] = s;
     }
@@ -548,7 +403,10 @@ pub(crate) fn build_layout(cycle: &PairedCycle, chords: &[Chord], orders: &[Vec<
     // crossings − chords + 1 inside.
     let expected = (n + crossing_count(chords) + 1).saturating_sub(chords.len());
     if count != expected {
-        return Err(LayoutError::Arrangement { found: count, expected });
+        return Err(LayoutError::Arrangement {
+            found: count,
+            expected,
+        });
     }
     let mut positions: Vec<[f64; 3]> = cycle.starts.iter().map(|&p| cycle.points[p]).collect();
     positions.resize(count, [0.0; 3]);
@@ -571,12 +429,23 @@ pub(crate) fn build_layout(cycle: &PairedCycle, chords: &[Chord], orders: &[Vec<
             };
             if let EdgeKind::Boundary(s) = kind {
                 if ends != [s, (s + 1) % n] {
-                    return Err(LayoutError::Arrangement { found: ends[0], expected: s });
+                    return Err(LayoutError::Arrangement {
+                        found: ends[0],
+                        expected: s,
+                    });
                 }
             }
             edge_of.insert((u.min(v), u.max(v)), edges.len());
-            ps.push(ChordPiece { edge: edges.len(), left, right });
-            edges.push(LayoutEdge { ends, kind, chord: a });
+            ps.push(ChordPiece {
+                edge: edges.len(),
+                left,
+                right,
+            });
+            edges.push(LayoutEdge {
+                ends,
+                kind,
+                chord: a,
+            });
         }
         pieces.push(ps);
     }
@@ -585,13 +454,20 @@ pub(crate) fn build_layout(cycle: &PairedCycle, chords: &[Chord], orders: &[Vec<
         let r = &arr.rot[x];
         let corners = [0, 1, 2, 3].map(|t| vertex_of[arr.left(x, r[t])]);
         if (0..4).any(|a| (a + 1..4).any(|b| corners[a] == corners[b])) {
-            return Err(LayoutError::Arrangement { found: 3, expected: 4 });
+            return Err(LayoutError::Arrangement {
+                found: 3,
+                expected: 4,
+            });
         }
         let sides = [0, 1, 2, 3].map(|t| {
             let e = edge_of[&(x.min(r[(t + 1) % 4]), x.max(r[(t + 1) % 4]))];
             (e, edges[e].ends[0] == corners[t])
         });
-        quads.push(LayoutQuad { corners, sides, chords: [edges[sides[0].0].chord, edges[sides[1].0].chord] });
+        quads.push(LayoutQuad {
+            corners,
+            sides,
+            chords: [edges[sides[0].0].chord, edges[sides[1].0].chord],
+        });
     }
     let mut layout = Layout {
         chords: chords.to_vec(),
@@ -611,7 +487,13 @@ const MAX_PATHS: usize = 32;
 
 /// The shortest paths in the cell graph for chord `c`, each as the list of
 /// (chord, piece) crossed.
-fn shortest_paths(n: usize, chords: &[Chord], orders: &[Vec<usize>], embedded: &[bool], c: usize) -> Vec<Vec<(usize, usize)>> {
+fn shortest_paths(
+    n: usize,
+    chords: &[Chord],
+    orders: &[Vec<usize>],
+    embedded: &[bool],
+    c: usize,
+) -> Vec<Vec<(usize, usize)>> {
     let arr = Arrangement::build(n, chords, orders, embedded);
     let mut adj: Vec<Vec<(usize, usize, usize)>> = vec![Vec::new(); arr.faces];
     for (a, _) in embedded.iter().enumerate().filter(|(_, &e)| e) {
@@ -667,7 +549,13 @@ fn insert_path(orders: &mut [Vec<usize>], c: usize, path: &[(usize, usize)]) {
 }
 
 /// Embeds chords `sequence[k..]` by their first shortest paths.
-fn complete_first(n: usize, chords: &[Chord], orders: &mut [Vec<usize>], embedded: &mut [bool], sequence: &[usize]) -> Result<(), LayoutError> {
+fn complete_first(
+    n: usize,
+    chords: &[Chord],
+    orders: &mut [Vec<usize>],
+    embedded: &mut [bool],
+    sequence: &[usize],
+) -> Result<(), LayoutError> {
     for &c in sequence {
         let paths = shortest_paths(n, chords, orders, embedded, c);
         let path = checked_first(&paths, chords, embedded, c)?;
@@ -678,15 +566,30 @@ fn complete_first(n: usize, chords: &[Chord], orders: &mut [Vec<usize>], embedde
 }
 
 fn expected_crossings(chords: &[Chord], embedded: &[bool], c: usize) -> usize {
-    (0..chords.len()).filter(|&a| embedded[a] && chords_cross(chords[a], chords[c])).count()
+    (0..chords.len())
+        .filter(|&a| embedded[a] && chords_cross(chords[a], chords[c]))
+        .count()
 }
 
-fn checked_first(paths: &[Vec<(usize, usize)>], chords: &[Chord], embedded: &[bool], c: usize) -> Result<Vec<(usize, usize)>, LayoutError> {
+fn checked_first(
+    paths: &[Vec<(usize, usize)>],
+    chords: &[Chord],
+    embedded: &[bool],
+    c: usize,
+) -> Result<Vec<(usize, usize)>, LayoutError> {
     let expected = expected_crossings(chords, embedded, c);
     match paths.first() {
         Some(p) if p.len() == expected => Ok(p.clone()),
-        Some(p) => Err(LayoutError::Embedding { chord: c, found: p.len(), expected }),
-        None => Err(LayoutError::Embedding { chord: c, found: usize::MAX, expected }),
+        Some(p) => Err(LayoutError::Embedding {
+            chord: c,
+            found: p.len(),
+            expected,
+        }),
+        None => Err(LayoutError::Embedding {
+            chord: c,
+            found: usize::MAX,
+            expected,
+        }),
     }
 }
 
@@ -701,7 +604,11 @@ pub fn embed(cycle: &PairedCycle) -> Result<Layout, LayoutError> {
     if comps.iter().any(|&c| c != 0) {
         let cut = find_cut(cycle)?;
         let (from, to) = cut.map_or((0, 0), |c| (c.from, c.to));
-        return Err(LayoutError::Disconnected { components: comps.iter().max().map_or(0, |m| m + 1), from, to });
+        return Err(LayoutError::Disconnected {
+            components: comps.iter().max().map_or(0, |m| m + 1),
+            from,
+            to,
+        });
     }
     let mut sequence: Vec<usize> = (0..chords.len()).collect();
     sequence.sort_by(|&a, &b| {
@@ -713,7 +620,11 @@ pub fn embed(cycle: &PairedCycle) -> Result<Layout, LayoutError> {
 }
 
 /// [`embed`] with a given insertion order (Fig. 11 tests both orders).
-pub fn embed_in_order(cycle: &PairedCycle, chords: &[Chord], sequence: &[usize]) -> Result<Layout, LayoutError> {
+pub fn embed_in_order(
+    cycle: &PairedCycle,
+    chords: &[Chord],
+    sequence: &[usize],
+) -> Result<Layout, LayoutError> {
     let n = cycle.starts.len();
     let mut orders = vec![Vec::new(); chords.len()];
     let mut embedded = vec![false; chords.len()];
@@ -736,7 +647,9 @@ pub fn embed_in_order(cycle: &PairedCycle, chords: &[Chord], sequence: &[usize])
                     Ok(l) => layout_quality(&l),
                     Err(_) => (f64::NEG_INFINITY, f64::NEG_INFINITY),
                 };
-                if score.0 > best_score.0 + 1e-12 || (score.0 > best_score.0 - 1e-12 && score.1 > best_score.1 + 1e-12) {
+                if score.0 > best_score.0 + 1e-12
+                    || (score.0 > best_score.0 - 1e-12 && score.1 > best_score.1 + 1e-12)
+                {
                     best_score = score;
                     best = p.clone();
                 }

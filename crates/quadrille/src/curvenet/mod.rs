@@ -59,6 +59,7 @@ pub struct PairedCycle {
     pub diameter: f64,
 }
 
+pub mod cut;
 pub mod dislocation;
 pub mod geometry;
 pub mod layout;

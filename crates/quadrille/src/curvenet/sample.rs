@@ -31,7 +31,7 @@ pub struct CycleQuads {
 
 /// The quads of one paired cycle at target edge length `h`: layout (§5),
 /// geometry (§6.1–6.3), sampling (§6.4). A disconnected chord graph is an
-/// error naming the cut (see [`super::layout::find_cut`]).
+/// error naming the cut (see [`super::cut::find_cut`]).
 pub fn quadrangulate(cycle: &PairedCycle, h: f64) -> Result<CycleQuads, LayoutError> {
     if !(h.is_finite() && h > 0.0) {
         return Err(LayoutError::BadSize { h });
@@ -59,7 +59,9 @@ pub fn sample_layout(cycle: &PairedCycle, layout: Layout, h: f64) -> CycleQuads 
     let intervals = chord_intervals(cycle, &layout, h);
     let curves = rung_curves(&layout, cycle);
     let mut nodes: Vec<Vec3> = layout.positions.clone();
-    let mut boundary: Vec<bool> = (0..nodes.len()).map(|v| v < layout.boundary_vertices).collect();
+    let mut boundary: Vec<bool> = (0..nodes.len())
+        .map(|v| v < layout.boundary_vertices)
+        .collect();
     // The node ids along each edge, from ends[0] to ends[1].
     let mut edge_nodes: Vec<Vec<usize>> = Vec::with_capacity(layout.edges.len());
     for (e, edge) in layout.edges.iter().enumerate() {
@@ -81,7 +83,10 @@ pub fn sample_layout(cycle: &PairedCycle, layout: Layout, h: f64) -> CycleQuads 
             if fwd {
                 (edge_nodes[e].clone(), curves[e].clone())
             } else {
-                (edge_nodes[e].iter().rev().copied().collect(), curves[e].reversed())
+                (
+                    edge_nodes[e].iter().rev().copied().collect(),
+                    curves[e].reversed(),
+                )
             }
         };
         let (b_ids, b) = side(0);
@@ -116,11 +121,24 @@ pub fn sample_layout(cycle: &PairedCycle, layout: Layout, h: f64) -> CycleQuads 
         }
         for a in 0..mu {
             for bb in 0..mv {
-                quads.push([grid[a][bb], grid[a + 1][bb], grid[a + 1][bb + 1], grid[a][bb + 1]]);
+                quads.push([
+                    grid[a][bb],
+                    grid[a + 1][bb],
+                    grid[a + 1][bb + 1],
+                    grid[a][bb + 1],
+                ]);
             }
         }
     }
     let patches = layout.quads.len();
     let interior_vertex_valences = layout.interior_valences();
-    CycleQuads { nodes, quads, boundary, layout, patches, interior_vertex_valences, intervals }
+    CycleQuads {
+        nodes,
+        quads,
+        boundary,
+        layout,
+        patches,
+        interior_vertex_valences,
+        intervals,
+    }
 }

@@ -6,9 +6,10 @@ use std::collections::HashMap;
 use geometry::vec3::{cross, dist, dot, norm, scale, sub, Vec3};
 use mesh::quality::quad_scaled_jacobian;
 
+use super::cut::{find_cut, merge_smooth_chords};
 use super::dislocation::{evaluate_swap, remove_dislocations, swap_candidates};
 use super::geometry::{layout_quality, newell};
-use super::layout::{build_layout, chords_of, crossing_count, embed, find_cut, merge_smooth_chords, EdgeKind, LayoutError};
+use super::layout::{build_layout, chords_of, crossing_count, embed, EdgeKind, LayoutError};
 use super::{quadrangulate, CycleQuads, PairedCycle};
 
 /// A closed polygon through `corners`, each side cut into `per_side` pieces;
@@ -21,7 +22,11 @@ fn polygon(corners: &[Vec3], per_side: usize) -> (Vec<Vec3>, Vec<usize>) {
         idx.push(pts.len());
         for t in 0..per_side {
             let f = t as f64 / per_side as f64;
-            pts.push([a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])]);
+            pts.push([
+                a[0] + f * (b[0] - a[0]),
+                a[1] + f * (b[1] - a[1]),
+                a[2] + f * (b[2] - a[2]),
+            ]);
         }
     }
     (pts, idx)
@@ -78,7 +83,11 @@ fn check_invariants(cycle: &PairedCycle, cq: &CycleQuads) -> (f64, usize) {
     let chords = chords_of(cycle);
     let crossings = crossing_count(&chords);
     assert_eq!(cq.patches, crossings, "patches = crossings");
-    assert_eq!(cq.layout.interior_vertices() + chords.len(), crossings + 1, "V_int = I - k + 1");
+    assert_eq!(
+        cq.layout.interior_vertices() + chords.len(),
+        crossings + 1,
+        "V_int = I - k + 1"
+    );
     let d = cycle.diameter;
     let tol = 1e-9 * d;
     // Every edge in 2 quads with opposite directions, or in 1 and on the polyline.
@@ -90,7 +99,9 @@ fn check_invariants(cycle: &PairedCycle, cq: &CycleQuads) -> (f64, usize) {
             uses.entry((u.min(v), u.max(v))).or_default().push((u, v));
         }
     }
-    let total: f64 = (0..cycle.points.len()).map(|k| dist(cycle.points[k], cycle.points[(k + 1) % cycle.points.len()])).sum();
+    let total: f64 = (0..cycle.points.len())
+        .map(|k| dist(cycle.points[k], cycle.points[(k + 1) % cycle.points.len()]))
+        .sum();
     let mut boundary_length = 0.0;
     let mut boundary_edges = 0;
     for (key, dirs) in &uses {
@@ -98,11 +109,19 @@ fn check_invariants(cycle: &PairedCycle, cq: &CycleQuads) -> (f64, usize) {
             2 => assert_ne!(dirs[0], dirs[1], "edge {key:?} used twice in one direction"),
             1 => {
                 let (u, v) = dirs[0];
-                assert!(cq.boundary[u] && cq.boundary[v], "open edge {key:?} off the boundary");
-                let pu = arc_position(&cycle.points, cq.nodes[u], tol).expect("boundary node on the polyline");
-                let pv = arc_position(&cycle.points, cq.nodes[v], tol).expect("boundary node on the polyline");
+                assert!(
+                    cq.boundary[u] && cq.boundary[v],
+                    "open edge {key:?} off the boundary"
+                );
+                let pu = arc_position(&cycle.points, cq.nodes[u], tol)
+                    .expect("boundary node on the polyline");
+                let pv = arc_position(&cycle.points, cq.nodes[v], tol)
+                    .expect("boundary node on the polyline");
                 let step = (pv - pu).rem_euclid(total);
-                assert!(step < 0.5 * total, "boundary edge {u}->{v} runs against the cycle");
+                assert!(
+                    step < 0.5 * total,
+                    "boundary edge {u}->{v} runs against the cycle"
+                );
                 boundary_length += step;
                 boundary_edges += 1;
             }
@@ -112,7 +131,10 @@ fn check_invariants(cycle: &PairedCycle, cq: &CycleQuads) -> (f64, usize) {
     let expected: usize = (0..cycle.starts.len())
         .map(|s| cq.intervals[chords.iter().position(|&(i, j)| i == s || j == s).unwrap()])
         .sum();
-    assert_eq!(boundary_edges, expected, "boundary edges = the sampled segments");
+    assert_eq!(
+        boundary_edges, expected,
+        "boundary edges = the sampled segments"
+    );
     // A welded disk: every node used, Euler characteristic 1.
     let mut used = vec![false; cq.nodes.len()];
     for q in &cq.quads {
@@ -121,16 +143,31 @@ fn check_invariants(cycle: &PairedCycle, cq: &CycleQuads) -> (f64, usize) {
         }
     }
     assert!(used.iter().all(|&u| u), "a node in no quad");
-    assert_eq!(cq.nodes.len() + cq.quads.len(), uses.len() + 1, "V - E + F = 1");
-    assert_eq!(cq.boundary.iter().filter(|&&b| b).count(), boundary_edges, "boundary nodes = boundary edges");
-    assert!((boundary_length - total).abs() < 1e-6 * total, "boundary edges cover the polyline once");
+    assert_eq!(
+        cq.nodes.len() + cq.quads.len(),
+        uses.len() + 1,
+        "V - E + F = 1"
+    );
+    assert_eq!(
+        cq.boundary.iter().filter(|&&b| b).count(),
+        boundary_edges,
+        "boundary nodes = boundary edges"
+    );
+    assert!(
+        (boundary_length - total).abs() < 1e-6 * total,
+        "boundary edges cover the polyline once"
+    );
     // Node normals from the quads (right-hand rule), then the scaled Jacobian.
     let mut normals = vec![[0.0; 3]; cq.nodes.len()];
     for q in &cq.quads {
         let p = q.map(|k| cq.nodes[k]);
         let n = cross(sub(p[2], p[0]), sub(p[3], p[1]));
         for &k in q {
-            normals[k] = [normals[k][0] + n[0], normals[k][1] + n[1], normals[k][2] + n[2]];
+            normals[k] = [
+                normals[k][0] + n[0],
+                normals[k][1] + n[1],
+                normals[k][2] + n[2],
+            ];
         }
     }
     let normals: Vec<Vec3> = normals.iter().map(|n| scale(*n, 1.0 / norm(*n))).collect();
@@ -158,7 +195,10 @@ fn check_planar(cycle: &PairedCycle, cq: &CycleQuads) {
     let n = scale(n, 1.0 / norm(n));
     let o = cycle.points[0];
     for p in &cq.nodes {
-        assert!(dot(sub(*p, o), n).abs() <= 1e-9 * cycle.diameter, "node {p:?} off the plane");
+        assert!(
+            dot(sub(*p, o), n).abs() <= 1e-9 * cycle.diameter,
+            "node {p:?} off the plane"
+        );
     }
 }
 
@@ -185,16 +225,25 @@ fn run_planar(name: &str, cycle: &PairedCycle, h: f64) -> CycleQuads {
 }
 
 fn hexagon(r: f64) -> Vec<Vec3> {
-    (0..6).map(|k| {
-        let a = std::f64::consts::PI / 3.0 * k as f64;
-        [r * a.cos(), r * a.sin(), 0.0]
-    })
-    .collect()
+    (0..6)
+        .map(|k| {
+            let a = std::f64::consts::PI / 3.0 * k as f64;
+            [r * a.cos(), r * a.sin(), 0.0]
+        })
+        .collect()
 }
 
 #[test]
 fn rectangle_four_segments_is_one_patch() {
-    let c = polygon_cycle(&[[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.3, 0.0], [0.0, 1.3, 0.0]], &[(0, 2), (1, 3)]);
+    let c = polygon_cycle(
+        &[
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [2.0, 1.3, 0.0],
+            [0.0, 1.3, 0.0],
+        ],
+        &[(0, 2), (1, 3)],
+    );
     let cq = run_planar("rectangle", &c, 0.25);
     assert_eq!((cq.patches, cq.layout.interior_vertices()), (1, 0));
     // 2 / 0.25 = 8 intervals by 1.3 / 0.25 -> 6.
@@ -202,7 +251,14 @@ fn rectangle_four_segments_is_one_patch() {
 }
 
 fn two_by_one() -> PairedCycle {
-    let corners = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+    let corners = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [2.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
     polygon_cycle(&corners, &[(0, 4), (1, 3), (2, 5)])
 }
 
@@ -213,7 +269,11 @@ fn two_by_one_rectangle_is_two_patches() {
     assert_eq!((cq.patches, cq.layout.interior_vertices()), (2, 0));
     assert_eq!(cq.quads.len(), 2 * 4 * 4);
     // Straight interior edge from (1,0) to (1,1): every node at x = 1 exists.
-    let on_mid = cq.nodes.iter().filter(|p| (p[0] - 1.0).abs() < 1e-12).count();
+    let on_mid = cq
+        .nodes
+        .iter()
+        .filter(|p| (p[0] - 1.0).abs() < 1e-12)
+        .count();
     assert_eq!(on_mid, 5);
 }
 
@@ -231,7 +291,10 @@ fn split_triangle() -> PairedCycle {
     let s = 3f64.sqrt();
     let (a, b, cc) = ([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [1.0, s, 0.0]);
     let mid = |p: Vec3, q: Vec3| scale([p[0] + q[0], p[1] + q[1], p[2] + q[2]], 0.5);
-    polygon_cycle(&[a, mid(a, b), b, mid(b, cc), cc, mid(cc, a)], &[(0, 3), (1, 4), (2, 5)])
+    polygon_cycle(
+        &[a, mid(a, b), b, mid(b, cc), cc, mid(cc, a)],
+        &[(0, 3), (1, 4), (2, 5)],
+    )
 }
 
 #[test]
@@ -245,7 +308,11 @@ fn split_triangle_has_a_valence_three_centre() {
     assert!(dist(g, centroid) < 1e-9, "centre at {g:?}");
     // The tie-break keeps one triangle corner (layout vertices 0, 2, 4) per quad.
     for q in &cq.layout.quads {
-        assert_eq!(q.corners.iter().filter(|&&v| v < 6 && v % 2 == 0).count(), 1, "{q:?}");
+        assert_eq!(
+            q.corners.iter().filter(|&&v| v < 6 && v % 2 == 0).count(),
+            1,
+            "{q:?}"
+        );
     }
 }
 
@@ -267,15 +334,30 @@ fn crossing_order_is_chosen_by_scaled_jacobian() {
             })
             .collect();
         if let Ok(l) = build_layout(&c, &chords, &orders) {
-            let mut key: Vec<[usize; 4]> = l.quads.iter().map(|q| { let mut k = q.corners; k.sort(); k }).collect();
+            let mut key: Vec<[usize; 4]> = l
+                .quads
+                .iter()
+                .map(|q| {
+                    let mut k = q.corners;
+                    k.sort();
+                    k
+                })
+                .collect();
             key.sort();
             if !layouts.iter().any(|(k, _)| *k == key) {
                 layouts.push((key, layout_quality(&l).0));
             }
         }
     }
-    assert_eq!(layouts.len(), 2, "two arrangements of three crossing chords");
-    let best = layouts.iter().map(|l| l.1).fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(
+        layouts.len(),
+        2,
+        "two arrangements of three crossing chords"
+    );
+    let best = layouts
+        .iter()
+        .map(|l| l.1)
+        .fold(f64::NEG_INFINITY, f64::max);
     let worst = layouts.iter().map(|l| l.1).fold(f64::INFINITY, f64::min);
     assert!(best > 0.5 && worst < 0.1, "qualities {best} {worst}");
     let chosen = layout_quality(&embed(&c).unwrap()).0;
@@ -284,8 +366,14 @@ fn crossing_order_is_chosen_by_scaled_jacobian() {
 
 fn l_shape() -> PairedCycle {
     let corners = [
-        [0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0],
-        [1.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 2.0, 0.0], [0.0, 1.0, 0.0],
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [2.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [1.0, 2.0, 0.0],
+        [0.0, 2.0, 0.0],
+        [0.0, 1.0, 0.0],
     ];
     polygon_cycle(&corners, &[(2, 7), (0, 5), (1, 3), (4, 6)])
 }
@@ -300,7 +388,14 @@ fn l_shape_is_three_patches() {
 
 #[test]
 fn house_with_split_bottom_is_two_patches() {
-    let corners = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [1.3, 1.8, 0.0], [0.0, 1.0, 0.0]];
+    let corners = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [2.0, 1.0, 0.0],
+        [1.3, 1.8, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
     let c = polygon_cycle(&corners, &[(0, 4), (1, 3), (2, 5)]);
     let cq = run_planar("house", &c, 0.2);
     assert_eq!((cq.patches, cq.layout.interior_vertices()), (2, 0));
@@ -308,7 +403,12 @@ fn house_with_split_bottom_is_two_patches() {
 
 #[test]
 fn saddle_is_one_patch() {
-    let corners = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.5], [1.0, 1.0, 0.0], [0.0, 1.0, 0.5]];
+    let corners = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.5],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.5],
+    ];
     let c = polygon_cycle(&corners, &[(0, 2), (1, 3)]);
     let cq = quadrangulate(&c, 0.1).unwrap();
     let (sj, _) = check_invariants(&c, &cq);
@@ -351,18 +451,22 @@ fn fillet_stays_on_its_cylinder() {
     report("fillet (cylinder)", &c, &cq, sj);
     for p in &cq.nodes {
         let r = (p[0] * p[0] + p[1] * p[1]).sqrt();
-        assert!((r - 1.0).abs() <= 1e-6 * c.diameter, "node {p:?} at radius {r}");
+        assert!(
+            (r - 1.0).abs() <= 1e-6 * c.diameter,
+            "node {p:?} at radius {r}"
+        );
     }
 }
 
 /// Fig. 10: two chord components; the cut is the shortest closed run.
 #[test]
 fn disconnected_pairing_gives_the_cut() {
-    let corners: Vec<Vec3> = (0..8).map(|k| {
-        let a = std::f64::consts::PI / 4.0 * k as f64;
-        [a.cos(), a.sin(), 0.0]
-    })
-    .collect();
+    let corners: Vec<Vec3> = (0..8)
+        .map(|k| {
+            let a = std::f64::consts::PI / 4.0 * k as f64;
+            [a.cos(), a.sin(), 0.0]
+        })
+        .collect();
     let c = polygon_cycle(&corners, &[(1, 3), (2, 4), (5, 7), (0, 6)]);
     let cut = find_cut(&c).unwrap().expect("a cut");
     assert_eq!((cut.from, cut.to), (c.starts[1], c.starts[5]));
@@ -371,13 +475,24 @@ fn disconnected_pairing_gives_the_cut() {
     for part in &cut.parts {
         let pts = &part.loops.outer.points;
         assert!(part.closing_edge_unsplittable);
-        assert_eq!(part.loops.outer.fixed.len(), 5, "4 segment starts and the cut's far end");
+        assert_eq!(
+            part.loops.outer.fixed.len(),
+            5,
+            "4 segment starts and the cut's far end"
+        );
         assert_eq!(*part.loops.outer.fixed.last().unwrap(), pts.len() - 1);
     }
     assert_eq!(cut.parts[0].loops.outer.points[0], c.points[c.starts[1]]);
-    assert_eq!(*cut.parts[0].loops.outer.points.last().unwrap(), c.points[c.starts[5]]);
+    assert_eq!(
+        *cut.parts[0].loops.outer.points.last().unwrap(),
+        c.points[c.starts[5]]
+    );
     match quadrangulate(&c, 0.1) {
-        Err(LayoutError::Disconnected { components: 2, from, to }) => assert_eq!((from, to), (cut.from, cut.to)),
+        Err(LayoutError::Disconnected {
+            components: 2,
+            from,
+            to,
+        }) => assert_eq!((from, to), (cut.from, cut.to)),
         other => panic!("expected the cut error, got {other:?}"),
     }
     // A connected pairing has no cut.
@@ -398,13 +513,26 @@ fn smooth_neighbouring_chords_merge_unless_kept() {
     assert_eq!(kept, c);
     // Corners (90° turns) never merge.
     let l = l_shape();
-    assert_eq!(merge_smooth_chords(&l, &[], 40f64.to_radians()).unwrap().starts.len(), 8);
+    assert_eq!(
+        merge_smooth_chords(&l, &[], 40f64.to_radians())
+            .unwrap()
+            .starts
+            .len(),
+        8
+    );
 }
 
 /// Fig. 14: a hexagon flattened at two opposite vertices; the star layout
 /// has a bad corner there, the swap to two quads removes the interior vertex.
 fn flat_hexagon() -> PairedCycle {
-    let corners = [[1.0, -1.0, 0.0], [1.15, 0.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0], [-1.15, 0.0, 0.0], [-1.0, -1.0, 0.0]];
+    let corners = [
+        [1.0, -1.0, 0.0],
+        [1.15, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [-1.0, 1.0, 0.0],
+        [-1.15, 0.0, 0.0],
+        [-1.0, -1.0, 0.0],
+    ];
     polygon_cycle(&corners, &[(0, 3), (1, 4), (2, 5)])
 }
 
@@ -430,7 +558,10 @@ fn dislocation_refused_when_quality_does_not_improve() {
         let v = evaluate_swap(&c, a, b, new, &cost).unwrap();
         if v.no_new_cycle {
             connected += 1;
-            assert!(v.costs_acceptable && !v.quality_improves && !v.valid(), "{v:?}");
+            assert!(
+                v.costs_acceptable && !v.quality_improves && !v.valid(),
+                "{v:?}"
+            );
         }
     }
     assert!(connected > 0);
@@ -456,7 +587,13 @@ fn dislocation_refused_when_a_cycle_appears_or_the_graph_splits() {
 fn dislocation_refused_when_a_new_pair_costs_more_than_the_worst() {
     let c = flat_hexagon();
     let old: Vec<(usize, usize)> = c.pairs.clone();
-    let cost = move |i: usize, j: usize| if old.contains(&(i.min(j), i.max(j))) { 0.1 } else { 0.3 };
+    let cost = move |i: usize, j: usize| {
+        if old.contains(&(i.min(j), i.max(j))) {
+            0.1
+        } else {
+            0.3
+        }
+    };
     let (after, swaps) = remove_dislocations(&c, &cost).unwrap();
     assert!(swaps.is_empty());
     assert_eq!(after.pairs, c.pairs);
@@ -468,34 +605,64 @@ fn dislocation_refused_when_a_new_pair_costs_more_than_the_worst() {
 #[test]
 fn bad_input_is_an_error() {
     let c = two_by_one();
-    assert!(matches!(quadrangulate(&c, 0.0), Err(LayoutError::BadSize { .. })));
-    assert!(matches!(quadrangulate(&c, f64::NAN), Err(LayoutError::BadSize { .. })));
+    assert!(matches!(
+        quadrangulate(&c, 0.0),
+        Err(LayoutError::BadSize { .. })
+    ));
+    assert!(matches!(
+        quadrangulate(&c, f64::NAN),
+        Err(LayoutError::BadSize { .. })
+    ));
     let mut odd = c.clone();
     odd.starts.pop();
-    assert!(matches!(quadrangulate(&odd, 0.1), Err(LayoutError::SegmentCount { segments: 5 })));
+    assert!(matches!(
+        quadrangulate(&odd, 0.1),
+        Err(LayoutError::SegmentCount { segments: 5 })
+    ));
     let mut twice = c.clone();
     twice.pairs[0] = (1, 4);
-    assert!(matches!(quadrangulate(&twice, 0.1), Err(LayoutError::BadPairs { .. })));
+    assert!(matches!(
+        quadrangulate(&twice, 0.1),
+        Err(LayoutError::BadPairs { .. })
+    ));
     let mut nan = c.clone();
     nan.points[3][1] = f64::NAN;
-    assert!(matches!(quadrangulate(&nan, 0.1), Err(LayoutError::NotFinite { index: 3 })));
+    assert!(matches!(
+        quadrangulate(&nan, 0.1),
+        Err(LayoutError::NotFinite { index: 3 })
+    ));
     let mut unsorted = c;
     unsorted.starts.swap(1, 2);
-    assert!(matches!(quadrangulate(&unsorted, 0.1), Err(LayoutError::BadStart { .. })));
+    assert!(matches!(
+        quadrangulate(&unsorted, 0.1),
+        Err(LayoutError::BadStart { .. })
+    ));
 }
 
 #[test]
 fn layout_sides_are_segments_or_rungs() {
     let c = l_shape();
     let l = embed(&c).unwrap();
-    let boundary = l.edges.iter().filter(|e| matches!(e.kind, EdgeKind::Boundary(_))).count();
+    let boundary = l
+        .edges
+        .iter()
+        .filter(|e| matches!(e.kind, EdgeKind::Boundary(_)))
+        .count();
     assert_eq!(boundary, 8);
-    assert_eq!(l.edges.len() - boundary, 2, "two interior edges between the three squares");
+    assert_eq!(
+        l.edges.len() - boundary,
+        2,
+        "two interior edges between the three squares"
+    );
     for q in &l.quads {
         assert_ne!(q.chords[0], q.chords[1]);
         for (t, &(e, fwd)) in q.sides.iter().enumerate() {
             let ends = l.edges[e].ends;
-            let (a, b) = if fwd { (ends[0], ends[1]) } else { (ends[1], ends[0]) };
+            let (a, b) = if fwd {
+                (ends[0], ends[1])
+            } else {
+                (ends[1], ends[0])
+            };
             assert_eq!((a, b), (q.corners[t], q.corners[(t + 1) % 4]));
         }
     }
@@ -529,14 +696,28 @@ fn spherical_octant_has_a_centre_on_its_axis() {
     assert_eq!(cq.patches, 3);
     assert_eq!(cq.interior_vertex_valences, vec![3]);
     let g = cq.layout.positions[6];
-    assert!((g[0] - g[1]).abs() < 1e-9 && (g[1] - g[2]).abs() < 1e-9, "centre {g:?} off the axis");
+    assert!(
+        (g[0] - g[1]).abs() < 1e-9 && (g[1] - g[2]).abs() < 1e-9,
+        "centre {g:?} off the axis"
+    );
     // Three quads around the symmetric centre: its three interior edges are
     // the same curve turned by 120°, and they bulge out of the flat chord
     // from the arc midpoint to the centre.
-    let rung_nodes: Vec<Vec3> = cq.nodes.iter().copied().filter(|p| (p[1] - p[2]).abs() < 1e-12 && p[0] > 1e-9 && p[0] < g[0] - 1e-9).collect();
-    assert!(!rung_nodes.is_empty(), "the rung from (0, .7, .7) to the centre lies in the plane y = z");
+    let rung_nodes: Vec<Vec3> = cq
+        .nodes
+        .iter()
+        .copied()
+        .filter(|p| (p[1] - p[2]).abs() < 1e-12 && p[0] > 1e-9 && p[0] < g[0] - 1e-9)
+        .collect();
+    assert!(
+        !rung_nodes.is_empty(),
+        "the rung from (0, .7, .7) to the centre lies in the plane y = z"
+    );
     let m = [0.0, 0.5f64.sqrt(), 0.5f64.sqrt()];
-    let bulge = rung_nodes.iter().map(|p| geometry::vec3::segment_distance(*p, m, g)).fold(0.0, f64::max);
+    let bulge = rung_nodes
+        .iter()
+        .map(|p| geometry::vec3::segment_distance(*p, m, g))
+        .fold(0.0, f64::max);
     eprintln!("octant rung bulge {bulge}");
     assert!(bulge > 1e-3, "the rung is straight (bulge {bulge})");
 }
