@@ -80,6 +80,14 @@ fn arc_position(points: &[Vec3], p: Vec3, tol: f64) -> Option<f64> {
 
 /// What every case must satisfy; returns (min scaled Jacobian, quads).
 fn check_invariants(cycle: &PairedCycle, cq: &CycleQuads) -> (f64, usize) {
+    let (min_sj, quads) = check_topology(cycle, cq);
+    assert!(min_sj > 0.0, "a quad with scaled Jacobian {min_sj}");
+    (min_sj, quads)
+}
+
+/// The counts, welding, boundary and orientation checks; returns the
+/// minimum scaled Jacobian without judging it.
+fn check_topology(cycle: &PairedCycle, cq: &CycleQuads) -> (f64, usize) {
     let chords = chords_of(cycle);
     let crossings = crossing_count(&chords);
     assert_eq!(cq.patches, crossings, "patches = crossings");
@@ -176,7 +184,6 @@ fn check_invariants(cycle: &PairedCycle, cq: &CycleQuads) -> (f64, usize) {
         let sj = quad_scaled_jacobian(&q.map(|k| cq.nodes[k]), &q.map(|k| normals[k]));
         min_sj = min_sj.min(sj);
     }
-    assert!(min_sj > 0.0, "a quad with scaled Jacobian {min_sj}");
     // The quads face the side the cycle's right-hand rule gives.
     let area = newell(&cycle.points);
     let mut sum = [0.0; 3];
@@ -739,5 +746,65 @@ fn all_crossing_chords_on_regular_polygons() {
         let cq = run_planar(&format!("regular {n}-gon, opposite sides"), &c, 0.1);
         assert_eq!(cq.patches, k * (k - 1) / 2);
         assert_eq!(cq.layout.interior_vertices(), (k - 1) * (k - 2) / 2);
+    }
+}
+
+/// Every connected perfect pairing of the sides of regular 8- and 10-gons:
+/// the embedding always gives a welded disk with patches = crossings and
+/// I − k + 1 interior vertices. (Shapes are not judged: many pairings are
+/// absurd on a regular polygon; the count with a scaled Jacobian ≤ 0 is
+/// printed.)
+#[test]
+fn every_connected_pairing_embeds() {
+    fn matchings(
+        free: &mut Vec<usize>,
+        cur: &mut Vec<(usize, usize)>,
+        out: &mut Vec<Vec<(usize, usize)>>,
+    ) {
+        if free.is_empty() {
+            out.push(cur.clone());
+            return;
+        }
+        let a = free.remove(0);
+        for k in 0..free.len() {
+            let b = free.remove(k);
+            cur.push((a, b));
+            matchings(free, cur, out);
+            cur.pop();
+            free.insert(k, b);
+        }
+        free.insert(0, a);
+    }
+    for n in [8usize, 10] {
+        let corners: Vec<Vec3> = (0..n)
+            .map(|s| {
+                let a = 2.0 * std::f64::consts::PI * s as f64 / n as f64;
+                [a.cos(), a.sin(), 0.0]
+            })
+            .collect();
+        let mut all = Vec::new();
+        matchings(&mut (0..n).collect(), &mut Vec::new(), &mut all);
+        let (mut connected, mut bad_shape) = (0, 0);
+        for pairs in &all {
+            let c = polygon_cycle(&corners, pairs);
+            let comps = super::layout::chord_components(&chords_of(&c));
+            if comps.iter().any(|&x| x != 0) {
+                assert!(matches!(
+                    quadrangulate(&c, 0.3),
+                    Err(LayoutError::Disconnected { .. })
+                ));
+                continue;
+            }
+            connected += 1;
+            let cq = quadrangulate(&c, 0.3).unwrap_or_else(|e| panic!("{pairs:?}: {e}"));
+            let (sj, _) = check_topology(&c, &cq);
+            check_planar(&c, &cq);
+            bad_shape += usize::from(sj <= 0.0);
+        }
+        eprintln!(
+            "{n}-gon: {} pairings, {connected} connected, {bad_shape} with a quad SJ <= 0",
+            all.len()
+        );
+        assert!(connected > 0);
     }
 }
