@@ -554,6 +554,7 @@ fn dislocation_swap_when_all_rules_hold() {
     assert_eq!(cq.layout.interior_vertices(), 0);
     assert_eq!(cq.patches, 2);
     assert!(swaps[0].quality.1 > swaps[0].quality.0);
+    eprintln!("swap {:?} -> {:?}, layout SJ {:?}", swaps[0].before, swaps[0].after, swaps[0].quality);
 }
 
 #[test]
