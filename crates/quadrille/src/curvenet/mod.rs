@@ -58,3 +58,15 @@ pub struct PairedCycle {
     /// every length in the method is measured in D.
     pub diameter: f64,
 }
+
+pub mod cut;
+pub mod dislocation;
+pub mod geometry;
+pub mod layout;
+pub mod sample;
+
+pub use layout::LayoutError;
+pub use sample::{quadrangulate, CycleQuads};
+
+#[cfg(test)]
+mod tests;
