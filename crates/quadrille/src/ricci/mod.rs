@@ -6,10 +6,14 @@
 //! curvature K to the targets K̄ = I·π/2 at cones and 0 elsewhere (boundary
 //! included: a straight geodesic boundary between corner cones).
 //!
-//! The one-rings of cones are not refined here: the caller's mesh is used as
-//! given (a coarse cone neighbourhood shows as a failed Newton step).
+//! The flow uses the mesh as given; [`refine_cone_rings`] splits the edges
+//! at cones beforehand when the caller wants finer cone neighbourhoods (a
+//! coarse one shows as a failed Newton step).
 
 use thiserror::Error;
+
+mod refine;
+pub use refine::refine_cone_rings;
 
 use crate::field::crossfield::linsolve::Factor;
 use crate::field::{LowerPattern, SparseSpd};
@@ -506,3 +510,6 @@ fn assemble_hessian(
         }
     }
 }
+
+#[cfg(test)]
+mod tests;
