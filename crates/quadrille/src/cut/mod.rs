@@ -282,14 +282,14 @@ fn split_wedges(
     let mut child_of_root = vec![usize::MAX; 3 * nf];
     let mut parent = Vec::new();
     let mut corners = vec![[0usize; 3]; nf];
-    for f in 0..nf {
-        for k in 0..3 {
+    for (f, (corner_children, t)) in corners.iter_mut().zip(&shell.triangles).enumerate() {
+        for (k, (child, &v)) in corner_children.iter_mut().zip(t).enumerate() {
             let r = find(&mut set, 3 * f + k);
             if child_of_root[r] == usize::MAX {
                 child_of_root[r] = parent.len();
-                parent.push(shell.triangles[f][k]);
+                parent.push(v);
             }
-            corners[f][k] = child_of_root[r];
+            *child = child_of_root[r];
         }
     }
     (corners, parent)

@@ -37,7 +37,7 @@ fn run(name: &str, shell: &Shell, cones: &[Cone]) -> Run {
         .fold(0.0, f64::max);
     let indices: Vec<i32> = cones.iter().map(|c| c.index).collect();
     eprintln!(
-        "| {name} | {} | {} | {} | {} | {indices:?} | {} | {:.2e} | {:.3} s ({:.3} s Ricci) | {:.3e} | {} paths, max angle err {:.1e}, max shift err {:.1e} |",
+        "| {name} | {} | {} | {} | {} | {indices:?} | {} | {:.2e} | {:.3} s ({:.3} s Ricci) | {:.3e} | {} paths, quarter turns {:?}, max angle err {:.1e}, max shift err {:.1e} |",
         shell.vertices.len(),
         shell.triangles.len(),
         topo.boundary_loops.len(),
@@ -48,6 +48,7 @@ fn run(name: &str, shell: &Shell, cones: &[Cone]) -> Run {
         t_ricci.as_secs_f64(),
         immersion.min_area_ratio,
         cut.paths.len(),
+        immersion.transitions.iter().map(|t| t.quarter_turns).collect::<Vec<_>>(),
         angle,
         shift,
     );

@@ -233,15 +233,13 @@ fn corner_angles(l: [f64; 3]) -> Option<[f64; 3]> {
     if d.iter().any(|&x| x <= 0.0) {
         return None;
     }
-    let mut a = [0.0; 3];
-    for k in 0..3 {
-        // Opposite side o = k+1; adjacent sides k and k+2.
+    // Corner k: opposite side o = k+1, adjacent sides k and k+2. Half-angle
+    // formula: tan(θ/2) = sqrt((s−p)(s−q) / (s (s−o))).
+    Some(std::array::from_fn(|k| {
         let o = (k + 1) % 3;
         let (p, q) = (k, (k + 2) % 3);
-        // Half-angle formula: tan(θ/2) = sqrt((s−p)(s−q) / (s (s−o))).
-        a[k] = 2.0 * (d[p] * d[q]).sqrt().atan2((s * d[o]).sqrt());
-    }
-    Some(a)
+        2.0 * (d[p] * d[q]).sqrt().atan2((s * d[o]).sqrt())
+    }))
 }
 
 /// Lengths from the conformal factors.
@@ -468,17 +466,16 @@ fn assemble_hessian(
         let area = 0.5 * l[0] * l[2] * ang[0].sin();
         // Relabel as in §5.4: side `a` opposite corner a is side (a + 1) % 3.
         let opp = |a: usize| l[(a + 1) % 3];
-        let mut dtheta_dl = [[0.0; 3]; 3]; // [corner][opposite side of corner]
-        for a in 0..3 {
-            for b in 0..3 {
-                dtheta_dl[a][b] = if a == b {
+        // [corner][opposite side of corner]
+        let dtheta_dl: [[f64; 3]; 3] = std::array::from_fn(|a| {
+            std::array::from_fn(|b| {
+                if a == b {
                     opp(a) / (2.0 * area)
                 } else {
-                    let c = 3 - a - b;
-                    -opp(a) * ang[c].cos() / (2.0 * area)
-                };
-            }
-        }
+                    -opp(a) * ang[3 - a - b].cos() / (2.0 * area)
+                }
+            })
+        });
         // dℓ/du: the side opposite corner a joins corners a+1 and a+2.
         let mut dl_du = [[0.0; 3]; 3];
         for a in 0..3 {

@@ -23,11 +23,10 @@ fn dense_hessian(shell: &Shell, topo: &ShellTopology, u: &[f64], eta: &[f64]) ->
     let mut values = vec![0.0; spd.pattern.nnz()];
     assemble_hessian(shell, topo, u, eta, &lengths, &spd, &edge_position, &mut values);
     let mut h = vec![vec![0.0; m]; m];
-    for j in 0..m {
-        for p in spd.pattern.col_ptr[j]..spd.pattern.col_ptr[j + 1] {
-            let i = spd.pattern.row_idx[p];
-            h[i][j] = values[p];
-            h[j][i] = values[p];
+    for (j, w) in spd.pattern.col_ptr.windows(2).enumerate() {
+        for (&i, &value) in spd.pattern.row_idx[w[0]..w[1]].iter().zip(&values[w[0]..w[1]]) {
+            h[i][j] = value;
+            h[j][i] = value;
         }
     }
     h

@@ -370,8 +370,7 @@ impl Shell {
         let mut starts = vec![0usize; nv];
         let mut start_corner = vec![(NO_FACE, 0usize); nv];
         for (f, t) in self.triangles.iter().enumerate() {
-            for k in 0..3 {
-                let v = t[k];
+            for (k, &v) in t.iter().enumerate() {
                 corner_count[v] += 1;
                 if first_corner[v].0 == NO_FACE {
                     first_corner[v] = (f, k);
@@ -426,13 +425,13 @@ impl Shell {
         let mut component_of_root = vec![usize::MAX; nf];
         let mut components = 0;
         let mut face_component = vec![0usize; nf];
-        for f in 0..nf {
+        for (f, component) in face_component.iter_mut().enumerate() {
             let r = find(&mut parent, f);
             if component_of_root[r] == usize::MAX {
                 component_of_root[r] = components;
                 components += 1;
             }
-            face_component[f] = component_of_root[r];
+            *component = component_of_root[r];
         }
         // Boundary loops: the next boundary half-edge leaves the vertex the
         // previous one enters (unique at a manifold vertex).
