@@ -382,3 +382,6 @@ impl Ord for OrdF64 {
         self.0.total_cmp(&other.0)
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -45,6 +45,13 @@ pub struct Immersion {
     pub min_area_ratio: f64,
     /// Largest deviation of a boundary edge direction from the nearest axis (radians).
     pub boundary_axis_error: f64,
+    /// Per boundary loop: the largest deviation of its edge directions, mod
+    /// π/2, from its first edge's (radians). Ricci straightens each loop and
+    /// turns its corners by multiples of π/2, but the loops of a holed shell
+    /// may stay rotated against each other (spec §5.2: the layout energy's
+    /// E2 aligns them), so this is the exact check; `boundary_axis_error`
+    /// shows the rest.
+    pub loop_axis_spread: Vec<f64>,
     /// One transition per cut path.
     pub transitions: Vec<CutTransition>,
 }
@@ -236,6 +243,27 @@ pub fn immerse(
             wrap(th - (th / FRAC_PI_2).round() * FRAC_PI_2).abs()
         })
         .fold(0.0, f64::max);
+    let direction = |a: usize, b: usize| -> f64 {
+        let f = topo.edge(a, b).map_or(NO_FACE, |e| topo.edge_faces[e][0].min(topo.edge_faces[e][1]));
+        let child = |v: usize| {
+            cut.corners[f][(0..3).position(|k| shell.triangles[f][k] == v).unwrap_or(0)]
+        };
+        let (p, q) = (uv[child(a)], uv[child(b)]);
+        (q[1] - p[1]).atan2(q[0] - p[0])
+    };
+    let loop_axis_spread = topo
+        .boundary_loops
+        .iter()
+        .map(|l| {
+            let first = direction(l[0], l[1 % l.len()]);
+            (0..l.len())
+                .map(|i| {
+                    let d = direction(l[i], l[(i + 1) % l.len()]) - first;
+                    wrap(d - (d / FRAC_PI_2).round() * FRAC_PI_2).abs()
+                })
+                .fold(0.0, f64::max)
+        })
+        .collect();
     let transitions = cut
         .paths
         .iter()
@@ -249,6 +277,7 @@ pub fn immerse(
         min_signed_area,
         min_area_ratio,
         boundary_axis_error,
+        loop_axis_spread,
         transitions,
     })
 }
