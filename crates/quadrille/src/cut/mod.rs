@@ -227,8 +227,8 @@ pub fn cut_to_disk(
     let (corners, parent) = split_wedges(shell, topo, &is_cut);
     let paths = cut_paths(shell, topo, &is_cut, &is_cone, &corners);
     let cut_count = is_cut.iter().filter(|&&c| c).count() as i64;
-    let euler = parent.len() as i64 - (topo.edges.len() as i64 + cut_count)
-        + shell.triangles.len() as i64;
+    let euler =
+        parent.len() as i64 - (topo.edges.len() as i64 + cut_count) + shell.triangles.len() as i64;
     // Ω as a shell of its own: one component, one boundary loop.
     let omega = Shell {
         vertices: parent.iter().map(|&p| shell.vertices[p]).collect(),
@@ -312,8 +312,7 @@ fn cut_paths(
             cut_edges_at[b].push(e);
         }
     }
-    let is_node =
-        |v: usize| is_cone[v] || topo.on_boundary[v] || cut_edges_at[v].len() != 2;
+    let is_node = |v: usize| is_cone[v] || topo.on_boundary[v] || cut_edges_at[v].len() != 2;
     let child = |f: usize, v: usize| -> usize {
         corners[f][(0..3).position(|k| shell.triangles[f][k] == v).unwrap_or(0)]
     };

@@ -66,7 +66,9 @@ pub enum ImmersionError {
         face: usize,
     },
     /// A triangle whose Ricci lengths break the triangle inequality.
-    #[error("immersion: triangle {face} has lengths {lengths:?} that break the triangle inequality")]
+    #[error(
+        "immersion: triangle {face} has lengths {lengths:?} that break the triangle inequality"
+    )]
     Degenerate {
         /// The triangle.
         face: usize,
@@ -231,7 +233,11 @@ pub fn immerse(
         min_signed_area = min_signed_area.min(a);
         let t = shell.triangles[f];
         let s = Shell {
-            vertices: vec![shell.vertices[t[0]], shell.vertices[t[1]], shell.vertices[t[2]]],
+            vertices: vec![
+                shell.vertices[t[0]],
+                shell.vertices[t[1]],
+                shell.vertices[t[2]],
+            ],
             triangles: vec![[0, 1, 2]],
         };
         min_area_ratio = min_area_ratio.min(a / s.area());
@@ -244,10 +250,11 @@ pub fn immerse(
         })
         .fold(0.0, f64::max);
     let direction = |a: usize, b: usize| -> f64 {
-        let f = topo.edge(a, b).map_or(NO_FACE, |e| topo.edge_faces[e][0].min(topo.edge_faces[e][1]));
-        let child = |v: usize| {
-            cut.corners[f][(0..3).position(|k| shell.triangles[f][k] == v).unwrap_or(0)]
-        };
+        let f = topo.edge(a, b).map_or(NO_FACE, |e| {
+            topo.edge_faces[e][0].min(topo.edge_faces[e][1])
+        });
+        let child =
+            |v: usize| cut.corners[f][(0..3).position(|k| shell.triangles[f][k] == v).unwrap_or(0)];
         let (p, q) = (uv[child(a)], uv[child(b)]);
         (q[1] - p[1]).atan2(q[0] - p[0])
     };
@@ -285,7 +292,10 @@ pub fn immerse(
 /// The rotation and translation taking a path's left side to its right side.
 fn transition(index: usize, path: &crate::cut::CutPath, uv: &[[f64; 2]]) -> CutTransition {
     let edge_angle = |s: &crate::cut::CutEdgeSides| -> f64 {
-        let dl = [uv[s.left[1]][0] - uv[s.left[0]][0], uv[s.left[1]][1] - uv[s.left[0]][1]];
+        let dl = [
+            uv[s.left[1]][0] - uv[s.left[0]][0],
+            uv[s.left[1]][1] - uv[s.left[0]][1],
+        ];
         let dr = [
             uv[s.right[1]][0] - uv[s.right[0]][0],
             uv[s.right[1]][1] - uv[s.right[0]][1],

@@ -20,7 +20,8 @@ struct Run {
 fn run(name: &str, shell: &Shell, cones: &[Cone]) -> Run {
     let t0 = Instant::now();
     let topo = shell.check().expect("a valid open shell");
-    let metric = ricci_flow(shell, &topo, cones, &RicciOptions::default()).expect("Ricci converges");
+    let metric =
+        ricci_flow(shell, &topo, cones, &RicciOptions::default()).expect("Ricci converges");
     let t_ricci = t0.elapsed();
     let cut = cut_to_disk(shell, &topo, cones).expect("a disk");
     let immersion = immerse(shell, &topo, &cut, &metric).expect("an immersion");
@@ -71,10 +72,22 @@ fn corner_cones(n: usize) -> Vec<Cone> {
 fn assert_converged(r: &Run) {
     assert!(r.metric.max_error < 1e-9, "{}", r.metric.max_error);
     assert!(r.metric.iterations <= 100);
-    assert!(r.metric.history.windows(2).all(|w| w[1] <= w[0] * (1.0 + 1e-12) + 1e-15));
+    assert!(r
+        .metric
+        .history
+        .windows(2)
+        .all(|w| w[1] <= w[0] * (1.0 + 1e-12) + 1e-15));
     assert_eq!(r.cut.euler, 1);
-    assert!(r.immersion.min_signed_area > 0.0, "{}", r.immersion.min_signed_area);
-    assert!(r.immersion.loop_axis_spread.iter().all(|&e| e < 1e-8), "{:?}", r.immersion.loop_axis_spread);
+    assert!(
+        r.immersion.min_signed_area > 0.0,
+        "{}",
+        r.immersion.min_signed_area
+    );
+    assert!(
+        r.immersion.loop_axis_spread.iter().all(|&e| e < 1e-8),
+        "{:?}",
+        r.immersion.loop_axis_spread
+    );
     for t in &r.immersion.transitions {
         assert!(t.angle_error < 1e-8, "{t:?}");
         assert!(t.translation_error < 1e-8, "{t:?}");
@@ -82,9 +95,19 @@ fn assert_converged(r: &Run) {
 }
 
 fn bounding_box(uv: &[[f64; 2]]) -> [f64; 4] {
-    let mut b = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+    let mut b = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
     for p in uv {
-        b = [b[0].min(p[0]), b[1].min(p[1]), b[2].max(p[0]), b[3].max(p[1])];
+        b = [
+            b[0].min(p[0]),
+            b[1].min(p[1]),
+            b[2].max(p[0]),
+            b[3].max(p[1]),
+        ];
     }
     b
 }
@@ -98,15 +121,25 @@ fn a_flat_square_with_four_corner_cones_immerses_as_a_square() {
     // No interior cone and one loop: nothing to cut.
     assert!(r.cut.branches.is_empty() && r.cut.paths.is_empty());
     assert_eq!(r.cut.parent.len(), shell.vertices.len());
-    assert!(r.immersion.boundary_axis_error < 1e-8, "{}", r.immersion.boundary_axis_error);
+    assert!(
+        r.immersion.boundary_axis_error < 1e-8,
+        "{}",
+        r.immersion.boundary_axis_error
+    );
     // A 2 × 2 square: every boundary vertex on a side of the bounding box.
     let b = bounding_box(&r.immersion.uv);
-    assert!((b[2] - b[0] - 2.0).abs() < 1e-8 && (b[3] - b[1] - 2.0).abs() < 1e-8, "{b:?}");
+    assert!(
+        (b[2] - b[0] - 2.0).abs() < 1e-8 && (b[3] - b[1] - 2.0).abs() < 1e-8,
+        "{b:?}"
+    );
     for loop_v in &r.topo.boundary_loops[0] {
         let child = r.cut.parent.iter().position(|p| p == loop_v).unwrap();
         let p = r.immersion.uv[child];
         let off = [p[0] - b[0], b[2] - p[0], p[1] - b[1], b[3] - p[1]];
-        assert!(off.iter().any(|d| d.abs() < 1e-8), "{p:?} off the square {b:?}");
+        assert!(
+            off.iter().any(|d| d.abs() < 1e-8),
+            "{p:?} off the square {b:?}"
+        );
     }
 }
 
@@ -117,10 +150,18 @@ fn curved_disk(name: &str, lift: impl Fn(f64, f64) -> [f64; 3]) {
     let r = run(name, &shell, &cones);
     assert_converged(&r);
     assert!(r.metric.iterations >= 1, "a curved disk needs Newton steps");
-    assert!(r.immersion.boundary_axis_error < 1e-8, "{}", r.immersion.boundary_axis_error);
+    assert!(
+        r.immersion.boundary_axis_error < 1e-8,
+        "{}",
+        r.immersion.boundary_axis_error
+    );
     // Curvature hits the targets: π/2 at the corners, 0 elsewhere.
     for (v, k) in r.metric.curvature.iter().enumerate() {
-        let want = if cones.iter().any(|c| c.vertex == v) { FRAC_PI_2 } else { 0.0 };
+        let want = if cones.iter().any(|c| c.vertex == v) {
+            FRAC_PI_2
+        } else {
+            0.0
+        };
         assert!((k - want).abs() < 1e-9, "vertex {v}: K = {k}");
     }
     // The flat image keeps the 3D area.
@@ -128,13 +169,22 @@ fn curved_disk(name: &str, lift: impl Fn(f64, f64) -> [f64; 3]) {
         .cut
         .corners
         .iter()
-        .map(|c| signed_area(r.immersion.uv[c[0]], r.immersion.uv[c[1]], r.immersion.uv[c[2]]))
+        .map(|c| {
+            signed_area(
+                r.immersion.uv[c[0]],
+                r.immersion.uv[c[1]],
+                r.immersion.uv[c[2]],
+            )
+        })
         .sum();
     assert!((area - shell.area()).abs() < 1e-9 * shell.area());
     // The image of a disk with four right-angle corners and straight sides
     // is a rectangle: its area equals its bounding box's.
     let b = bounding_box(&r.immersion.uv);
-    assert!(((b[2] - b[0]) * (b[3] - b[1]) - area).abs() < 1e-7 * area, "{b:?} vs {area}");
+    assert!(
+        ((b[2] - b[0]) * (b[3] - b[1]) - area).abs() < 1e-7 * area,
+        "{b:?} vs {area}"
+    );
 }
 
 #[test]
@@ -178,8 +228,14 @@ fn annulus(tube: bool) -> (Shell, Vec<Cone>) {
     }
     let mid = rings / 2;
     let cones = vec![
-        Cone { vertex: id(mid, 0), index: 1 },
-        Cone { vertex: id(mid, sectors / 2), index: -1 },
+        Cone {
+            vertex: id(mid, 0),
+            index: 1,
+        },
+        Cone {
+            vertex: id(mid, sectors / 2),
+            index: -1,
+        },
     ];
     (Shell::from_quad_mesh(vertices, &quads), cones)
 }
@@ -190,7 +246,12 @@ fn annulus_case(name: &str, tube: bool) {
     assert_eq!((r.topo.boundary_loops.len(), r.topo.euler), (2, 0));
     assert_converged(&r);
     // One loop cut and one cut per interior cone.
-    let loops = r.cut.branches.iter().filter(|b| matches!(b.target, CutTarget::Loop(_))).count();
+    let loops = r
+        .cut
+        .branches
+        .iter()
+        .filter(|b| matches!(b.target, CutTarget::Loop(_)))
+        .count();
     let to_cones: Vec<usize> = r
         .cut
         .branches
@@ -210,7 +271,11 @@ fn annulus_case(name: &str, tube: bool) {
     assert!(!r.cut.paths.is_empty());
     // The loop transitions and the cone transitions are quarter turns; the
     // path ending at the +1 cone turns by ±π/2 (its holonomy).
-    assert!(r.immersion.transitions.iter().any(|t| t.quarter_turns % 2 == 1));
+    assert!(r
+        .immersion
+        .transitions
+        .iter()
+        .any(|t| t.quarter_turns % 2 == 1));
 }
 
 #[test]
@@ -230,9 +295,23 @@ fn a_wrong_index_sum_names_both_sums() {
     let topo = shell.check().unwrap();
     let cones = &corner_cones(n)[..3];
     let err = ricci_flow(&shell, &topo, cones, &RicciOptions::default()).unwrap_err();
-    assert!(matches!(err, RicciError::IndexSum { index_sum: 3, needed: 4, euler: 1, .. }), "{err}");
+    assert!(
+        matches!(
+            err,
+            RicciError::IndexSum {
+                index_sum: 3,
+                needed: 4,
+                euler: 1,
+                ..
+            }
+        ),
+        "{err}"
+    );
     let msg = err.to_string();
-    assert!(msg.contains("Σ I = 3") && msg.contains("4χ = 4") && msg.contains(&format!("{:.6}", TAU)), "{msg}");
+    assert!(
+        msg.contains("Σ I = 3") && msg.contains("4χ = 4") && msg.contains(&format!("{:.6}", TAU)),
+        "{msg}"
+    );
 }
 
 #[test]
@@ -243,22 +322,38 @@ fn bad_cones_are_errors() {
     let o = RicciOptions::default();
     let mut cones = corner_cones(n);
     cones[0].index = 2; // boundary: target angle 0
-    assert!(matches!(ricci_flow(&shell, &topo, &cones, &o), Err(RicciError::ConeAngle { index: 2, .. })));
+    assert!(matches!(
+        ricci_flow(&shell, &topo, &cones, &o),
+        Err(RicciError::ConeAngle { index: 2, .. })
+    ));
     let mut cones = corner_cones(n);
     cones[1].vertex = cones[0].vertex;
-    assert!(matches!(ricci_flow(&shell, &topo, &cones, &o), Err(RicciError::DuplicateCone { .. })));
+    assert!(matches!(
+        ricci_flow(&shell, &topo, &cones, &o),
+        Err(RicciError::DuplicateCone { .. })
+    ));
     cones[1].vertex = 999;
-    assert!(matches!(ricci_flow(&shell, &topo, &cones, &o), Err(RicciError::ConeVertex { vertex: 999, .. })));
+    assert!(matches!(
+        ricci_flow(&shell, &topo, &cones, &o),
+        Err(RicciError::ConeVertex { vertex: 999, .. })
+    ));
 }
 
 #[test]
 fn an_unreachable_tolerance_reports_iterations_and_the_worst_vertex() {
     let shell = grid(8, |x, y| [x, y, 0.3 * x * y]);
     let topo = shell.check().unwrap();
-    let o = RicciOptions { tolerance: 1e-9, max_iterations: 1 };
+    let o = RicciOptions {
+        tolerance: 1e-9,
+        max_iterations: 1,
+    };
     let err = ricci_flow(&shell, &topo, &corner_cones(8), &o).unwrap_err();
     match err {
-        RicciError::NotConverged { iterations, residual, .. } => {
+        RicciError::NotConverged {
+            iterations,
+            residual,
+            ..
+        } => {
             assert_eq!(iterations, 1);
             assert!(residual >= 1e-9);
         }
@@ -311,8 +406,13 @@ fn a_plate_with_a_square_hole_and_an_interior_cone_pair_is_seamless() {
         }
     }
     let shell = Shell::from_quad_mesh(kept, &quads);
-    let cone = |i: usize, j: usize, index: i32| Cone { vertex: new_id[id(i, j)], index };
-    let mut cones: Vec<Cone> = [(0, 0), (n, 0), (n, n), (0, n)].map(|(i, j)| cone(i, j, 1)).to_vec();
+    let cone = |i: usize, j: usize, index: i32| Cone {
+        vertex: new_id[id(i, j)],
+        index,
+    };
+    let mut cones: Vec<Cone> = [(0, 0), (n, 0), (n, n), (0, n)]
+        .map(|(i, j)| cone(i, j, 1))
+        .to_vec();
     // The hole's reentrant corners (270°) keep index −1.
     cones.extend([(4, 4), (8, 4), (8, 8), (4, 8)].map(|(i, j)| cone(i, j, -1)));
     cones.push(cone(2, 6, 1));
@@ -322,8 +422,20 @@ fn a_plate_with_a_square_hole_and_an_interior_cone_pair_is_seamless() {
     assert_converged(&r);
     // Each loop is straight with quarter-turn corners; the hole may stay
     // rotated against the outer square (reported, for the layout energy).
-    eprintln!("plate with hole: loop spreads {:?}, overall axis error {:.3}", r.immersion.loop_axis_spread, r.immersion.boundary_axis_error);
-    assert!(r.immersion.loop_axis_spread.iter().all(|&e| e < 1e-8), "{:?}", r.immersion.loop_axis_spread);
-    let loops = r.cut.branches.iter().filter(|b| matches!(b.target, CutTarget::Loop(_))).count();
+    eprintln!(
+        "plate with hole: loop spreads {:?}, overall axis error {:.3}",
+        r.immersion.loop_axis_spread, r.immersion.boundary_axis_error
+    );
+    assert!(
+        r.immersion.loop_axis_spread.iter().all(|&e| e < 1e-8),
+        "{:?}",
+        r.immersion.loop_axis_spread
+    );
+    let loops = r
+        .cut
+        .branches
+        .iter()
+        .filter(|b| matches!(b.target, CutTarget::Loop(_)))
+        .count();
     assert_eq!((loops, r.cut.branches.len()), (1, 3));
 }

@@ -256,7 +256,13 @@ fn curvature_from(shell: &Shell, topo: &ShellTopology, lengths: &[f64]) -> Optio
     let mut k: Vec<f64> = topo
         .on_boundary
         .iter()
-        .map(|&b| if b { std::f64::consts::PI } else { 2.0 * std::f64::consts::PI })
+        .map(|&b| {
+            if b {
+                std::f64::consts::PI
+            } else {
+                2.0 * std::f64::consts::PI
+            }
+        })
         .collect();
     for (f, t) in shell.triangles.iter().enumerate() {
         let e = topo.triangle_edges[f];
@@ -280,7 +286,12 @@ fn max_error(target: &[f64], k: &[f64]) -> (f64, usize) {
 }
 
 fn norm2(target: &[f64], k: &[f64]) -> f64 {
-    target.iter().zip(k).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt()
+    target
+        .iter()
+        .zip(k)
+        .map(|(a, b)| (a - b) * (a - b))
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// Runs the flow from the input metric to the cone targets (spec §5.3–5.4).
@@ -382,7 +393,16 @@ pub fn ricci_flow(
             });
         }
         iteration += 1;
-        assemble_hessian(shell, topo, &u, &eta, &lengths, &spd, &edge_position, &mut values);
+        assemble_hessian(
+            shell,
+            topo,
+            &u,
+            &eta,
+            &lengths,
+            &spd,
+            &edge_position,
+            &mut values,
+        );
         match factor.as_mut() {
             None => factor = Some(spd.factor(&values).map_err(solver_error(iteration))?),
             Some(f) => spd.refactor(&values, f).map_err(solver_error(iteration))?,

@@ -22,7 +22,11 @@ pub fn refine_cone_rings(shell: &Shell, topo: &ShellTopology, cones: &[usize]) -
         if is_cone[a] || is_cone[b] {
             let (p, q) = (shell.vertices[a], shell.vertices[b]);
             midpoint[e] = vertices.len();
-            vertices.push([0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.5 * (p[2] + q[2])]);
+            vertices.push([
+                0.5 * (p[0] + q[0]),
+                0.5 * (p[1] + q[1]),
+                0.5 * (p[2] + q[2]),
+            ]);
         }
     }
     let mut triangles = Vec::with_capacity(shell.triangles.len());

@@ -15,16 +15,34 @@ fn dense_hessian(shell: &Shell, topo: &ShellTopology, u: &[f64], eta: &[f64]) ->
     let edge_position: Vec<Option<usize>> = topo
         .edges
         .iter()
-        .map(|&[a, b]| if a > 0 && b > 0 { pattern.position(a.max(b) - 1, a.min(b) - 1) } else { None })
+        .map(|&[a, b]| {
+            if a > 0 && b > 0 {
+                pattern.position(a.max(b) - 1, a.min(b) - 1)
+            } else {
+                None
+            }
+        })
         .collect();
     let spd = SparseSpd::analyze(pattern, None).unwrap();
     let mut lengths = vec![0.0; topo.edges.len()];
     lengths_from(u, eta, topo, &mut lengths);
     let mut values = vec![0.0; spd.pattern.nnz()];
-    assemble_hessian(shell, topo, u, eta, &lengths, &spd, &edge_position, &mut values);
+    assemble_hessian(
+        shell,
+        topo,
+        u,
+        eta,
+        &lengths,
+        &spd,
+        &edge_position,
+        &mut values,
+    );
     let mut h = vec![vec![0.0; m]; m];
     for (j, w) in spd.pattern.col_ptr.windows(2).enumerate() {
-        for (&i, &value) in spd.pattern.row_idx[w[0]..w[1]].iter().zip(&values[w[0]..w[1]]) {
+        for (&i, &value) in spd.pattern.row_idx[w[0]..w[1]]
+            .iter()
+            .zip(&values[w[0]..w[1]])
+        {
             h[i][j] = value;
             h[j][i] = value;
         }
@@ -38,7 +56,9 @@ fn the_chain_rule_hessian_matches_finite_differences_of_the_curvature() {
     let shell = grid(3, |x, y| [x + 0.07 * y * y, y, 0.2 * (3.0 * x).sin() * y]);
     let topo = shell.check().unwrap();
     let n = shell.vertices.len();
-    let mut u: Vec<f64> = (0..n).map(|v| (0.08 + 0.01 * (v % 4) as f64).ln()).collect();
+    let mut u: Vec<f64> = (0..n)
+        .map(|v| (0.08 + 0.01 * (v % 4) as f64).ln())
+        .collect();
     let eta: Vec<f64> = topo
         .edges
         .iter()
@@ -80,13 +100,29 @@ fn the_input_metric_is_reproduced_at_the_initial_radii() {
     let shell = grid(5, |x, y| [x, y, 0.3 * x * y]);
     let topo = shell.check().unwrap();
     let cones = [0, 5, 35, 30].map(|vertex| Cone { vertex, index: 1 });
-    let options = RicciOptions { tolerance: 1e-9, max_iterations: 0 };
+    let options = RicciOptions {
+        tolerance: 1e-9,
+        max_iterations: 0,
+    };
     // Zero iterations allowed: the error reports the input curvature error.
     match ricci_flow(&shell, &topo, &cones, &options) {
-        Err(RicciError::NotConverged { iterations: 0, residual, vertex, .. }) => {
+        Err(RicciError::NotConverged {
+            iterations: 0,
+            residual,
+            vertex,
+            ..
+        }) => {
             let sums = shell.angle_sums();
-            let k = if topo.on_boundary[vertex] { std::f64::consts::PI } else { std::f64::consts::TAU } - sums[vertex];
-            let target = if [0, 5, 35, 30].contains(&vertex) { std::f64::consts::FRAC_PI_2 } else { 0.0 };
+            let k = if topo.on_boundary[vertex] {
+                std::f64::consts::PI
+            } else {
+                std::f64::consts::TAU
+            } - sums[vertex];
+            let target = if [0, 5, 35, 30].contains(&vertex) {
+                std::f64::consts::FRAC_PI_2
+            } else {
+                0.0
+            };
             assert!((residual - (k - target).abs()).abs() < 1e-12);
         }
         other => panic!("{other:?}"),
@@ -103,7 +139,10 @@ fn refining_cone_rings_keeps_a_valid_shell_and_its_area() {
     assert_eq!(t2.euler, 1);
     let valence6 = topo.edges.iter().filter(|e| e.contains(&6)).count();
     let valence0 = topo.edges.iter().filter(|e| e.contains(&0)).count();
-    assert_eq!(refined.vertices.len(), shell.vertices.len() + valence6 + valence0);
+    assert_eq!(
+        refined.vertices.len(),
+        shell.vertices.len() + valence6 + valence0
+    );
     assert!((refined.area() - shell.area()).abs() < 1e-12);
     // The cone keeps its valence; its ring edges are halved.
     assert_eq!(t2.edges.iter().filter(|e| e.contains(&6)).count(), valence6);
@@ -134,7 +173,16 @@ fn a_refined_annulus_still_converges() {
     let (a, b) = (id(3, 0), id(3, sectors / 2));
     let refined = refine_cone_rings(&shell, &topo, &[a, b]);
     let t2 = refined.check().unwrap();
-    let cones = [Cone { vertex: a, index: 1 }, Cone { vertex: b, index: -1 }];
+    let cones = [
+        Cone {
+            vertex: a,
+            index: 1,
+        },
+        Cone {
+            vertex: b,
+            index: -1,
+        },
+    ];
     let metric = ricci_flow(&refined, &t2, &cones, &RicciOptions::default()).unwrap();
     assert!(metric.max_error < 1e-9 && metric.iterations <= 100);
     assert!((metric.curvature[a] - std::f64::consts::FRAC_PI_2).abs() < 1e-9);

@@ -122,7 +122,9 @@ pub enum ShellError {
         fans: usize,
     },
     /// A component without boundary.
-    #[error("closed shell (component {component} has no boundary loop): open shells only; use --faces")]
+    #[error(
+        "closed shell (component {component} has no boundary loop): open shells only; use --faces"
+    )]
     Closed {
         /// The closed component.
         component: usize,
@@ -187,6 +189,41 @@ impl Shell {
     pub fn from_triangles(vertices: Vec<[f64; 3]>, triangles: Vec<[usize; 3]>) -> Shell {
         Shell {
             vertices,
+            triangles,
+        }
+    }
+
+    /// A shell from triangle soup: vertices at bit-identical positions merged
+    /// into one (the first, in order of position), triangles renumbered.
+    /// Triangles that collapse (two corners merged) are dropped.
+    pub fn welded(vertices: &[[f64; 3]], triangles: &[[usize; 3]]) -> Shell {
+        let mut order: Vec<usize> = (0..vertices.len()).collect();
+        let key = |v: usize| vertices[v].map(|c| if c == 0.0 { 0.0 } else { c });
+        order.sort_by(|&a, &b| {
+            let (p, q) = (key(a), key(b));
+            p[0].total_cmp(&q[0])
+                .then(p[1].total_cmp(&q[1]))
+                .then(p[2].total_cmp(&q[2]))
+                .then(a.cmp(&b))
+        });
+        let mut new_id = vec![0usize; vertices.len()];
+        let mut merged: Vec<[f64; 3]> = Vec::new();
+        let mut last: Option<[f64; 3]> = None;
+        for &v in &order {
+            let p = key(v);
+            if last != Some(p) {
+                merged.push(vertices[v]);
+                last = Some(p);
+            }
+            new_id[v] = merged.len() - 1;
+        }
+        let triangles = triangles
+            .iter()
+            .map(|t| t.map(|v| new_id[v]))
+            .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+            .collect();
+        Shell {
+            vertices: merged,
             triangles,
         }
     }
@@ -280,8 +317,15 @@ impl Shell {
                 used[v] = true;
             }
             if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
-                let vertex = if t[0] == t[1] || t[0] == t[2] { t[0] } else { t[1] };
-                return Err(ShellError::RepeatedVertex { triangle: f, vertex });
+                let vertex = if t[0] == t[1] || t[0] == t[2] {
+                    t[0]
+                } else {
+                    t[1]
+                };
+                return Err(ShellError::RepeatedVertex {
+                    triangle: f,
+                    vertex,
+                });
             }
         }
         if let Some(v) = used.iter().position(|u| !u) {
@@ -311,11 +355,7 @@ impl Shell {
             }
             let (a, b) = (self.vertices[key[0]], self.vertices[key[1]]);
             if j - i > 2 {
-                return Err(ShellError::NonManifoldEdge {
-                    a,
-                    b,
-                    count: j - i,
-                });
+                return Err(ShellError::NonManifoldEdge { a, b, count: j - i });
             }
             let e = edges.len();
             let mut faces = [NO_FACE; 2];

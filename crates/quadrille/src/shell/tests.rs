@@ -66,7 +66,10 @@ pub(crate) fn cube() -> Shell {
 fn a_two_by_two_grid_is_a_disk_with_hand_counted_topology() {
     let s = grid(2, |x, y| [x, y, 0.0]);
     let t = s.check().expect("a disk");
-    assert_eq!((s.vertices.len(), t.edges.len(), s.triangles.len()), (9, 16, 8));
+    assert_eq!(
+        (s.vertices.len(), t.edges.len(), s.triangles.len()),
+        (9, 16, 8)
+    );
     assert_eq!(t.euler, 1);
     assert_eq!(t.boundary_loops.len(), 1);
     assert_eq!(t.boundary_loops[0].len(), 8);
@@ -88,7 +91,10 @@ fn a_two_by_two_grid_is_a_disk_with_hand_counted_topology() {
 fn a_closed_cube_is_refused_as_not_open() {
     let err = cube().check().unwrap_err();
     assert_eq!(err, ShellError::Closed { component: 0 });
-    assert!(err.to_string().contains("open shells only; use --faces"), "{err}");
+    assert!(
+        err.to_string().contains("open shells only; use --faces"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -113,7 +119,10 @@ fn a_non_manifold_edge_is_named_by_its_end_points() {
         }
     );
     let msg = err.to_string();
-    assert!(msg.contains("[0.0, 0.0, 0.0]") && msg.contains("[1.0, 0.0, 0.0]"), "{msg}");
+    assert!(
+        msg.contains("[0.0, 0.0, 0.0]") && msg.contains("[1.0, 0.0, 0.0]"),
+        "{msg}"
+    );
 }
 
 #[test]
@@ -160,12 +169,23 @@ fn a_torus_with_a_hole_is_refused_for_its_genus() {
 #[test]
 fn bad_indices_and_unused_vertices_are_errors() {
     let s = Shell::from_triangles(vec![[0.0; 3]; 3], vec![[0, 1, 7]]);
-    assert!(matches!(s.check(), Err(ShellError::BadIndex { index: 7, .. })));
+    assert!(matches!(
+        s.check(),
+        Err(ShellError::BadIndex { index: 7, .. })
+    ));
     let s = Shell::from_triangles(
-        vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [5.0, 5.0, 5.0]],
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [5.0, 5.0, 5.0],
+        ],
         vec![[0, 1, 2]],
     );
-    assert!(matches!(s.check(), Err(ShellError::UnusedVertex { vertex: 3, .. })));
+    assert!(matches!(
+        s.check(),
+        Err(ShellError::UnusedVertex { vertex: 3, .. })
+    ));
     assert_eq!(Shell::default().check(), Err(ShellError::Empty));
 }
 
@@ -175,8 +195,35 @@ fn two_disks_are_two_components() {
     let t = grid(1, |x, y| [x + 3.0, y, 0.0]);
     let off = s.vertices.len();
     s.vertices.extend(t.vertices);
-    s.triangles
-        .extend(t.triangles.iter().map(|tr| [tr[0] + off, tr[1] + off, tr[2] + off]));
+    s.triangles.extend(
+        t.triangles
+            .iter()
+            .map(|tr| [tr[0] + off, tr[1] + off, tr[2] + off]),
+    );
     let topo = s.check().expect("two disks");
-    assert_eq!((topo.components, topo.boundary_loops.len(), topo.euler), (2, 2, 2));
+    assert_eq!(
+        (topo.components, topo.boundary_loops.len(), topo.euler),
+        (2, 2, 2)
+    );
+}
+
+#[test]
+fn welding_triangle_soup_merges_equal_positions() {
+    // Two triangles of a unit square, each with its own copies of the corners.
+    let soup = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [-0.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
+    let s = Shell::welded(&soup, &[[0, 1, 2], [3, 4, 5]]);
+    assert_eq!(s.vertices.len(), 4);
+    assert_eq!(s.triangles.len(), 2);
+    let t = s.check().expect("a welded disk");
+    assert_eq!((t.edges.len(), t.euler, t.boundary_loops.len()), (5, 1, 1));
+    // Unwelded, the same soup is two components.
+    let u = Shell::from_triangles(soup.to_vec(), vec![[0, 1, 2], [3, 4, 5]]);
+    assert_eq!(u.check().unwrap().components, 2);
 }
