@@ -205,8 +205,7 @@ fn a_saddle_with_four_corner_cones_flattens_to_a_rectangle() {
 
 /// A ring of `rings` × `sectors` quads between radii 1 and 2, flat or rolled
 /// into a tube; returns the shell and the cones +1 and −1 on the middle ring.
-fn annulus(tube: bool) -> (Shell, Vec<Cone>) {
-    let (rings, sectors) = (8, 48);
+fn annulus(tube: bool, rings: usize, sectors: usize) -> (Shell, Vec<Cone>) {
     let mut vertices = Vec::new();
     for i in 0..=rings {
         for j in 0..sectors {
@@ -241,7 +240,7 @@ fn annulus(tube: bool) -> (Shell, Vec<Cone>) {
 }
 
 fn annulus_case(name: &str, tube: bool) {
-    let (shell, cones) = annulus(tube);
+    let (shell, cones) = annulus(tube, 8, 48);
     let r = run(name, &shell, &cones);
     assert_eq!((r.topo.boundary_loops.len(), r.topo.euler), (2, 0));
     assert_converged(&r);
@@ -372,6 +371,10 @@ fn a_20k_triangle_cap_runs_the_whole_core() {
     let r = run("20k cap", &shell, &corner_cones(n));
     assert_converged(&r);
     assert!(r.immersion.boundary_axis_error < 1e-8);
+    let (tube, cones) = annulus(true, 50, 200);
+    assert_eq!(tube.triangles.len(), 20_000);
+    let r = run("20k tube", &tube, &cones);
+    assert_converged(&r);
 }
 
 #[test]
