@@ -42,12 +42,16 @@ pub mod combinatorics;
 pub mod core;
 pub mod curves;
 pub mod curvenet;
+pub mod cut;
 pub mod direct;
 pub mod field;
 #[cfg(any(test, feature = "fixtures"))]
 pub mod fixtures;
 pub mod frontal;
+pub mod immersion;
 pub mod methods;
+pub mod ricci;
+pub mod shell;
 pub mod smoothing;
 pub mod topology;
 pub mod triangulate;

@@ -9,7 +9,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The folders of `src`, bottom to top (ARCHITECTURE.md, "The `quadrille` crate").
-const LAYERS: [&str; 12] = [
+const LAYERS: [&str; 16] = [
     "core",
     "combinatorics",
     "curves",
@@ -21,6 +21,10 @@ const LAYERS: [&str; 12] = [
     "topology",
     "coarse",
     "curvenet",
+    "shell",
+    "ricci",
+    "cut",
+    "immersion",
     "methods",
 ];
 
