@@ -122,15 +122,17 @@ pub fn initial_direction(shapes: &[SegmentShape], i: usize, opts: &PairingOption
 fn mean_bridge_angle(a: &SegmentShape, t: P3, b: &SegmentShape) -> f64 {
     let mut total = 0.0;
     for &p in &a.samples {
-        let mut best_cos = -1.0f64;
+        // The best x by cosine (cheap), its angle by atan2 (accurate near 0,
+        // where acos would turn rounding into 1e-8 differences and hide ties).
+        let mut best: Option<(f64, P3)> = None;
         for &x in &b.samples {
             let v = sub(x, p);
             let l = norm(v);
-            if l > 1e-12 {
-                best_cos = best_cos.max(dot(t, v) / l);
+            if l > 1e-12 && best.is_none_or(|(c, _)| dot(t, v) / l > c) {
+                best = Some((dot(t, v) / l, v));
             }
         }
-        total += best_cos.clamp(-1.0, 1.0).acos();
+        total += best.map_or(std::f64::consts::PI, |(_, v)| angle(t, v));
     }
     total / a.samples.len() as f64
 }

@@ -32,8 +32,7 @@ fn run(cycle: &CycleLoops) -> (PairedCycle, PairingReport) {
     (p, r)
 }
 
-/// The index of segment containing the point nearest `q` in its interior, and
-/// how many segment starts lie strictly between the points `a` and `b` of a
+/// How many segment starts lie strictly between the points `a` and `b` of a
 /// straight side (for "side split once").
 fn starts_inside_side(p: &PairedCycle, a: P3, b: P3) -> usize {
     let len = dist(a, b);
@@ -58,7 +57,7 @@ fn mate(p: &PairedCycle, s: usize) -> usize {
 
 #[test]
 fn saddle_gives_four_segments_paired_opposite() {
-    let (p, r) = run(&fixtures::saddle());
+    let (p, r) = run(&fixtures::saddle(0.5));
     assert_eq!((r.initial_segments, r.final_segments), (4, 4), "{r:?}");
     assert_eq!(p.pairs, vec![(0, 2), (1, 3)]);
     assert!(r.fallbacks.is_empty() && r.odd_parties.is_empty());
@@ -92,6 +91,16 @@ fn house_with_an_off_centre_apex_splits_its_bottom_once() {
     assert_eq!(p.starts.len(), 6, "{r:?}");
     let [a, b] = fixtures::HOUSE_BOTTOM;
     assert_eq!(starts_inside_side(&p, a, b), 1, "{r:?}");
+    // The targeted split (Fig. 7): the bottom cut in the ratio of the two
+    // roof lengths, each part paired with the roof above it, walls paired.
+    let (left_roof, right_roof) = (dist([0.0, 1.0, 0.0], [0.7, 1.5, 0.0]), dist([2.0, 1.0, 0.0], [0.7, 1.5, 0.0]));
+    let cut = p.points[p.starts[1]];
+    let expected = 2.0 * left_roof / (left_roof + right_roof);
+    assert!((cut[0] - expected).abs() < 0.02, "cut at {cut:?}, expected x = {expected}");
+    let seg = |q: [f64; 3]| segment_starting_at(&p, q).unwrap();
+    let (b1, b2, wall_r, roof_r, roof_l, wall_l) =
+        (seg([0.0; 3]), seg(cut), seg([2.0, 0.0, 0.0]), seg([2.0, 1.0, 0.0]), seg([0.7, 1.5, 0.0]), seg([0.0, 1.0, 0.0]));
+    assert_eq!((mate(&p, b1), mate(&p, b2), mate(&p, wall_r)), (roof_l, roof_r, wall_l), "{p:?}");
 }
 
 #[test]
@@ -100,6 +109,13 @@ fn ell_gives_eight_segments() {
     assert_eq!(r.initial_segments, 6, "{r:?}");
     assert_eq!(p.starts.len(), 8, "{r:?}");
     assert!(r.fallbacks.is_empty());
+    // The three-square layout of Fig. 5 bottom: the bottom and the left side
+    // cut at the inner corner's projections, each arm's ends paired.
+    let seg = |x: f64, y: f64| segment_starting_at(&p, [x, y, 0.0]).unwrap_or_else(|| panic!("no start at ({x}, {y}): {p:?}"));
+    assert_eq!(mate(&p, seg(0.0, 0.0)), seg(1.0, 2.0), "bottom-left half with the top");
+    assert_eq!(mate(&p, seg(1.0, 0.0)), seg(2.0, 1.0), "bottom-right half with the foot's top");
+    assert_eq!(mate(&p, seg(2.0, 0.0)), seg(0.0, 1.0), "right wall with the left side's lower half");
+    assert_eq!(mate(&p, seg(1.0, 1.0)), seg(0.0, 2.0), "inner wall with the left side's upper half");
 }
 
 #[test]
@@ -144,13 +160,12 @@ fn letter_p_gets_exactly_one_unsplittable_connector() {
     assert!(on_hole(a1) && !on_hole(a0), "connector {a0:?} → {a1:?}");
     // Connectors stay unsplit: no start strictly inside the connector.
     assert_eq!(starts_inside_side(&p, a0, a1), 0);
-    let _ = mate(&p, flagged[0]);
 }
 
 #[test]
 fn bad_cycles_are_errors_not_panics() {
     let o = PairingOptions::default();
-    let flat = fixtures::saddle();
+    let flat = fixtures::saddle(0.5);
     let mut two = flat.clone();
     two.outer.points.truncate(2);
     assert!(matches!(pair_cycle(&two, &o), Err(PairingError::TooFewPoints { count: 2, .. }) | Err(PairingError::NoInwardSide { .. })));

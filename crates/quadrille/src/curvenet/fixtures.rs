@@ -24,10 +24,10 @@ fn single(outer: LoopPolyline) -> CycleLoops {
     CycleLoops { outer, holes: Vec::new() }
 }
 
-/// Fig. 4: the twisted 4-sided saddle, the boundary of z = xy over [−1, 1]²
-/// (four straight sides of a skew quadrilateral).
-pub fn saddle() -> CycleLoops {
-    single(free_loop(vec![[-1.0, -1.0, 1.0], [1.0, -1.0, -1.0], [1.0, 1.0, 1.0], [-1.0, 1.0, -1.0]]))
+/// Fig. 4: a twisted 4-sided saddle, the boundary of z = h·xy over [−1, 1]²
+/// (four straight sides of a skew quadrilateral, corners at heights ±h).
+pub fn saddle(h: f64) -> CycleLoops {
+    single(free_loop(vec![[-1.0, -1.0, h], [1.0, -1.0, -h], [1.0, 1.0, h], [-1.0, 1.0, -h]]))
 }
 
 /// Fig. 12: an equilateral triangle of side 1.
@@ -51,9 +51,14 @@ pub fn octant(per_arc: usize) -> CycleLoops {
 }
 
 /// Figs. 5 top and 7: a house pentagon with its apex off-centre: bottom
-/// (0,0)–(2,0), walls of height 1, apex at (0.7, 1.8).
+/// (0,0)–(2,0), walls of height 1, apex at (0.7, 1.5).
 pub fn house() -> CycleLoops {
-    polygon(&[[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.7, 1.8], [0.0, 1.0]]).into()
+    house_with_apex([0.7, 1.5])
+}
+
+/// A house pentagon with the given apex (bottom (0,0)–(2,0), walls of height 1).
+pub fn house_with_apex(apex: [f64; 2]) -> CycleLoops {
+    polygon(&[[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], apex, [0.0, 1.0]]).into()
 }
 
 /// The house's bottom side: its two end points (for checking it was split).

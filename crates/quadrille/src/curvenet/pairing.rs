@@ -237,7 +237,7 @@ pub fn pair_cycle(cycle: &CycleLoops, opts: &PairingOptions) -> Result<(PairedCy
         joined = join_hole(&joined, &hole.segmented, d, normal, opts);
     }
     let initial_segments = joined.starts.len();
-    let ctx = Context { diameter: d, normal, opts };
+    let ctx = Context::new(d, normal, opts);
     let refined = refine_loop(&ctx, joined)
         .ok_or(PairingError::NoEvenMatching { iterations: opts.max_iterations, segments: opts.max_segments })?;
     let best = &refined.result;

@@ -4,7 +4,10 @@
 //! while the average cost Σc²/(2⌊n/2⌋) drops by the factor `drop` and the worst
 //! cost does not rise; then roll back to the last even segmentation.
 
-use super::cost::{cost_matrix, dominant_update, initial_direction, segment_shapes, SegmentShape};
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+use super::cost::{dominant_update, initial_direction, pair_cost, segment_shapes, SegmentShape};
 use super::polyline::{split_index, P3};
 use super::roommates::{match_by_cost, MatchOutcome};
 use super::segment::SegmentedLoop;
@@ -65,9 +68,41 @@ pub struct Context<'a> {
     pub normal: P3,
     /// The parameters.
     pub opts: &'a PairingOptions,
+    /// Pair costs already computed, by the two segments' end indices and
+    /// bridge directions (a pair's cost depends on nothing else; only looked
+    /// up, never iterated, so the output does not depend on its order).
+    cache: RefCell<HashMap<PairKey, f64>>,
 }
 
-impl Context<'_> {
+/// A segment's identity for the cost cache: its two end indices and the bits
+/// of its bridge direction.
+type SegmentKey = (usize, usize, [u64; 3]);
+type PairKey = (SegmentKey, SegmentKey);
+
+impl<'a> Context<'a> {
+    /// A context for one cycle.
+    pub fn new(diameter: f64, normal: P3, opts: &'a PairingOptions) -> Self {
+        Context { diameter, normal, opts, cache: RefCell::new(HashMap::new()) }
+    }
+
+    /// The symmetric cost matrix, through the cache.
+    fn cost_matrix(&self, lp: &SegmentedLoop, shapes: &[SegmentShape], t: &[P3]) -> Vec<Vec<f64>> {
+        let k = shapes.len();
+        let key = |s: usize| (lp.starts[s], lp.starts[(s + 1) % k], t[s].map(f64::to_bits));
+        let mut c = vec![vec![0.0; k]; k];
+        let mut cache = self.cache.borrow_mut();
+        for i in 0..k {
+            for j in i + 1..k {
+                let v = *cache
+                    .entry((key(i), key(j)))
+                    .or_insert_with(|| pair_cost(&shapes[i], t[i], &shapes[j], t[j], self.opts).total);
+                c[i][j] = v;
+                c[j][i] = v;
+            }
+        }
+        c
+    }
+
     /// The shapes of the segments.
     fn shapes(&self, lp: &SegmentedLoop) -> Vec<SegmentShape> {
         segment_shapes(&lp.segment_polylines(), self.diameter, self.normal, self.opts.samples)
@@ -80,13 +115,13 @@ impl Context<'_> {
         let shapes = self.shapes(&seg.lp);
         let mut t: Vec<P3> =
             (0..shapes.len()).map(|i| seg.t[i].unwrap_or_else(|| initial_direction(&shapes, i, self.opts))).collect();
-        let mut costs = cost_matrix(&shapes, &t, self.opts);
+        let mut costs = self.cost_matrix(&seg.lp, &shapes, &t);
         let mut outcome = match_by_cost(&costs, self.opts.tie_relative);
         if let MatchOutcome::Matched(mate) = &outcome {
             let before = t.clone();
             dominant_update(&shapes, &mut t, mate, &costs, self.opts.dom);
             if before != t {
-                costs = cost_matrix(&shapes, &t, self.opts);
+                costs = self.cost_matrix(&seg.lp, &shapes, &t);
                 outcome = match_by_cost(&costs, self.opts.tie_relative);
             }
         }
@@ -192,8 +227,11 @@ pub fn refine_step(ctx: &Context<'_>, cur: &Evaluated) -> Option<Evaluated> {
         evaluated.iter().filter(|e| keep(e)).min_by(|a, b| a.average.total_cmp(&b.average)).cloned()
     };
     let best = lowest(&|e| e.worst <= cur.worst * (1.0 + 1e-12)).or_else(|| lowest(&|_| true));
+    // An odd count's average leaves its worst segment out, so it is no
+    // yardstick: from an odd count the best single split is taken as is.
+    let comparable = cur.len() % 2 == 0;
     match best {
-        Some(b) if b.average < cur.average => Some(b),
+        Some(b) if !comparable || b.average < cur.average => Some(b),
         other => global().or(other),
     }
 }
