@@ -285,6 +285,7 @@ mod tests {
     }
 
     #[test]
+    #[allow(clippy::needless_range_loop)]
     fn irving_equals_greedy_on_10000_random_symmetric_matrices() {
         let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
         let mut odd_sizes = 0;

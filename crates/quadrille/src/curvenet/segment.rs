@@ -65,8 +65,8 @@ pub fn segment_loop(points: Vec<P3>, fixed: &[usize], opts: &PairingOptions) -> 
         sorted.sort_by(f64::total_cmp);
         let median = sorted[n / 2];
         let reach = (n / 16).max(w);
-        for i in 0..n {
-            let clear = turn[i] > 2.0 * median && turn[i] > opts.fallback_min_turn.to_radians();
+        for (i, &ti) in turn.iter().enumerate() {
+            let clear = ti > 2.0 * median && ti > opts.fallback_min_turn.to_radians();
             let near = starts.iter().any(|&s| cyclic_gap(s, i, n) <= 2 * w);
             if clear && !near && is_local_max(i, reach) {
                 starts.push(i);
