@@ -272,3 +272,82 @@ pub fn dominant_update(shapes: &[SegmentShape], t: &mut [P3], mate: &[Option<usi
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The four sides of the rectangle [0,2]×[0,1] (CCW about +z), each
+    /// sampled at 11 points.
+    fn rectangle_sides() -> Vec<Vec<P3>> {
+        let c = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        (0..4).map(|s| (0..=10).map(|k| super::super::polyline::lerp(c[s], c[(s + 1) % 4], k as f64 / 10.0)).collect()).collect()
+    }
+
+    fn close(a: P3, b: P3) -> bool {
+        dist(a, b) < 1e-9
+    }
+
+    #[test]
+    fn rectangle_bridge_directions_point_across() {
+        let o = PairingOptions::default();
+        let d = 5f64.sqrt();
+        let shapes = segment_shapes(&rectangle_sides(), d, [0.0, 0.0, 1.0], o.samples);
+        let t: Vec<P3> = (0..4).map(|i| initial_direction(&shapes, i, &o)).collect();
+        let want = [[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]];
+        for i in 0..4 {
+            assert!(close(t[i], want[i]) && close(shapes[i].inward, want[i]), "{i}: {:?} {:?}", t[i], shapes[i].inward);
+        }
+        // Opposite sides: straight bridges (b = 0), same shape, so c = 0.1·(0.5|Δl| + d).
+        let c = pair_cost(&shapes[0], t[0], &shapes[2], t[2], &o);
+        assert!(c.bridge.abs() < 1e-12, "{c:?}");
+        assert!((c.distance - 1.0 / d).abs() < 1e-12);
+        assert!(c.similarity.abs() < 1e-9, "{c:?}");
+        assert!((c.total - 0.1 / d).abs() < 1e-9);
+        // A side with its neighbour bends the bridge by about 45° or more.
+        assert!(pair_cost(&shapes[0], t[0], &shapes[1], t[1], &o).bridge > 0.7);
+    }
+
+    #[test]
+    fn an_affine_image_has_no_shape_difference() {
+        let o = PairingOptions::default();
+        let arc: Vec<P3> = (0..=40).map(|k| {
+            let a = std::f64::consts::PI * k as f64 / 40.0;
+            [a.cos(), a.sin(), 0.0]
+        }).collect();
+        // Reversed, sheared and scaled: opposite sides run opposite ways.
+        let image: Vec<P3> = arc.iter().rev().map(|p| [2.0 * p[0] + 0.5 * p[1] + 3.0, 0.5 * p[1] - 4.0, 0.2 * p[0]]).collect();
+        let bent: Vec<P3> = (0..=40).map(|k| {
+            let a = 3.0 * std::f64::consts::PI * k as f64 / 40.0;
+            [k as f64 / 20.0, a.sin(), 0.0]
+        }).collect();
+        // Rotated by 90° about z, scaled by 2, moved: arc length maps evenly.
+        let similar: Vec<P3> = arc.iter().rev().map(|p| [-2.0 * p[1] + 1.0, 2.0 * p[0], 5.0]).collect();
+        let shapes = segment_shapes(&[arc, image, bent, similar], 10.0, [0.0, 0.0, 1.0], o.samples);
+        let (sheared, bent, similar) =
+            (affine_residual(&shapes[0], &shapes[1]), affine_residual(&shapes[0], &shapes[2]), affine_residual(&shapes[0], &shapes[3]));
+        // Samples correspond by arc length, which a shear does not keep even,
+        // so the sheared image is close but not exact.
+        assert!(similar < 1e-9, "{similar}");
+        assert!(sheared < 0.01 && bent > 2.0 * sheared, "{sheared} {bent}");
+    }
+
+    #[test]
+    fn dominant_pairs_share_an_axis_and_neighbours_follow() {
+        let o = PairingOptions::default();
+        let shapes = segment_shapes(&rectangle_sides(), 5f64.sqrt(), [0.0, 0.0, 1.0], o.samples);
+        let s = 0.1f64.sin();
+        let mut t = vec![[s, 0.1f64.cos(), 0.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.6, 0.8, 0.0]];
+        let mate = vec![Some(2), None, Some(0), None];
+        let mut c = vec![vec![1.0; 4]; 4];
+        c[0][2] = 0.05;
+        c[2][0] = 0.05;
+        dominant_update(&shapes, &mut t, &mate, &c, o.dom);
+        assert!(close(t[2], scale(t[0], -1.0)), "the pair's t opposite");
+        assert!(t[0][1] > 0.99 && t[0][0] > 0.0, "average axis of up and a slightly tilted up");
+        // Segment 1 (right side, t = −x) is 90° from t_0: turned orthogonal to it,
+        // inward: about −x. Segment 3 (t = (0.6, 0.8)) is 37° from t_0: aligned with it.
+        assert!(t[1][0] < -0.99, "{:?}", t[1]);
+        assert!(close(t[3], t[0]), "{:?}", t[3]);
+    }
+}

@@ -226,3 +226,43 @@ fn splice(outer: &SegmentedLoop, hole: &SegmentedLoop, ia: usize, ib: usize) -> 
         unsplittable: marked.iter().map(|e| e.1).collect(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::curvenet::polyline::{angle, densify_closed, open_length, sub};
+
+    #[test]
+    fn a_square_has_four_corners_and_a_fixed_point_adds_a_fifth() {
+        let o = PairingOptions::default();
+        let sq = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        let (pts, idx) = densify_closed(&sq, 0.01);
+        let s = segment_loop(pts.clone(), &[], &o);
+        assert_eq!((s.segmented.starts.clone(), s.corners, s.fallback), (idx.clone(), 4, false));
+        let s = segment_loop(pts, &[idx[1] + 30], &o);
+        assert_eq!(s.segmented.starts.len(), 5);
+        assert!(s.segmented.starts.contains(&(idx[1] + 30)));
+    }
+
+    #[test]
+    fn a_half_disc_falls_back_and_ends_near_linear() {
+        let o = PairingOptions::default();
+        let mut d: Vec<P3> = (0..=60).map(|k| {
+            let a = std::f64::consts::PI * k as f64 / 60.0;
+            [a.cos(), a.sin(), 0.0]
+        }).collect();
+        d.push([0.0, 0.0, 0.0]);
+        let (pts, _) = densify_closed(&d, 0.01);
+        let s = segment_loop(pts, &[], &o);
+        assert!(s.fallback && s.corners == 2, "{:?}", (s.corners, s.fallback));
+        let lines = s.segmented.segment_polylines();
+        assert!(lines.len() >= 4);
+        for l in &lines {
+            let (a, b) = (l[0], l[l.len() - 1]);
+            let far = l.iter().map(|p| point_segment_distance(*p, a, b)).fold(0.0, f64::max);
+            let turn: f64 = l.windows(3).map(|w| angle(sub(w[1], w[0]), sub(w[2], w[1]))).sum();
+            assert!(far <= o.near_linear_tau * dist(a, b) + 1e-12 && turn <= o.near_linear_turn.to_radians() + 1e-9);
+            assert!(open_length(l) > 0.0);
+        }
+    }
+}
