@@ -11,6 +11,20 @@
 //!   segments paired, each pair the two ends of one poly-chord;
 //! - layout and geometry (§5–§6) turn a [`PairedCycle`] into quads.
 
+pub mod cost;
+pub mod pairing;
+pub mod polyline;
+pub mod refine;
+pub mod roommates;
+pub mod segment;
+
+#[cfg(test)]
+pub(crate) mod fixtures;
+#[cfg(test)]
+mod figure_tests;
+
+pub use pairing::{pair_cycle, PairingError, PairingOptions, PairingReport};
+
 /// A closed polyline: one loop of a cycle.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LoopPolyline {

@@ -1,0 +1,110 @@
+//! The paper's figure cycles, built by hand as [`CycleLoops`] (compiled for
+//! tests only): the saddle (Fig. 4), the equilateral triangle (Fig. 12), the
+//! spherical octant, the house with an off-centre apex (Figs. 5 top and 7),
+//! the L (Fig. 5 bottom), the circle (Fig. 16b), a two-sided lens and the
+//! letter P (Fig. 17). Outer loops run counter-clockwise about +z (the
+//! octant: about (1,1,1)); holes run the other way.
+
+use std::f64::consts::{FRAC_PI_2, PI};
+
+use super::{CycleLoops, LoopPolyline};
+
+/// A loop through the given points, none fixed.
+fn free_loop(points: Vec<[f64; 3]>) -> LoopPolyline {
+    LoopPolyline { points, fixed: Vec::new() }
+}
+
+/// A planar polygon (z = 0) from its corners.
+fn polygon(corners: &[[f64; 2]]) -> LoopPolyline {
+    free_loop(corners.iter().map(|c| [c[0], c[1], 0.0]).collect())
+}
+
+/// A cycle with no holes.
+fn single(outer: LoopPolyline) -> CycleLoops {
+    CycleLoops { outer, holes: Vec::new() }
+}
+
+/// Fig. 4: a twisted 4-sided saddle, the boundary of z = h·xy over [−1, 1]²
+/// (four straight sides of a skew quadrilateral, corners at heights ±h).
+pub fn saddle(h: f64) -> CycleLoops {
+    single(free_loop(vec![[-1.0, -1.0, h], [1.0, -1.0, -h], [1.0, 1.0, h], [-1.0, 1.0, -h]]))
+}
+
+/// Fig. 12: an equilateral triangle of side 1.
+pub fn triangle() -> CycleLoops {
+    polygon(&[[0.0, 0.0], [1.0, 0.0], [0.5, 0.75f64.sqrt()]]).into()
+}
+
+/// Fig. 12: the spherical octant, three 90° great-circle arcs of the unit
+/// sphere from x to y to z, `per_arc` samples each.
+pub fn octant(per_arc: usize) -> CycleLoops {
+    let axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let mut points = Vec::new();
+    for a in 0..3 {
+        let (u, v) = (axes[a], axes[(a + 1) % 3]);
+        for k in 0..per_arc {
+            let th = FRAC_PI_2 * k as f64 / per_arc as f64;
+            points.push([0, 1, 2].map(|i| th.cos() * u[i] + th.sin() * v[i]));
+        }
+    }
+    single(free_loop(points))
+}
+
+/// Figs. 5 top and 7: a house pentagon with its apex off-centre: bottom
+/// (0,0)–(2,0), walls of height 1, apex at (0.7, 1.5).
+pub fn house() -> CycleLoops {
+    house_with_apex([0.7, 1.5])
+}
+
+/// A house pentagon with the given apex (bottom (0,0)–(2,0), walls of height 1).
+pub fn house_with_apex(apex: [f64; 2]) -> CycleLoops {
+    polygon(&[[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], apex, [0.0, 1.0]]).into()
+}
+
+/// The house's bottom side: its two end points (for checking it was split).
+pub const HOUSE_BOTTOM: [[f64; 3]; 2] = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
+
+/// Fig. 5 bottom: an L of three unit squares.
+pub fn ell() -> CycleLoops {
+    polygon(&[[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]]).into()
+}
+
+/// Fig. 16b: a unit circle of `n` samples.
+pub fn circle(n: usize) -> CycleLoops {
+    single(free_loop(
+        (0..n).map(|k| 2.0 * PI * k as f64 / n as f64).map(|t| [t.cos(), t.sin(), 0.0]).collect(),
+    ))
+}
+
+/// A two-sided lens: two arcs of radius 1 (centres (0, ∓0.5)) meeting at
+/// (±√0.75, 0) at 60° turns, `per_arc` samples each.
+pub fn lens(per_arc: usize) -> CycleLoops {
+    let mut points = Vec::new();
+    for k in 0..per_arc {
+        let th = (30.0 + 120.0 * k as f64 / per_arc as f64).to_radians();
+        points.push([th.cos(), th.sin() - 0.5, 0.0]);
+    }
+    for k in 0..per_arc {
+        let th = (210.0 + 120.0 * k as f64 / per_arc as f64).to_radians();
+        points.push([th.cos(), th.sin() + 0.5, 0.0]);
+    }
+    single(free_loop(points))
+}
+
+/// Fig. 17: a letter P: a rectilinear outline (stem 1 wide, bowl on top) with
+/// one rectangular hole in the bowl, the hole clockwise.
+pub fn letter_p() -> CycleLoops {
+    CycleLoops {
+        outer: polygon(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.5], [2.5, 1.5], [2.5, 4.0], [0.0, 4.0]]),
+        holes: vec![polygon(&[[1.0, 2.0], [1.0, 3.5], [2.0, 3.5], [2.0, 2.0]])],
+    }
+}
+
+/// The hole of [`letter_p`], for checks.
+pub const P_HOLE: [[f64; 2]; 2] = [[1.0, 2.0], [2.0, 3.5]];
+
+impl From<LoopPolyline> for CycleLoops {
+    fn from(outer: LoopPolyline) -> Self {
+        single(outer)
+    }
+}
