@@ -169,7 +169,10 @@ fn distinct_knots(knots: &[f64], degree: usize, dir: &str) -> Result<DistinctKno
             }
         }
     }
-    let (first, last) = (out.mults[0] as usize, out.mults[out.mults.len() - 1] as usize);
+    let (first, last) = (
+        out.mults[0] as usize,
+        out.mults[out.mults.len() - 1] as usize,
+    );
     if first != degree + 1 || last != degree + 1 {
         return Err(format!(
             "knots in {dir} are not clamped: end multiplicities {first} and {last}, expected {} (degree {degree} + 1)",
@@ -376,8 +379,8 @@ mod tests {
 
     #[test]
     fn knots_become_distinct_with_multiplicities() {
-        let d = distinct_knots(&[0.0, 0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0], 3, "s")
-            .unwrap();
+        let d =
+            distinct_knots(&[0.0, 0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0], 3, "s").unwrap();
         assert_eq!(d.knots, vec![0.0, 0.5, 1.0]);
         assert_eq!(d.mults, vec![4, 2, 4]);
     }

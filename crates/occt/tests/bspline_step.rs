@@ -8,7 +8,9 @@
 
 use geometry::vec3::dist;
 use occt::{write_bspline_step, BSplineSurfaceData, StepWriteError};
-use spline::{fit_curve, ArcUse, BSplineCurve, BSplinePatch, Multipatch, MultipatchBuilder, Point3};
+use spline::{
+    fit_curve, ArcUse, BSplineCurve, BSplinePatch, Multipatch, MultipatchBuilder, Point3,
+};
 use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
@@ -81,7 +83,9 @@ fn to_data(p: &BSplinePatch) -> BSplineSurfaceData {
 }
 
 fn patches_of(mp: &Multipatch) -> Vec<BSplinePatch> {
-    (0..mp.patches().len()).map(|k| mp.patch(k).unwrap()).collect()
+    (0..mp.patches().len())
+        .map(|k| mp.patch(k).unwrap())
+        .collect()
 }
 
 /// Files in `dir` (to see that nothing, not even a temporary, is left).
@@ -148,7 +152,9 @@ fn read_back(path: &Path, patches: &[BSplinePatch]) -> ReadBack {
                 out.off_bounds = out.off_bounds.max(d);
             }
         }
-        let centre = f.surface.eval([0.5 * (b.umin + b.umax), 0.5 * (b.vmin + b.vmax)]);
+        let centre = f
+            .surface
+            .eval([0.5 * (b.umin + b.umax), 0.5 * (b.vmin + b.vmax)]);
         let k = patches
             .iter()
             .position(|p| dist(p.eval(0.5, 0.5), centre) < 1e-6 * diag)
@@ -231,7 +237,11 @@ fn dome_2x2_round_trips_through_step() {
         "four faces in one shell"
     );
     assert_eq!(
-        (report.shared_edges, report.free_edges, report.multiple_edges),
+        (
+            report.shared_edges,
+            report.free_edges,
+            report.multiple_edges
+        ),
         (4, 8, 0),
         "4 interior arcs shared, 8 boundary arcs free"
     );
@@ -262,8 +272,16 @@ fn dome_2x2_round_trips_through_step() {
     assert_eq!(rb.edges_per_face, vec![4; 4], "four edges per face");
     assert_eq!((rb.shared, rb.free), (4, 8));
     assert_eq!(rb.reversed, 0, "the patches are oriented alike");
-    assert!(rb.off_bounds < 1e-9, "pcurves off the bounds by {}", rb.off_bounds);
-    assert!(rb.eval_diff < 1e-9, "evaluation differs by {} × diagonal", rb.eval_diff);
+    assert!(
+        rb.off_bounds < 1e-9,
+        "pcurves off the bounds by {}",
+        rb.off_bounds
+    );
+    assert!(
+        rb.eval_diff < 1e-9,
+        "evaluation differs by {} × diagonal",
+        rb.eval_diff
+    );
 
     if gmsh_available() {
         let script = r#"
@@ -273,6 +291,7 @@ gmsh.option.setNumber("General.Terminal", 0)
 gmsh.model.occ.importShapes(sys.argv[1])
 gmsh.model.occ.synchronize()
 print(len(gmsh.model.getEntities(2)), len(gmsh.model.getEntities(1)), len(gmsh.model.getEntities(0)))
+print(*sorted(set(gmsh.model.getType(2, t) for _, t in gmsh.model.getEntities(2))))
 gmsh.finalize()
 "#;
         let out = Command::new(python())
@@ -285,12 +304,26 @@ gmsh.finalize()
             String::from_utf8_lossy(&out.stderr)
         );
         let text = String::from_utf8_lossy(&out.stdout);
-        let counts: Vec<usize> = text
+        let mut lines = text.lines();
+        let counts: Vec<usize> = lines
+            .next()
+            .unwrap_or("")
             .split_whitespace()
             .map(|x| x.parse().unwrap())
             .collect();
         eprintln!("gmsh sees surfaces, curves, points: {counts:?}");
-        assert_eq!(counts, vec![4, 12, 9], "gmsh: 4 surfaces, 12 curves, 9 points");
+        assert_eq!(
+            counts,
+            vec![4, 12, 9],
+            "gmsh: 4 surfaces, 12 curves, 9 points"
+        );
+        let types = lines.next().unwrap_or("");
+        eprintln!("gmsh surface types: {types}");
+        assert_eq!(
+            types.trim(),
+            "BSpline surface",
+            "gmsh: untrimmed B-spline surfaces"
+        );
     }
 }
 
@@ -305,13 +338,25 @@ fn refined_dome_keeps_its_topology() {
     let path = dir.path().join("dome5.stp");
     let report = write_bspline_step(&data, &path).unwrap();
     assert_eq!(
-        (report.faces, report.shells, report.shared_edges, report.free_edges),
+        (
+            report.faces,
+            report.shells,
+            report.shared_edges,
+            report.free_edges
+        ),
         (4, 1, 4, 8)
     );
     let rb = read_back(&path, &patches);
     eprintln!("dome 5 spans read back: {rb:?}");
-    assert_eq!((rb.faces, rb.curves, rb.corners, rb.shared, rb.free), (4, 12, 9, 4, 8));
-    assert!(rb.eval_diff < 1e-9, "evaluation differs by {} × diagonal", rb.eval_diff);
+    assert_eq!(
+        (rb.faces, rb.curves, rb.corners, rb.shared, rb.free),
+        (4, 12, 9, 4, 8)
+    );
+    assert!(
+        rb.eval_diff < 1e-9,
+        "evaluation differs by {} × diagonal",
+        rb.eval_diff
+    );
 }
 
 /// A single bicubic patch with 2 × 3 spans on a bent plate.
@@ -338,7 +383,12 @@ fn single_patch_is_one_open_face() {
     let report = write_bspline_step(&[to_data(&p)], &path).unwrap();
     eprintln!("single patch: {report:?}");
     assert_eq!(
-        (report.faces, report.shells, report.shared_edges, report.free_edges),
+        (
+            report.faces,
+            report.shells,
+            report.shared_edges,
+            report.free_edges
+        ),
         (1, 1, 0, 4)
     );
     let rb = read_back(&path, std::slice::from_ref(&p));
@@ -346,8 +396,16 @@ fn single_patch_is_one_open_face() {
     assert_eq!((rb.faces, rb.curves, rb.corners), (1, 4, 4));
     assert_eq!(rb.edges_per_face, vec![4]);
     assert_eq!((rb.shared, rb.free), (0, 4));
-    assert!(rb.off_bounds < 1e-9, "pcurves off the bounds by {}", rb.off_bounds);
-    assert!(rb.eval_diff < 1e-9, "evaluation differs by {} × diagonal", rb.eval_diff);
+    assert!(
+        rb.off_bounds < 1e-9,
+        "pcurves off the bounds by {}",
+        rb.off_bounds
+    );
+    assert!(
+        rb.eval_diff < 1e-9,
+        "evaluation differs by {} × diagonal",
+        rb.eval_diff
+    );
 }
 
 #[test]
@@ -360,7 +418,11 @@ fn bad_input_is_an_error_and_leaves_no_file() {
         let msg = e.to_string();
         assert!(msg.contains(want), "{msg:?} should say {want:?}");
         assert!(msg.contains("bad.step") && !msg.contains('\n'), "{msg:?}");
-        assert!(files_in(dir.path()).is_empty(), "left behind: {:?}", files_in(dir.path()));
+        assert!(
+            files_in(dir.path()).is_empty(),
+            "left behind: {:?}",
+            files_in(dir.path())
+        );
         e
     };
     let e = expect(&[], "no B-spline patch");
@@ -368,7 +430,10 @@ fn bad_input_is_an_error_and_leaves_no_file() {
 
     let mut nan = good.clone();
     nan.control[7][1] = f64::NAN;
-    let e = expect(&[good.clone(), nan], "patch 1: control point 7 is not finite");
+    let e = expect(
+        &[good.clone(), nan],
+        "patch 1: control point 7 is not finite",
+    );
     assert!(matches!(e, StepWriteError::BadPatch { patch: 1, .. }));
 
     let mut short = good.clone();
@@ -399,7 +464,11 @@ fn a_failed_write_keeps_the_old_file_and_leaves_no_temporary() {
     bad.knots_t[4] = f64::INFINITY;
     let e = write_bspline_step(&[bad], &path).unwrap_err();
     assert!(e.to_string().contains("knot 4 in t is inf"), "{e}");
-    assert_eq!(std::fs::read(&path).unwrap(), before, "the old file is untouched");
+    assert_eq!(
+        std::fs::read(&path).unwrap(),
+        before,
+        "the old file is untouched"
+    );
     assert_eq!(files_in(dir.path()), vec!["keep.step".to_string()]);
 
     // OCCT's writer fails on a directory that does not exist: an error, no file.
@@ -411,4 +480,80 @@ fn a_failed_write_keeps_the_old_file_and_leaves_no_temporary() {
     );
     assert!(!missing.exists());
     assert_eq!(files_in(dir.path()), vec!["keep.step".to_string()]);
+}
+
+/// A bicubic plate with 2 × 2 spans over [x0, x0 + 1] × [0, 1] on the graph
+/// z = 0.2 x² + 0.1 x y (+ `dz`), its left column of control points raised
+/// by `lift` (interior points only, so that the corners stay put).
+fn plate_at(x0: f64, dz: f64, lift: f64) -> BSplineSurfaceData {
+    let kv = spline::KnotVector::clamped_uniform(3, 2).unwrap();
+    let n = kv.num_control_points();
+    let mut control = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let x = x0 + i as f64 / (n - 1) as f64;
+            let y = j as f64 / (n - 1) as f64;
+            let raise = if i == 0 && j > 0 && j < n - 1 {
+                lift
+            } else {
+                0.0
+            };
+            control.push([x, y, 0.2 * x * x + 0.1 * x * y + dz + raise]);
+        }
+    }
+    BSplineSurfaceData {
+        degree_s: 3,
+        degree_t: 3,
+        knots_s: kv.knots().to_vec(),
+        knots_t: kv.knots().to_vec(),
+        control,
+    }
+}
+
+#[test]
+fn disjoint_patches_are_two_shells() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("two.step");
+    let report =
+        write_bspline_step(&[plate_at(0.0, 0.0, 0.0), plate_at(0.0, 5.0, 0.0)], &path).unwrap();
+    assert_eq!(
+        (
+            report.faces,
+            report.shells,
+            report.shared_edges,
+            report.free_edges
+        ),
+        (2, 2, 0, 8)
+    );
+    let m = occt::load(&path).unwrap();
+    assert_eq!((m.faces.len(), m.curves.len(), m.corners.len()), (2, 8, 8));
+}
+
+#[test]
+fn sewing_closes_gaps_below_its_tolerance_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("pair.step");
+    let left = plate_at(0.0, 0.0, 0.0);
+    // the shared side of the right plate is the left plate's right side, up to `lift`
+    let mut rows = Vec::new();
+    for lift in [0.0, 1e-9, 1e-3] {
+        let report = write_bspline_step(&[left.clone(), plate_at(1.0, 0.0, lift)], &path).unwrap();
+        let m = occt::load(&path).unwrap();
+        rows.push((
+            lift,
+            report.shared_edges,
+            report.free_edges,
+            m.curves.len(),
+            report.shells,
+        ));
+        eprintln!(
+            "lift {lift:e}: sew tolerance {:.3e}, {report:?}",
+            report.sew_tolerance
+        );
+    }
+    assert_eq!(
+        rows.iter().map(|r| (r.1, r.2, r.3, r.4)).collect::<Vec<_>>(),
+        vec![(1, 6, 7, 1), (1, 6, 7, 1), (0, 8, 8, 2)],
+        "exact and 1e-9 gaps are sewn (1 shared edge, 7 curves, 1 shell), a 1e-3 gap is not: {rows:?}"
+    );
 }
