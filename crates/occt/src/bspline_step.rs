@@ -119,7 +119,7 @@ struct DistinctKnots {
 /// non-decreasing, clamped at both ends (degree + 1 equal knots), interior
 /// multiplicities ≤ degree, distinct knots well apart; returns them distinct.
 fn distinct_knots(knots: &[f64], degree: usize, dir: &str) -> Result<DistinctKnots, String> {
-    if degree < 1 || degree > MAX_DEGREE {
+    if !(1..=MAX_DEGREE).contains(&degree) {
         return Err(format!(
             "degree in {dir} is {degree}, expected 1 to {MAX_DEGREE}"
         ));

@@ -557,3 +557,55 @@ fn sewing_closes_gaps_below_its_tolerance_only() {
         "exact and 1e-9 gaps are sewn (1 shared edge, 7 curves, 1 shell), a 1e-3 gap is not: {rows:?}"
     );
 }
+
+#[test]
+fn ten_by_ten_grid_of_patches_sews_into_one_shell() {
+    // Bicubic Bézier patches over [0, 1]², control points on a global grid of
+    // step 1/30 on z = x y − 0.3 y², so that neighbours share their sides exactly.
+    let n = 10;
+    let kv = spline::KnotVector::clamped_uniform(3, 1).unwrap();
+    let mut data = Vec::new();
+    for pj in 0..n {
+        for pi in 0..n {
+            let mut control = Vec::new();
+            for j in 0..4 {
+                for i in 0..4 {
+                    let x = (3 * pi + i) as f64 / (3 * n) as f64;
+                    let y = (3 * pj + j) as f64 / (3 * n) as f64;
+                    control.push([x, y, x * y - 0.3 * y * y]);
+                }
+            }
+            data.push(BSplineSurfaceData {
+                degree_s: 3,
+                degree_t: 3,
+                knots_s: kv.knots().to_vec(),
+                knots_t: kv.knots().to_vec(),
+                control,
+            });
+        }
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("grid.step");
+    let start = Instant::now();
+    let report = write_bspline_step(&data, &path).unwrap();
+    let took = start.elapsed();
+    eprintln!("10 x 10 grid: {report:?}, written in {took:?}");
+    assert_eq!(
+        (
+            report.faces,
+            report.shells,
+            report.shared_edges,
+            report.free_edges
+        ),
+        (n * n, 1, 2 * n * (n - 1), 4 * n)
+    );
+    let start = Instant::now();
+    let m = occt::load(&path).unwrap();
+    eprintln!("10 x 10 grid read back in {:?}", start.elapsed());
+    assert_eq!(
+        (m.faces.len(), m.curves.len(), m.corners.len()),
+        (n * n, 2 * n * (n + 1), (n + 1) * (n + 1))
+    );
+    let shared = m.curve_faces().iter().filter(|f| f.len() == 2).count();
+    assert_eq!(shared, 2 * n * (n - 1));
+}
