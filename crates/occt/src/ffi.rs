@@ -69,6 +69,34 @@ impl Default for UseInfo {
     }
 }
 
+/// Mirror of `OcctBSplinePatch` in shim.cpp (pointers borrowed for the call).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct BSplinePatchRaw {
+    pub degree_u: c_int,
+    pub degree_v: c_int,
+    pub n_u: usize,
+    pub n_v: usize,
+    pub knots_u: *const c_double,
+    pub mults_u: *const c_int,
+    pub nk_u: usize,
+    pub knots_v: *const c_double,
+    pub mults_v: *const c_int,
+    pub nk_v: usize,
+    pub poles: *const c_double,
+}
+
+/// Mirror of `OcctSewReport` in shim.cpp.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SewReport {
+    pub faces: usize,
+    pub shells: usize,
+    pub free_edges: usize,
+    pub shared_edges: usize,
+    pub multiple_edges: usize,
+}
+
 /// `TopAbs_FORWARD`.
 pub const TOPABS_FORWARD: c_int = 0;
 
@@ -90,6 +118,15 @@ extern "C" {
         m: *const OcctModel,
         path: *const c_char,
         kind: c_int,
+        err: *mut c_char,
+        errlen: usize,
+    ) -> c_int;
+    pub fn occt_write_bspline_step(
+        patches: *const BSplinePatchRaw,
+        n: usize,
+        sew_tol: c_double,
+        path: *const c_char,
+        report: *mut SewReport,
         err: *mut c_char,
         errlen: usize,
     ) -> c_int;

@@ -19,6 +19,7 @@
 
 #![warn(missing_docs)]
 
+mod bspline_step;
 mod ffi;
 mod geom;
 mod import;
@@ -29,6 +30,9 @@ use std::io::Read;
 use std::os::unix::ffi::OsStrExt;
 use std::path::{Path, PathBuf};
 
+pub use bspline_step::{
+    write_bspline_step, BSplineSurfaceData, StepWriteError, WriteReport, MAX_DEGREE, SEW_TOLERANCE,
+};
 pub use geom::{OcctCurve, OcctCurve2d, OcctSurface, PcurveOnSurface};
 pub use import::Import;
 

@@ -13,6 +13,8 @@
 //   readers keep global state); evaluating geometry is not (Geom_* evaluation
 //   is const and cache-free in OCCT >= 7.2, so concurrent calls are safe).
 
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepTools.hxx>
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Builder.hxx>
@@ -21,7 +23,15 @@
 #include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <Geom2d_Curve.hxx>
 #include <Geom_Curve.hxx>
+#include <Geom_BSplineSurface.hxx>
 #include <Geom_Surface.hxx>
+#include <Interface_Static.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array2OfPnt.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Shell.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Check.hxx>
 #include <Interface_CheckIterator.hxx>
@@ -29,6 +39,7 @@
 #include <XSControl_WorkSession.hxx>
 #include <IGESControl_Reader.hxx>
 #include <IGESControl_Writer.hxx>
+#include <STEPControl_Controller.hxx>
 #include <STEPControl_Writer.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
@@ -95,6 +106,30 @@ struct OcctEdgeInfo {
   long v_start, v_end;  // 0-based vertex indices of the FORWARD edge; -1 if absent
   int degenerate;       // BRep_Tool::Degenerated
   int same_parameter;   // BRep_Tool::SameParameter
+};
+
+/// One B-spline patch for occt_write_bspline_step: distinct knots with
+/// multiplicities in each direction, poles row-major with u fastest
+/// (pole (i, j) at poles[3 * (j * n_u + i)]). Checked by the Rust caller.
+struct OcctBSplinePatch {
+  int degree_u, degree_v;
+  size_t n_u, n_v;            // poles along u and v
+  const double* knots_u;      // nk_u distinct knots
+  const int* mults_u;
+  size_t nk_u;
+  const double* knots_v;
+  const int* mults_v;
+  size_t nk_v;
+  const double* poles;        // 3 * n_u * n_v
+};
+
+/// What occt_write_bspline_step built, before writing.
+struct OcctSewReport {
+  size_t faces;         // faces in the written shape
+  size_t shells;        // shells in it
+  size_t free_edges;    // non-degenerate edges bounding one face
+  size_t shared_edges;  // edges bounding two faces
+  size_t multiple_edges;  // edges bounding three faces or more
 };
 
 /// One edge use in a face wire, filled by occt_face_uses.
@@ -372,6 +407,108 @@ int occt_write(const OcctModel* m, const char* path, int kind, char* err, size_t
       return ERR_FAILED;
     }
     return OK;
+    });
+  });
+}
+
+/// Builds one untrimmed face per B-spline patch (its natural bounds, four
+/// edges), sews them with `sew_tol` into shells (a face sewing leaves alone
+/// becomes a shell of its own), and writes them as STEP (AP214, as is) to
+/// `path`. Fills *report; on failure no promise is made about `path`'s
+/// content (the Rust caller writes to a temporary file).
+int occt_write_bspline_step(const OcctBSplinePatch* patches, size_t n, double sew_tol, const char* path,
+                            OcctSewReport* report, char* err, size_t errlen) {
+  if (patches == nullptr || report == nullptr || n == 0) return ERR_INDEX;
+  *report = OcctSewReport{0, 0, 0, 0, 0};
+  return guarded(err, errlen, [&]() -> int {
+    std::lock_guard<std::recursive_mutex> lock(g_read_mutex);
+    silence_messages();
+    return fault_guarded(err, errlen, [&]() -> int {
+      BRepBuilderAPI_Sewing sewing(sew_tol);
+      for (size_t k = 0; k < n; ++k) {
+        const OcctBSplinePatch& p = patches[k];
+        TColgp_Array2OfPnt poles(1, (int)p.n_u, 1, (int)p.n_v);
+        for (size_t j = 0; j < p.n_v; ++j)
+          for (size_t i = 0; i < p.n_u; ++i) {
+            const double* x = p.poles + 3 * (j * p.n_u + i);
+            poles.SetValue((int)i + 1, (int)j + 1, gp_Pnt(x[0], x[1], x[2]));
+          }
+        TColStd_Array1OfReal ku(1, (int)p.nk_u), kv(1, (int)p.nk_v);
+        TColStd_Array1OfInteger mu(1, (int)p.nk_u), mv(1, (int)p.nk_v);
+        for (size_t i = 0; i < p.nk_u; ++i) {
+          ku.SetValue((int)i + 1, p.knots_u[i]);
+          mu.SetValue((int)i + 1, p.mults_u[i]);
+        }
+        for (size_t i = 0; i < p.nk_v; ++i) {
+          kv.SetValue((int)i + 1, p.knots_v[i]);
+          mv.SetValue((int)i + 1, p.mults_v[i]);
+        }
+        Handle(Geom_BSplineSurface) surf =
+            new Geom_BSplineSurface(poles, ku, kv, mu, mv, p.degree_u, p.degree_v);
+        BRepBuilderAPI_MakeFace mf(surf, sew_tol);
+        if (!mf.IsDone()) {
+          set_err(err, errlen, "patch " + std::to_string(k) + ": no face could be built on it (BRepBuilderAPI_MakeFace error " +
+                                   std::to_string((int)mf.Error()) + ")");
+          return ERR_FAILED;
+        }
+        sewing.Add(mf.Face());
+      }
+      sewing.Perform();
+      TopoDS_Shape sewn = sewing.SewedShape();
+      if (sewn.IsNull()) {
+        set_err(err, errlen, "sewing gave no shape");
+        return ERR_FAILED;
+      }
+      // Shells as they are; a face left on its own becomes a one-face shell.
+      BRep_Builder b;
+      std::vector<TopoDS_Shape> shells;
+      for (TopExp_Explorer x(sewn, TopAbs_SHELL); x.More(); x.Next()) shells.push_back(x.Current());
+      for (TopExp_Explorer x(sewn, TopAbs_FACE, TopAbs_SHELL); x.More(); x.Next()) {
+        TopoDS_Shell sh;
+        b.MakeShell(sh);
+        b.Add(sh, x.Current());
+        shells.push_back(sh);
+      }
+      TopoDS_Shape out;
+      if (shells.size() == 1) {
+        out = shells[0];
+      } else {
+        TopoDS_Compound c;
+        b.MakeCompound(c);
+        for (const TopoDS_Shape& sh : shells) b.Add(c, sh);
+        out = c;
+      }
+      TopTools_IndexedMapOfShape faces;
+      TopExp::MapShapes(out, TopAbs_FACE, faces);
+      TopTools_IndexedDataMapOfShapeListOfShape edge_faces;
+      TopExp::MapShapesAndUniqueAncestors(out, TopAbs_EDGE, TopAbs_FACE, edge_faces);
+      report->faces = (size_t)faces.Extent();
+      report->shells = shells.size();
+      for (int i = 1; i <= edge_faces.Extent(); ++i) {
+        if (BRep_Tool::Degenerated(TopoDS::Edge(edge_faces.FindKey(i)))) continue;
+        int nf = edge_faces(i).Extent();
+        if (nf == 1) ++report->free_edges;
+        else if (nf == 2) ++report->shared_edges;
+        else if (nf > 2) ++report->multiple_edges;
+      }
+      // AP214 for this file only: the schema is a global setting
+      STEPControl_Controller::Init();
+      const char* was = Interface_Static::CVal("write.step.schema");
+      std::string schema = was == nullptr ? std::string() : std::string(was);
+      Interface_Static::SetCVal("write.step.schema", "AP214IS");
+      int rc = OK;
+      {
+        STEPControl_Writer w;
+        if (w.Transfer(out, STEPControl_AsIs) != IFSelect_RetDone) {
+          set_err(err, errlen, "the STEP writer could not transfer the sewn shape");
+          rc = ERR_FAILED;
+        } else if (w.Write(path) != IFSelect_RetDone) {
+          set_err(err, errlen, "the STEP writer could not write the file");
+          rc = ERR_FAILED;
+        }
+      }
+      if (!schema.empty()) Interface_Static::SetCVal("write.step.schema", schema.c_str());
+      return rc;
     });
   });
 }
