@@ -84,3 +84,5 @@ pub use sample::{quadrangulate, CycleQuads};
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod pipeline_tests;

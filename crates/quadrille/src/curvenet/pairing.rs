@@ -52,6 +52,10 @@ pub struct PairingOptions {
     pub max_segments: usize,
     /// Loops are densified to samples at most this fraction of D apart (1/200).
     pub sample_spacing: f64,
+    /// The outer loop's closing edge (from its last point back to its first)
+    /// stays one segment, never split: set for the parts of a cut cycle
+    /// (Fig. 10), whose closing edge is the cut both parts must sample alike.
+    pub closing_edge_unsplittable: bool,
 }
 
 impl Default for PairingOptions {
@@ -77,6 +81,7 @@ impl Default for PairingOptions {
             max_iterations: 20,
             max_segments: 40,
             sample_spacing: 1.0 / 200.0,
+            closing_edge_unsplittable: false,
         }
     }
 }
@@ -125,6 +130,13 @@ impl PairingReport {
 /// Why a cycle could not be segmented and paired.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum PairingError {
+    /// The closing edge asked to stay one segment does not run between two
+    /// segment starts (its ends must be fixed points).
+    #[error("curve cycle: the closing edge from point {last} to point 0 is not one segment between fixed points")]
+    ClosingEdge {
+        /// The dense index of the outer loop's last point.
+        last: usize,
+    },
     /// A loop with too few distinct points.
     #[error("curve cycle, loop {loop_index}: {count} distinct points, at least 3 needed")]
     TooFewPoints {
@@ -205,6 +217,20 @@ fn clean_loop(lp: &LoopPolyline, loop_index: usize, tol: f64) -> Result<(Vec<P3>
     Ok((points, fixed))
 }
 
+/// Marks the segment from dense point `last` (the outer loop's last input
+/// point) around to point 0 unsplittable: the closing edge of a cut part.
+/// Both ends must be segment starts (the cut's ends are fixed points).
+fn keep_closing_edge(lp: &mut SegmentedLoop, last: usize) -> Result<(), PairingError> {
+    let k = lp.starts.len();
+    match lp.starts.iter().position(|&s| s == last) {
+        Some(s) if lp.starts[(s + 1) % k] == 0 => {
+            lp.unsplittable[s] = true;
+            Ok(())
+        }
+        _ => Err(PairingError::ClosingEdge { last }),
+    }
+}
+
 /// Segments a cycle, joins its holes, and refines the segmentation with
 /// stable matching (spec §1–§4) into a [`PairedCycle`] for the layout stage.
 pub fn pair_cycle(cycle: &CycleLoops, opts: &PairingOptions) -> Result<(PairedCycle, PairingReport), PairingError> {
@@ -228,7 +254,11 @@ pub fn pair_cycle(cycle: &CycleLoops, opts: &PairingOptions) -> Result<(PairedCy
         let (points, fixed) = clean_loop(lp, li, 1e-12 * d)?;
         let (dense, index_of) = densify_closed(&points, opts.sample_spacing * d);
         let fixed: Vec<usize> = fixed.iter().map(|&f| index_of[f]).collect();
-        segmented.push(segment_loop(dense, &fixed, opts));
+        let mut loop_segments = segment_loop(dense, &fixed, opts);
+        if li == 0 && opts.closing_edge_unsplittable {
+            keep_closing_edge(&mut loop_segments.segmented, index_of[points.len() - 1])?;
+        }
+        segmented.push(loop_segments);
     }
     let fallbacks: Vec<(usize, usize)> =
         segmented.iter().enumerate().filter(|(_, s)| s.fallback).map(|(i, s)| (i, s.corners)).collect();

@@ -33,30 +33,44 @@ pub struct CycleQuads {
 /// geometry (§6.1–6.3), sampling (§6.4). A disconnected chord graph is an
 /// error naming the cut (see [`super::cut::find_cut`]).
 pub fn quadrangulate(cycle: &PairedCycle, h: f64) -> Result<CycleQuads, LayoutError> {
+    quadrangulate_with_minimums(cycle, h, &[])
+}
+
+/// [`quadrangulate`] with a smallest interval count per segment:
+/// `minimums[s]` (0 or absent: none) raises the count of the chord ending at
+/// segment `s`. The caller uses it to sample a cut shared by two parts
+/// (Fig. 10) alike on both sides.
+pub fn quadrangulate_with_minimums(
+    cycle: &PairedCycle,
+    h: f64,
+    minimums: &[usize],
+) -> Result<CycleQuads, LayoutError> {
     if !(h.is_finite() && h > 0.0) {
         return Err(LayoutError::BadSize { h });
     }
     let layout = embed(cycle)?;
-    Ok(sample_layout(cycle, layout, h))
+    Ok(sample_layout(cycle, layout, h, minimums))
 }
 
-/// Per chord: n = max(⌈len_i / h⌉, ⌈len_j / h⌉, 1) over its two segments.
-pub fn chord_intervals(cycle: &PairedCycle, layout: &Layout, h: f64) -> Vec<usize> {
+/// Per chord: n = max(⌈len_i / h⌉, ⌈len_j / h⌉, 1) over its two segments,
+/// raised to `minimums[i]` and `minimums[j]` where given.
+pub fn chord_intervals(cycle: &PairedCycle, layout: &Layout, h: f64, minimums: &[usize]) -> Vec<usize> {
+    let least = |s: usize| minimums.get(s).copied().unwrap_or(0);
     layout
         .chords
         .iter()
         .map(|&(i, j)| {
             let li = Polyline::new(segment_points(cycle, i)).length();
             let lj = Polyline::new(segment_points(cycle, j)).length();
-            let n = (li / h).ceil().max((lj / h).ceil()).max(1.0);
-            n as usize
+            let n = (li / h).ceil().max((lj / h).ceil()).max(1.0) as usize;
+            n.max(least(i)).max(least(j))
         })
         .collect()
 }
 
 /// Samples a layout (interior vertices placed) into welded dense quads.
-pub fn sample_layout(cycle: &PairedCycle, layout: Layout, h: f64) -> CycleQuads {
-    let intervals = chord_intervals(cycle, &layout, h);
+pub fn sample_layout(cycle: &PairedCycle, layout: Layout, h: f64, minimums: &[usize]) -> CycleQuads {
+    let intervals = chord_intervals(cycle, &layout, h, minimums);
     let curves = rung_curves(&layout, cycle);
     let mut nodes: Vec<Vec3> = layout.positions.clone();
     let mut boundary: Vec<bool> = (0..nodes.len())
