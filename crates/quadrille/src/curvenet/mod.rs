@@ -10,6 +10,31 @@
 //!   closed polyline (holes joined by connectors) cut into segments, and the
 //!   segments paired, each pair the two ends of one poly-chord;
 //! - layout and geometry (§5–§6) turn a [`PairedCycle`] into quads.
+//!
+//! The input side (issue 30, items 1 and 10):
+//! - [`network`]: the welded [`CurveNetwork`] and, per cycle, its checked and
+//!   oriented [`CycleLoops`] ([`CurveNetwork::cycle_loops`]);
+//! - [`io`]: the JSON and OBJ readers and the JSON writer
+//!   (`docs/curve-networks.md`);
+//! - [`from_model`]: a network from the boundary loops of CAD faces;
+//! - [`error`]: [`CurveNetError`], one line naming file, cycle and place;
+//! - [`check`]: segment distances through a grid, Newell areas, welding.
+
+pub(crate) mod check;
+pub(crate) mod error;
+pub(crate) mod from_model;
+pub(crate) mod io;
+pub(crate) mod network;
+
+pub use error::{CurveNetError, Origin};
+pub use from_model::{
+    network_from_model, SkipReason, SkippedFace, CAD_SPACING_FACTOR, CAD_TURN_DEGREES,
+};
+pub use io::{parse_json, parse_obj, read_network, to_json, write_network};
+pub use network::{
+    CurveNetwork, CycleUse, NetworkCurve, NetworkCycle, INWARD_AREA_FACTOR, JUNCTION_TURN_DEGREES,
+    WELD_FACTOR,
+};
 
 pub mod cost;
 pub mod pairing;
