@@ -7,6 +7,7 @@
 //! problem, with a non-zero exit code; no partial output file is left behind.
 
 mod cmd_coarse;
+mod cmd_curves;
 mod cmd_field;
 mod cmd_info;
 mod cmd_mesh;
@@ -75,6 +76,65 @@ size map) and singularity_index (0 on triangles, +1 or -1 on singularities).",
         after_help = "Examples:\n  quadrille field part.step -o field.vtu --png field.png\n  quadrille field part.step --json > field.json\n  quadrille field part.step -o field.vtu --json --size-factor 0.5 --quiet\n  quadrille field part.step -o field.vtu --size-png size.png --entity-size curve:3=0.05"
     )]
     Field(FieldArgs),
+    /// Quads from the closed cycles of a 3D curve network (JSON, OBJ lines, or a CAD model's face
+    /// boundaries), with no surface given; see docs/curve-networks.md.
+    #[command(
+        after_help = "Examples:\n  quadrille curves net.json -o net.msh --png net.png\n  quadrille curves part.step --faces 1,4 -o faces.msh --json\n  quadrille curves net.obj --check\n  quadrille curves net.json -o net.vtu --size 0.05 --skip-bad --timings"
+    )]
+    Curves(CurvesArgs),
+}
+
+/// Arguments of `quadrille curves`.
+#[derive(Args, Debug)]
+pub struct CurvesArgs {
+    /// Curve network: .json or .obj (docs/curve-networks.md), or a CAD model (.step, .stp,
+    /// .iges, .igs, .brep, .brp) whose faces' boundary loops become the cycles.
+    network: PathBuf,
+    /// Output mesh: .msh (MSH 4.1), .vtu or .obj (not needed with --check).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Target edge length, in model units.
+    #[arg(long, conflicts_with = "size_factor")]
+    size: Option<f64>,
+    /// Multiplier of the default edge length (1/24 of the network's bounding-box diagonal).
+    #[arg(long)]
+    size_factor: Option<f64>,
+    /// CAD input: the faces whose boundaries to mesh, 1-based (default: all).
+    #[arg(long, value_delimiter = ',')]
+    faces: Option<Vec<usize>>,
+    /// Write a PNG picture of the mesh, the coarse layout drawn over it.
+    #[arg(long, value_name = "PIC.png")]
+    png: Option<PathBuf>,
+    /// Write the coarse layout (one quad per patch) as OBJ.
+    #[arg(long, value_name = "L.obj")]
+    layout: Option<PathBuf>,
+    /// Save the network that was read as JSON.
+    #[arg(long, value_name = "F.json")]
+    write_network: Option<PathBuf>,
+    /// Validate the network only (with -o: validate, then mesh).
+    #[arg(long)]
+    check: bool,
+    /// Mesh the valid cycles and list the others instead of failing.
+    #[arg(long)]
+    skip_bad: bool,
+    /// Refinement goes on while the average pair cost drops by this factor (paper: 1.25).
+    #[arg(long)]
+    drop: Option<f64>,
+    /// Pairs cheaper than this are dominant and steer their neighbours (paper: 0.15).
+    #[arg(long)]
+    dom: Option<f64>,
+    /// Print the report as JSON (per cycle: segments, pairs, costs, patches, valences, time).
+    #[arg(long)]
+    json: bool,
+    /// Print the time of each stage.
+    #[arg(long)]
+    timings: bool,
+    /// Worker threads (default: all cores); the output is the same for any count.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Print nothing but errors.
+    #[arg(long)]
+    quiet: bool,
 }
 
 /// Options of the triangle-mesh import (STL, OBJ, PLY, MSH models).
@@ -439,6 +499,7 @@ fn main() -> ExitCode {
         Command::Field(a) => Some(&a.import),
         Command::Stats(a) => Some(&a.import),
         Command::Render(a) => Some(&a.import),
+        Command::Curves(_) => None,
     };
     if let Some(Err(e)) = import.map(files::set_trimesh_options) {
         eprintln!("error: {}", error_chain(&e));
@@ -450,6 +511,7 @@ fn main() -> ExitCode {
         Command::Stats(a) => cmd_stats::run(&a),
         Command::Render(a) => cmd_render::run(&a),
         Command::Field(a) => cmd_field::run(&a),
+        Command::Curves(a) => cmd_curves::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -62,6 +62,10 @@ pub enum LayoutError {
         "curvenet geometry: Eq. (1) for {vertices} interior vertices is singular at row {row}"
     )]
     Singular { vertices: usize, row: usize },
+    /// Some sampled quads are inverted: by the element geometry, or facing
+    /// away from the cycle.
+    #[error("curvenet layout: {quads} of {of} quads are inverted (element geometry, or facing away from the cycle)")]
+    Folded { quads: usize, of: usize },
     /// The target edge length is not a positive finite number.
     #[error("curvenet sampling: edge length h = {h} must be positive and finite")]
     BadSize { h: f64 },

@@ -79,6 +79,12 @@ pub struct Context<'a> {
 type SegmentKey = (usize, usize, [u64; 3]);
 type PairKey = (SegmentKey, SegmentKey);
 
+/// Added to the cost of two neighbouring segments (ours; the spec's §3
+/// allows forbidding them): their poly-chord would cross no other, a chord
+/// graph in pieces (Fig. 10), as when the two collinear halves of a split
+/// side pair with each other (the letter P's hole).
+pub const ADJACENT_PAIR_PENALTY: f64 = 10.0;
+
 impl<'a> Context<'a> {
     /// A context for one cycle.
     pub fn new(diameter: f64, normal: P3, opts: &'a PairingOptions) -> Self {
@@ -93,9 +99,12 @@ impl<'a> Context<'a> {
         let mut cache = self.cache.borrow_mut();
         for i in 0..k {
             for j in i + 1..k {
-                let v = *cache
+                let mut v = *cache
                     .entry((key(i), key(j)))
                     .or_insert_with(|| pair_cost(&shapes[i], t[i], &shapes[j], t[j], self.opts).total);
+                if k > 2 && (j == i + 1 || (i == 0 && j == k - 1)) {
+                    v += ADJACENT_PAIR_PENALTY;
+                }
                 c[i][j] = v;
                 c[j][i] = v;
             }

@@ -15,12 +15,16 @@
 //!   and a run refused above [`MeshOptions::max_quads`];
 //! - [`options`], [`report`]: what a method takes and gives back.
 //!
+//! - [`curvenet`]: quads from the closed cycles of a 3D curve network, no
+//!   surface given (paper curve-network-quadrangulation; `quadrille curves`).
+//!
 //! Coming methods get a file here each: `coarse` (coarse block layouts and
-//! high-order quads by ILP), `curvenet` (quads from closed 3D curve networks)
-//! and `spline` (trim-free spline patches); see ARCHITECTURE.md.
+//! high-order quads by ILP) and `spline` (trim-free spline patches); see
+//! ARCHITECTURE.md.
 
 pub(crate) mod baseline;
 pub(crate) mod coarse;
+pub mod curvenet;
 pub(crate) mod driver;
 pub(crate) mod guard;
 pub(crate) mod options;

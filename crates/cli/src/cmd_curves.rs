@@ -1,0 +1,278 @@
+//! `quadrille curves`: an all-quad mesh of the closed cycles of a 3D curve
+//! network (JSON, OBJ lines, or the face boundaries of a CAD model), with no
+//! surface given (paper curve-network-quadrangulation; `docs/curve-networks.md`).
+
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use quadrille::curvenet::{network_from_model, read_network, write_network, CurveNetwork};
+use quadrille::methods::curvenet::{mesh_curve_network, CurvesOptions, CurvesReport};
+
+use crate::files;
+use crate::CurvesArgs;
+
+/// CAD extensions read through OpenCASCADE, whose faces' loops become cycles.
+const CAD_EXTENSIONS: [&str; 6] = ["step", "stp", "iges", "igs", "brep", "brp"];
+
+/// Reads the network: a curve file, or the face boundaries of a CAD model
+/// (`--faces`, 1-based; faces that cannot be cycles are listed on stderr).
+fn load_network(args: &CurvesArgs) -> Result<CurveNetwork> {
+    let ext = files::extension(&args.network);
+    if CAD_EXTENSIONS.contains(&ext.as_str()) {
+        let model = files::load_model(&args.network)?;
+        let faces: Option<Vec<usize>> = args
+            .faces
+            .as_ref()
+            .map(|f| f.iter().map(|&k| k.saturating_sub(1)).collect());
+        if let Some(f) = &args.faces {
+            if let Some(&bad) = f.iter().find(|&&k| k == 0 || k > model.faces.len()) {
+                bail!(
+                    "{}: --faces {bad} is out of range: the model has faces 1 to {}",
+                    args.network.display(),
+                    model.faces.len()
+                );
+            }
+        }
+        let (net, skipped) = network_from_model(&model, faces.as_deref())
+            .with_context(|| format!("{}", args.network.display()))?;
+        for s in &skipped {
+            eprintln!("{}: {s}", args.network.display());
+        }
+        Ok(net.with_file(args.network.display().to_string()))
+    } else {
+        if args.faces.is_some() {
+            bail!("{}: --faces applies to CAD models only", args.network.display());
+        }
+        Ok(read_network(&args.network)?)
+    }
+}
+
+/// The method's options from the arguments.
+fn options(args: &CurvesArgs) -> Result<CurvesOptions> {
+    let mut o = CurvesOptions {
+        size: args.size,
+        size_factor: args.size_factor.unwrap_or(1.0),
+        skip_bad: args.skip_bad,
+        threads: args.threads,
+        ..Default::default()
+    };
+    if let Some(d) = args.drop {
+        if !(d > 1.0 && d.is_finite()) {
+            bail!("--drop {d} must be a number above 1");
+        }
+        o.pairing.drop = d;
+    }
+    if let Some(d) = args.dom {
+        if !(d > 0.0 && d.is_finite()) {
+            bail!("--dom {d} must be a positive number");
+        }
+        o.pairing.dom = d;
+    }
+    for (name, v) in [("--size", args.size), ("--size-factor", args.size_factor)] {
+        if let Some(v) = v {
+            if !(v > 0.0 && v.is_finite()) {
+                bail!("{name} {v} must be a positive number");
+            }
+        }
+    }
+    Ok(o)
+}
+
+/// Runs `quadrille curves`.
+pub fn run(args: &CurvesArgs) -> Result<()> {
+    let opts = options(args)?;
+    let format = match &args.output {
+        Some(o) => Some(files::check_output(o, &["msh", "vtu", "obj"])?),
+        None if args.check => None,
+        None => bail!("an output file is needed (-o OUT.msh|.vtu|.obj), or --check to validate only"),
+    };
+    for p in [&args.png, &args.layout, &args.write_network].into_iter().flatten() {
+        let ext = files::extension(p);
+        let allowed: &[&str] = match ext.as_str() {
+            "png" => &["png"],
+            "json" => &["json"],
+            _ => &["obj"],
+        };
+        files::check_output(p, allowed)?;
+    }
+    let t0 = Instant::now();
+    let net = load_network(args)?;
+    let t_load = t0.elapsed().as_secs_f64();
+    if let Some(w) = &args.write_network {
+        write_network(&net, w)?;
+    }
+    if args.check {
+        let problems = net.validate();
+        for p in &problems {
+            eprintln!("{p}");
+        }
+        if !problems.is_empty() {
+            bail!("{} of {} cycles are invalid", problems.len(), net.cycles().len());
+        }
+        println!(
+            "{}: {} curves, {} cycles, all valid",
+            args.network.display(),
+            net.curves().len(),
+            net.cycles().len()
+        );
+        if format.is_none() {
+            return Ok(());
+        }
+    }
+    let t1 = Instant::now();
+    let (mesh, report) = mesh_curve_network(&net, &opts)?;
+    let t_mesh = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
+    if let (Some(out), Some(format)) = (&args.output, format.as_deref()) {
+        match format {
+            "msh" => mesh::msh::write_msh(
+                out,
+                &mesh,
+                None,
+                mesh::msh::MshWriteOptions::new(mesh::msh::MshEncoding::Ascii),
+            )?,
+            "vtu" => mesh::vtu::write_vtu(&mesh, None, out)?,
+            _ => mesh::obj::write_obj(&mesh, out)?,
+        }
+    }
+    if let Some(png) = &args.png {
+        let title = args.network.file_name().map(|n| n.to_string_lossy().into_owned());
+        let overlay = layout_overlay(&report);
+        let ropts = mesh::render::RenderOptions {
+            title: title.as_deref(),
+            overlay: Some(&overlay),
+            ..Default::default()
+        };
+        mesh::render::render_png(&mesh, &ropts, png)?;
+    }
+    if let Some(path) = &args.layout {
+        write_layout_obj(&report, path)?;
+    }
+    let t_write = t2.elapsed().as_secs_f64();
+    for s in &report.skipped {
+        eprintln!("skipped: {}", s.1);
+    }
+    for c in &report.cycles {
+        for n in &c.notes {
+            eprintln!("cycle {}: {n}", c.cycle);
+        }
+    }
+    if args.json {
+        println!("{}", report_json(&report, mesh.quads.len()));
+    } else if !args.quiet {
+        print!("{}", summary_text(&report, mesh.quads.len()));
+    }
+    if args.timings {
+        eprintln!("time: load {t_load:.3} s, mesh {t_mesh:.3} s, write {t_write:.3} s");
+    }
+    Ok(())
+}
+
+/// The text summary: a line per cycle, then the totals.
+fn summary_text(r: &CurvesReport, quads: usize) -> String {
+    let mut s = String::new();
+    for c in &r.cycles {
+        s += &format!(
+            "cycle {}: {} segments, {} patches, interior valences {:?}, {} quads{}\n",
+            c.cycle,
+            c.segments,
+            c.patches,
+            c.interior_valences,
+            c.quads,
+            if c.midpoint_layout { " (midpoint layout)" } else { "" }
+        );
+    }
+    s += &format!(
+        "{} cycles meshed, {} skipped, {} quads, edge length {:.4}\n",
+        r.cycles.len(),
+        r.skipped.len(),
+        quads,
+        r.h
+    );
+    s
+}
+
+/// The `--json` report: per cycle its pairing and layout, and the totals in
+/// the paper's Table 1 columns.
+fn report_json(r: &CurvesReport, quads: usize) -> String {
+    let cycles: Vec<serde_json::Value> = r
+        .cycles
+        .iter()
+        .map(|c| {
+            serde_json::json!({
+                "cycle": c.cycle,
+                "segments": c.segments,
+                "parts": c.parts,
+                "pairs": c.pairs.iter().map(|((i, j), cost)| serde_json::json!({"segments": [i, j], "cost": cost})).collect::<Vec<_>>(),
+                "iterations": c.iterations,
+                "patches": c.patches,
+                "interior_valences": c.interior_valences,
+                "fallbacks": c.fallbacks,
+                "odd_parties": c.odd_parties,
+                "connectors": c.connectors,
+                "midpoint_layout": c.midpoint_layout,
+                "quads": c.quads,
+                "seconds": c.seconds,
+            })
+        })
+        .collect();
+    let total_segments: usize = r.cycles.iter().map(|c| c.segments).sum();
+    let total_patches: usize = r.cycles.iter().map(|c| c.patches).sum();
+    let seconds: f64 = r.cycles.iter().map(|c| c.seconds).sum();
+    serde_json::to_string_pretty(&serde_json::json!({
+        "cycles": cycles,
+        "skipped": r.skipped.iter().map(|(c, why)| serde_json::json!({"cycle": c, "reason": why})).collect::<Vec<_>>(),
+        "totals": {
+            "cycles": r.cycles.len(),
+            "segments": total_segments,
+            "patches": total_patches,
+            "quads": quads,
+            "seconds": seconds,
+            "welded_nodes": r.welded_nodes,
+            "edge_length": r.h,
+        }
+    }))
+    .unwrap_or_default()
+}
+
+/// The coarse layout drawn over the mesh (Fig. 1d): patch sides in green,
+/// layout vertices as dots.
+fn layout_overlay(r: &CurvesReport) -> mesh::render::Overlay {
+    let mut o = mesh::render::Overlay { line_width: 2.5, ..Default::default() };
+    for c in &r.cycles {
+        for q in &c.layout_quads {
+            for k in 0..4 {
+                o.segments.push(mesh::render::OverlaySegment {
+                    a: q[k],
+                    b: q[(k + 1) % 4],
+                    color: [20, 150, 60],
+                    normal: None,
+                });
+            }
+            for p in q {
+                o.points.push(mesh::render::OverlayPoint { position: *p, color: [20, 150, 60] });
+            }
+        }
+    }
+    o
+}
+
+/// The coarse layout as OBJ: one quad face per patch (corners not shared
+/// between patches), one group per cycle.
+fn write_layout_obj(r: &CurvesReport, path: &std::path::Path) -> Result<()> {
+    use std::fmt::Write as _;
+    let mut text = String::from("# quadrille curves: the coarse layout, one quad per patch\n");
+    let mut next = 1;
+    for c in &r.cycles {
+        let _ = writeln!(text, "g cycle_{}", c.cycle);
+        for q in &c.layout_quads {
+            for p in q {
+                let _ = writeln!(text, "v {} {} {}", p[0], p[1], p[2]);
+            }
+            let _ = writeln!(text, "f {} {} {} {}", next, next + 1, next + 2, next + 3);
+            next += 4;
+        }
+    }
+    mesh::atomic::write_atomically(path, |w| std::io::Write::write_all(w, text.as_bytes()))
+        .with_context(|| format!("could not write {}", path.display()))
+}

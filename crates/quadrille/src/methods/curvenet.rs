@@ -1,0 +1,782 @@
+//! The curve-network method (paper curve-network-quadrangulation): every
+//! cycle of a [`CurveNetwork`] segmented and paired (`curvenet::pair_cycle`,
+//! §3.1), laid out and sampled (`curvenet::sample`, §3.2), and the cycles'
+//! quads assembled into one [`QuadMesh`], welded where their boundary
+//! samples coincide.
+//!
+//! A chord graph in several pieces is cut (Fig. 10, `curvenet::cut`) and each
+//! part paired again, recursively; cuts and hole connectors are sampled
+//! alike on both sides (the larger count wins, and the cycle is redone). A
+//! cycle whose layout still fails gets the midpoint layout (Fig. 5 top),
+//! named in the report.
+//!
+//! Not yet built (issue 30): the network stage of §4 (T-junctions resolved
+//! across cycles, intervals by an integer program), so two cycles sharing a
+//! curve are welded only where both sample it alike.
+
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+use geometry::vec3::{self, Vec3};
+use geometry::{CornerId, CurveId, FaceId};
+use mesh::{NodeClass, QuadMesh};
+
+use crate::core::fast_hash::FastMap;
+use crate::core::work_queue::map_in_order;
+use crate::curvenet::cut::find_cut;
+use crate::curvenet::sample::quadrangulate_with_minimums;
+use crate::curvenet::{
+    pair_cycle, CurveNetError, CurveNetwork, CycleLoops, CycleQuads, LayoutError, PairedCycle,
+    PairingOptions, JUNCTION_TURN_DEGREES,
+};
+
+/// Options of [`mesh_curve_network`].
+#[derive(Clone, Debug)]
+pub struct CurvesOptions {
+    /// Target edge length; `None`: [`CurvesOptions::size_factor`] × 1/24 of
+    /// the network's diagonal (the default size of the CAD methods).
+    pub size: Option<f64>,
+    /// Multiplies the default size when `size` is `None`.
+    pub size_factor: f64,
+    /// Segmentation and matching parameters (§3.1; drop, dom, …).
+    pub pairing: PairingOptions,
+    /// Mesh the valid cycles and list the others instead of failing.
+    pub skip_bad: bool,
+    /// Worker threads (cycles are meshed in parallel); `None`: all cores.
+    /// The output is the same for any count.
+    pub threads: Option<usize>,
+}
+
+impl Default for CurvesOptions {
+    fn default() -> Self {
+        CurvesOptions {
+            size: None,
+            size_factor: 1.0,
+            pairing: PairingOptions::default(),
+            skip_bad: false,
+            threads: None,
+        }
+    }
+}
+
+/// What happened to one cycle (summed over its parts when it was cut).
+#[derive(Clone, Debug, Default)]
+pub struct CycleSummary {
+    /// The cycle's index in the network.
+    pub cycle: usize,
+    /// Parts the cycle was meshed in: 1, or more after cuts (Fig. 10).
+    pub parts: usize,
+    /// Segments of the final pairings.
+    pub segments: usize,
+    /// The pairs `(i, j)` of each part (segment indices of the part) and
+    /// their costs.
+    pub pairs: Vec<((usize, usize), f64)>,
+    /// Refinement steps of the pairings (rolled-back ones included).
+    pub iterations: usize,
+    /// Loops segmented by the curvature-and-arc-length fallback.
+    pub fallbacks: usize,
+    /// Odd parties met.
+    pub odd_parties: usize,
+    /// Hole connectors added.
+    pub connectors: usize,
+    /// Coarse layout quads.
+    pub patches: usize,
+    /// Valences of the interior layout vertices.
+    pub interior_valences: Vec<usize>,
+    /// Dense quads of this cycle.
+    pub quads: usize,
+    /// The coarse layout: each patch's four corners (for pictures and
+    /// `--layout`).
+    pub layout_quads: Vec<[Vec3; 4]>,
+    /// True when a part's paired layout failed and the midpoint layout was used.
+    pub midpoint_layout: bool,
+    /// Lines worth showing the user (fallbacks, odd parties, cuts, the midpoint layout).
+    pub notes: Vec<String>,
+    /// Wall time of this cycle, seconds.
+    pub seconds: f64,
+}
+
+/// The report of [`mesh_curve_network`].
+#[derive(Clone, Debug, Default)]
+pub struct CurvesReport {
+    /// The target edge length used.
+    pub h: f64,
+    /// One per meshed cycle, in cycle order.
+    pub cycles: Vec<CycleSummary>,
+    /// Cycles left out under `skip_bad`, with the reason.
+    pub skipped: Vec<(usize, String)>,
+    /// Boundary nodes merged with another part's or cycle's.
+    pub welded_nodes: usize,
+}
+
+/// Why a network could not be meshed.
+#[derive(Debug, thiserror::Error)]
+pub enum CurvesError {
+    /// The network or one of its cycles is invalid.
+    #[error(transparent)]
+    Network(#[from] CurveNetError),
+    /// A cycle could not be meshed by the paired layout nor the midpoint layout.
+    #[error("{file}cycle {cycle}: {message}")]
+    Cycle {
+        /// `"FILE: "` or empty.
+        file: String,
+        /// The cycle's index.
+        cycle: usize,
+        /// Why.
+        message: String,
+    },
+    /// `skip_bad` left no cycle to mesh.
+    #[error("{file}no cycle could be meshed ({skipped} skipped)")]
+    NothingMeshed {
+        /// `"FILE: "` or empty.
+        file: String,
+        /// Cycles skipped.
+        skipped: usize,
+    },
+    /// The size is not a positive number.
+    #[error("edge length {0} must be a positive finite length")]
+    BadSize(f64),
+    /// The worker threads could not be started.
+    #[error("could not start the worker threads: {0}")]
+    Threads(String),
+}
+
+/// The target edge length: `opts.size`, or the factor × 1/24 of the diagonal.
+pub fn curves_size(net: &CurveNetwork, opts: &CurvesOptions) -> Result<f64, CurvesError> {
+    let h = opts
+        .size
+        .unwrap_or(opts.size_factor * net.diagonal() / crate::DEFAULT_DIVISIONS);
+    if h.is_finite() && h > 0.0 {
+        Ok(h)
+    } else {
+        Err(CurvesError::BadSize(h))
+    }
+}
+
+/// Meshes every cycle of `net` with quads (see the module docs).
+pub fn mesh_curve_network(
+    net: &CurveNetwork,
+    opts: &CurvesOptions,
+) -> Result<(QuadMesh, CurvesReport), CurvesError> {
+    let h = curves_size(net, opts)?;
+    let file = net.file().map(|f| format!("{f}: ")).unwrap_or_default();
+    let mut report = CurvesReport { h, ..Default::default() };
+    let mut meshed: Vec<(usize, Vec<CycleQuads>)> = Vec::new();
+    let weld = Welder::new(net.weld_tolerance().max(1e-12 * net.diagonal()));
+    let cycles: Vec<usize> = (0..net.cycles().len()).collect();
+    let mesh_one = |&cycle: &usize| {
+        let t0 = Instant::now();
+        net.cycle_loops(cycle)
+            .map_err(CurvesError::from)
+            .and_then(|loops| {
+                mesh_cycle(&loops, h, &opts.pairing, &weld).map_err(|message| CurvesError::Cycle {
+                    file: file.clone(),
+                    cycle,
+                    message,
+                })
+            })
+            .map(|(pieces, mut summary)| {
+                summary.cycle = cycle;
+                summary.seconds = t0.elapsed().as_secs_f64();
+                (pieces, summary)
+            })
+    };
+    let outcomes = match opts.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n.max(1))
+            .build()
+            .map_err(|e| CurvesError::Threads(e.to_string()))?
+            .install(|| map_in_order(&cycles, mesh_one)),
+        None => map_in_order(&cycles, mesh_one),
+    };
+    for (cycle, outcome) in cycles.into_iter().zip(outcomes) {
+        match outcome {
+            Ok((pieces, summary)) => {
+                report.cycles.push(summary);
+                meshed.push((cycle, pieces));
+            }
+            Err(e) if opts.skip_bad => report.skipped.push((cycle, e.to_string())),
+            Err(e) => return Err(e),
+        }
+    }
+    if meshed.is_empty() {
+        return Err(CurvesError::NothingMeshed { file, skipped: report.skipped.len() });
+    }
+    let (mesh, welded) = assemble(net, &meshed, &weld);
+    report.welded_nodes = welded;
+    Ok((mesh, report))
+}
+
+/// Cuts nested deeper than this are not tried: the part gets the midpoint layout.
+const MAX_CUT_DEPTH: usize = 8;
+
+/// Rounds of re-meshing a cycle so that cuts and connectors get one count
+/// on both sides (each round can only raise counts).
+const MAX_COUNT_ROUNDS: usize = 6;
+
+/// One leaf of a cycle's meshing: a part's pairing and its quads.
+struct Leaf {
+    paired: PairedCycle,
+    quads: CycleQuads,
+}
+
+/// The quads of one cycle (one piece per part) and its summary.
+fn mesh_cycle(
+    loops: &CycleLoops,
+    h: f64,
+    opts: &PairingOptions,
+    weld: &Welder,
+) -> Result<(Vec<CycleQuads>, CycleSummary), String> {
+    let mut least: BTreeMap<[[i64; 3]; 2], usize> = BTreeMap::new();
+    for _ in 0..MAX_COUNT_ROUNDS {
+        let mut leaves = Vec::new();
+        let mut summary = CycleSummary::default();
+        mesh_part(loops, h, opts, false, &least, weld, 0, &mut leaves, &mut summary)?;
+        let mut counts: BTreeMap<[[i64; 3]; 2], Vec<usize>> = BTreeMap::new();
+        for leaf in &leaves {
+            for (key, n) in unsplittable_counts(leaf, weld) {
+                counts.entry(key).or_default().push(n);
+            }
+        }
+        let mut changed = false;
+        for (key, ns) in counts {
+            let most = ns.iter().copied().max().unwrap_or(0);
+            if ns.iter().any(|&n| n != most) && least.get(&key).is_none_or(|&m| m < most) {
+                least.insert(key, most);
+                changed = true;
+            }
+        }
+        if !changed {
+            summary.parts = leaves.len();
+            summary.quads = leaves.iter().map(|l| l.quads.quads.len()).sum();
+            return Ok((leaves.into_iter().map(|l| l.quads).collect(), summary));
+        }
+    }
+    Err(format!(
+        "cuts and connectors still sampled differently on their two sides after {MAX_COUNT_ROUNDS} rounds"
+    ))
+}
+
+/// Pairs and meshes one part (the whole cycle at depth 0), cutting it
+/// where its chord graph falls apart (Fig. 10), else the midpoint layout
+/// where the layout fails. `closing`: the part's closing edge is a cut.
+#[allow(clippy::too_many_arguments)]
+fn mesh_part(
+    loops: &CycleLoops,
+    h: f64,
+    opts: &PairingOptions,
+    closing: bool,
+    least: &BTreeMap<[[i64; 3]; 2], usize>,
+    weld: &Welder,
+    depth: usize,
+    leaves: &mut Vec<Leaf>,
+    summary: &mut CycleSummary,
+) -> Result<(), String> {
+    let popts = PairingOptions { closing_edge_unsplittable: closing, ..opts.clone() };
+    let (paired, report) = pair_cycle(loops, &popts).map_err(|e| e.to_string())?;
+    let minimums: Vec<usize> = (0..paired.starts.len())
+        .map(|s| least.get(&segment_key(&paired, s, weld)).copied().unwrap_or(0))
+        .collect();
+    let facing = Facing::of(&loops.outer.points);
+    let laid = quadrangulate_with_minimums(&paired, h, &minimums).and_then(|q| unfolded(q, &facing));
+    let (paired, quads) = match laid {
+        Ok(q) => (paired, q),
+        Err(LayoutError::Disconnected { components, .. }) if depth < MAX_CUT_DEPTH => {
+            let cut = find_cut(&paired)
+                .map_err(|e| e.to_string())?
+                .ok_or_else(|| format!("the chord graph has {components} components but no cut separates them"))?;
+            summary.notes.push(format!(
+                "the chord graph has {components} components: cut between segment starts {} and {} (Fig. 10)",
+                cut.from, cut.to
+            ));
+            for part in &cut.parts {
+                mesh_part(&part.loops, h, opts, true, least, weld, depth + 1, leaves, summary)?;
+            }
+            return Ok(());
+        }
+        Err(first) => {
+            let mid = midpoint_pairing(&paired);
+            let minimums: Vec<usize> = (0..mid.starts.len())
+                .map(|s| least.get(&segment_key(&mid, s, weld)).copied().unwrap_or(0))
+                .collect();
+            let q = quadrangulate_with_minimums(&mid, h, &minimums)
+                .and_then(|q| unfolded(q, &facing))
+                .map_err(|e| format!("{first}; the midpoint layout failed too: {e}"))?;
+            summary.midpoint_layout = true;
+            summary.notes.push(format!("layout failed ({first}): midpoint layout used (Fig. 5 top)"));
+            (mid, q)
+        }
+    };
+    summary.notes.extend(report.notes());
+    summary.segments += paired.starts.len();
+    summary.pairs.extend(paired.pairs.iter().copied().zip(paired.costs.iter().copied()));
+    summary.iterations += report.iterations;
+    summary.fallbacks += report.fallbacks.len();
+    summary.odd_parties += report.odd_parties.len();
+    summary.connectors += report.connectors;
+    summary.patches += quads.patches;
+    let corners = &quads.layout.positions;
+    summary
+        .layout_quads
+        .extend(quads.layout.quads.iter().map(|lq| lq.corners.map(|v| corners[v])));
+    summary.interior_valences.extend(quads.interior_vertex_valences.iter().copied());
+    leaves.push(Leaf { paired, quads });
+    Ok(())
+}
+
+/// Quads whose normal turns more than 120° from the cycle's Newell normal
+/// fold over (the cycle has no such face: one cycle spans less than a
+/// hemisphere around its Newell normal).
+const FOLDED_COS: f64 = -0.5;
+
+/// A cycle within this share of its diameter of its mean plane is planar:
+/// its quads must all face the plane's normal.
+const PLANAR: f64 = 1e-6;
+
+/// Which way a cycle's quads must face: its Newell normal, and whether the
+/// cycle is planar (then every quad faces it, else none turns more than 120°
+/// away).
+struct Facing {
+    normal: Option<Vec3>,
+    planar: bool,
+}
+
+impl Facing {
+    fn of(points: &[Vec3]) -> Self {
+        let n = points.len();
+        let newell = (0..n).fold([0.0; 3], |acc, i| vec3::add(acc, vec3::cross(points[i], points[(i + 1) % n])));
+        let normal = vec3::normalize(newell);
+        let planar = normal.is_some_and(|u| {
+            let centre = vec3::scale(points.iter().fold([0.0; 3], |a, &p| vec3::add(a, p)), 1.0 / n as f64);
+            let size = points.iter().map(|&p| vec3::dist(p, centre)).fold(0.0, f64::max);
+            points.iter().all(|&p| vec3::dot(vec3::sub(p, centre), u).abs() <= PLANAR * size)
+        });
+        Facing { normal, planar }
+    }
+
+    /// True when the quad `p` is inverted: by the element geometry (Gmsh's
+    /// `minSICN` sign), or facing away from the cycle (any amount on a
+    /// planar cycle, over 120° on a curved one).
+    fn inverted(&self, p: &[Vec3; 4]) -> bool {
+        if mesh::quality::quad_element_sicn(p) < 0.0 {
+            return true;
+        }
+        let Some(u) = self.normal else { return false };
+        if self.planar {
+            return mesh::quality::quad_sicn(p, &[u; 4]) <= 0.0;
+        }
+        let n = vec3::cross(vec3::sub(p[2], p[0]), vec3::sub(p[3], p[1]));
+        vec3::normalize(n).is_some_and(|n| vec3::dot(n, u) < FOLDED_COS)
+    }
+}
+
+/// `q` itself when none of its quads is inverted ([`Facing::inverted`]),
+/// else an error naming the count.
+fn unfolded(q: CycleQuads, facing: &Facing) -> Result<CycleQuads, LayoutError> {
+    let folded = q.quads.iter().filter(|quad| facing.inverted(&quad.map(|v| q.nodes[v]))).count();
+    if folded == 0 {
+        Ok(q)
+    } else {
+        Err(LayoutError::Folded { quads: folded, of: q.quads.len() })
+    }
+}
+
+/// Segment `s`'s end points, snapped and sorted: the same key for a cut or
+/// connector seen from either side.
+fn segment_key(paired: &PairedCycle, s: usize, weld: &Welder) -> [[i64; 3]; 2] {
+    let k = paired.starts.len();
+    let a = weld.cell(paired.points[paired.starts[s]]);
+    let b = weld.cell(paired.points[paired.starts[(s + 1) % k]]);
+    if a <= b {
+        [a, b]
+    } else {
+        [b, a]
+    }
+}
+
+/// The interval count of every unsplittable segment (cuts, connectors) of
+/// a leaf, by its key.
+fn unsplittable_counts(leaf: &Leaf, weld: &Welder) -> Vec<([[i64; 3]; 2], usize)> {
+    let chords = &leaf.quads.layout.chords;
+    (0..leaf.paired.starts.len())
+        .filter(|&s| leaf.paired.unsplittable[s])
+        .filter_map(|s| {
+            let c = chords.iter().position(|&(i, j)| i == s || j == s)?;
+            Some((segment_key(&leaf.paired, s, weld), leaf.quads.intervals[c]))
+        })
+        .collect()
+}
+
+/// The midpoint layout of a cycle (Fig. 5 top): every segment split at its
+/// arc-length middle, and the second half of side k paired with the first
+/// half of side k + 2, so the chords make one ring of n quads around a
+/// valence-n centre (n ≥ 3 sides).
+pub fn midpoint_pairing(paired: &PairedCycle) -> PairedCycle {
+    let n = paired.starts.len();
+    let np = paired.points.len();
+    let mut points: Vec<[f64; 3]> = Vec::with_capacity(np + n);
+    let mut starts = Vec::with_capacity(2 * n);
+    for s in 0..n {
+        let a = paired.starts[s];
+        let b = if s + 1 < n { paired.starts[s + 1] } else { paired.starts[0] + np };
+        let run: Vec<[f64; 3]> = (a..=b).map(|i| paired.points[i % np]).collect();
+        let half = split_at_half_length(&run);
+        starts.push(points.len());
+        points.extend_from_slice(&run[..half.0]);
+        starts.push(points.len());
+        points.push(half.1);
+        points.extend_from_slice(&run[half.0..run.len() - 1]);
+    }
+    let m = 2 * n;
+    let pairs: Vec<(usize, usize)> = (0..n)
+        .map(|k| {
+            let (a, b) = (2 * k + 1, (2 * k + 4) % m);
+            (a.min(b), a.max(b))
+        })
+        .collect();
+    PairedCycle {
+        costs: vec![0.0; pairs.len()],
+        pairs,
+        unsplittable: vec![false; m],
+        diameter: paired.diameter,
+        points,
+        starts,
+    }
+}
+
+/// The index of the first point past half the polyline's length, and the
+/// point at exactly half the length.
+fn split_at_half_length(run: &[[f64; 3]]) -> (usize, [f64; 3]) {
+    let len: f64 = run.windows(2).map(|w| vec3::dist(w[0], w[1])).sum();
+    let mut acc = 0.0;
+    for i in 1..run.len() {
+        let l = vec3::dist(run[i - 1], run[i]);
+        if acc + l >= 0.5 * len && l > 0.0 {
+            let t = ((0.5 * len - acc) / l).clamp(0.0, 1.0);
+            let p = vec3::add(run[i - 1], vec3::scale(vec3::sub(run[i], run[i - 1]), t));
+            return (i, p);
+        }
+        acc += l;
+    }
+    (run.len() - 1, run[run.len() - 1])
+}
+
+/// The cycles' quads in one mesh: boundary nodes (on the cycle's loops, its
+/// cuts and connectors) within the weld tolerance of one another merged;
+/// boundary nodes on a network curve classified on the nearest curve (curve
+/// end points as corners), the rest on face = cycle id. Returns the mesh and
+/// the number of merged nodes.
+fn assemble(net: &CurveNetwork, meshed: &[(usize, Vec<CycleQuads>)], weld: &Welder) -> (QuadMesh, usize) {
+    let on_curve = weld.tolerance.max(1e-9 * net.diagonal());
+    let curves: Vec<&[Vec3]> = net.curves().iter().map(|c| &c.points[..]).collect();
+    let mut corner_at = WeldIndex::default();
+    let mut corner_points: Vec<Vec3> = Vec::new();
+    for p in corner_candidates(net) {
+        if corner_at.find(weld, p, &corner_points).is_none() {
+            corner_at.insert(weld, p, corner_points.len() as u32);
+            corner_points.push(p);
+        }
+    }
+    let mut mesh = QuadMesh::default();
+    let mut boundary_at = WeldIndex::default();
+    let mut welded = 0;
+    // CAD networks keep the CAD's ids (so `stats --cad` measures against the
+    // right entities); their corners are not numbered like the CAD's, so
+    // corner nodes are classified on their curve instead.
+    let from_cad = net.cycles().iter().any(|c| c.cad_face.is_some());
+    let curve_id = |c: u32| net.curves()[c as usize].cad.unwrap_or(CurveId(c));
+    for (cycle, pieces) in meshed {
+        let face = net.cycles()[*cycle].cad_face.unwrap_or(FaceId(*cycle as u32));
+        for q in pieces {
+            let mut ids: Vec<u32> = Vec::with_capacity(q.nodes.len());
+            for (&p, &on_boundary) in q.nodes.iter().zip(&q.boundary) {
+                if on_boundary {
+                    if let Some(id) = boundary_at.find(weld, p, &mesh.nodes) {
+                        welded += 1;
+                        ids.push(id);
+                        continue;
+                    }
+                }
+                let id = mesh.nodes.len() as u32;
+                let class = if !on_boundary {
+                    NodeClass::Face(face, None)
+                } else {
+                    match (corner_at.find(weld, p, &corner_points), nearest_curve(&curves, p)) {
+                        (Some(c), _) if !from_cad => NodeClass::Corner(CornerId(c)),
+                        (_, Some((c, d))) if d <= on_curve => NodeClass::Curve(curve_id(c), None),
+                        _ => NodeClass::Face(face, None),
+                    }
+                };
+                mesh.nodes.push(p);
+                mesh.node_class.push(class);
+                if on_boundary {
+                    boundary_at.insert(weld, p, id);
+                }
+                ids.push(id);
+            }
+            for quad in &q.quads {
+                mesh.quads.push(quad.map(|v| ids[v]));
+                mesh.quad_face.push(face);
+            }
+        }
+    }
+    for (n, class) in mesh.node_class.iter().enumerate() {
+        if let NodeClass::Corner(c) = class {
+            mesh.corner_nodes.push((n as u32, *c));
+        }
+    }
+    mesh.curve_edges = curve_edges(&mesh, &curves)
+        .into_iter()
+        .map(|(e, c)| (e, curve_id(c.0)))
+        .collect();
+    (mesh, welded)
+}
+
+/// The points meshed as corner nodes: every curve's end points, the points
+/// where a curve turns by more than [`JUNCTION_TURN_DEGREES`], and the
+/// network's listed corners, in that order.
+fn corner_candidates(net: &CurveNetwork) -> Vec<Vec3> {
+    let sharp = JUNCTION_TURN_DEGREES.to_radians();
+    let mut out = Vec::new();
+    for c in net.curves() {
+        out.extend(c.points.first().copied());
+        out.extend(c.points.last().copied());
+        for w in c.points.windows(3) {
+            let (a, b) = (vec3::sub(w[1], w[0]), vec3::sub(w[2], w[1]));
+            let (la, lb) = (vec3::norm(a), vec3::norm(b));
+            if la > 0.0 && lb > 0.0 && (vec3::dot(a, b) / (la * lb)).clamp(-1.0, 1.0).acos() > sharp {
+                out.push(w[1]);
+            }
+        }
+    }
+    out.extend_from_slice(net.corners());
+    out
+}
+
+/// Cells of the weld tolerance's size: points of two parts or cycles that
+/// are one point fall in the same or a neighbouring cell.
+struct Welder {
+    tolerance: f64,
+    cell_size: f64,
+}
+
+impl Welder {
+    fn new(tolerance: f64) -> Self {
+        let tolerance = tolerance.max(f64::MIN_POSITIVE);
+        Welder { tolerance, cell_size: 2.0 * tolerance }
+    }
+
+    /// The cell of `p`.
+    fn cell(&self, p: Vec3) -> [i64; 3] {
+        p.map(|x| (x / self.cell_size).floor() as i64)
+    }
+}
+
+/// Point ids by cell, for [`Welder`] searches.
+#[derive(Default)]
+struct WeldIndex {
+    at: FastMap<[i64; 3], Vec<u32>>,
+}
+
+impl WeldIndex {
+    /// The first stored point within the tolerance of `p` (`points[id]`
+    /// are the stored points' positions), searching the 27 cells around it.
+    fn find(&self, weld: &Welder, p: Vec3, points: &[Vec3]) -> Option<u32> {
+        let c = weld.cell(p);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let key = [c[0] + dx, c[1] + dy, c[2] + dz];
+                    if let Some(ids) = self.at.get(&key) {
+                        if let Some(&id) = ids
+                            .iter()
+                            .find(|&&id| vec3::dist(points[id as usize], p) <= weld.tolerance)
+                        {
+                            return Some(id);
+                        }
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    fn insert(&mut self, weld: &Welder, p: Vec3, id: u32) {
+        self.at.entry(weld.cell(p)).or_default().push(id);
+    }
+}
+
+/// The curve whose polyline passes nearest to `p`, and the distance.
+fn nearest_curve(curves: &[&[Vec3]], p: Vec3) -> Option<(u32, f64)> {
+    let mut best: Option<(u32, f64)> = None;
+    for (i, c) in curves.iter().enumerate() {
+        for w in c.windows(2) {
+            let d = vec3::segment_distance(p, w[0], w[1]);
+            if best.is_none_or(|b| d < b.1) {
+                best = Some((i as u32, d));
+            }
+        }
+    }
+    best
+}
+
+/// Edges used by one quad of their cycle whose two nodes lie on the
+/// network's curves, each on the curve nearest its middle: the mesh edges
+/// along the curves (written as line elements).
+fn curve_edges(mesh: &QuadMesh, curves: &[&[Vec3]]) -> Vec<([u32; 2], CurveId)> {
+    let mut uses: BTreeMap<(u32, u32, u32), u32> = BTreeMap::new();
+    for (q, f) in mesh.quads.iter().zip(&mesh.quad_face) {
+        for k in 0..4 {
+            let (a, b) = (q[k], q[(k + 1) % 4]);
+            *uses.entry((a.min(b), a.max(b), f.0)).or_insert(0) += 1;
+        }
+    }
+    let on_curve = |n: u32| !matches!(mesh.node_class[n as usize], NodeClass::Face(..));
+    let mut edges: Vec<[u32; 2]> = uses
+        .into_iter()
+        .filter(|&((a, b, _), n)| n == 1 && on_curve(a) && on_curve(b))
+        .map(|((a, b, _), _)| [a, b])
+        .collect();
+    edges.dedup();
+    edges
+        .into_iter()
+        .filter_map(|[a, b]| {
+            let mid = vec3::scale(vec3::add(mesh.nodes[a as usize], mesh.nodes[b as usize]), 0.5);
+            nearest_curve(curves, mid).map(|(c, _)| ([a, b], CurveId(c)))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::curvenet::fixtures;
+    use crate::curvenet::parse_json;
+
+    /// Every edge of `mesh` with the number of quads using it.
+    fn edge_uses(mesh: &QuadMesh) -> BTreeMap<(u32, u32), usize> {
+        let mut uses = BTreeMap::new();
+        for q in &mesh.quads {
+            for k in 0..4 {
+                let (a, b) = (q[k], q[(k + 1) % 4]);
+                *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        uses
+    }
+
+    /// The OBJ example of docs/curve-networks.md: two unit squares sharing
+    /// the side x = 1 become one welded mesh, open only on the outer
+    /// boundary, every quad valid.
+    #[test]
+    fn two_squares_sharing_a_side_weld_into_one_mesh() {
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nl 1 2 3 4 1\nl 2 5 6 3 2\n";
+        let net = crate::curvenet::parse_obj(text, None).unwrap();
+        let opts = CurvesOptions { size: Some(0.125), ..Default::default() };
+        let (mesh, report) = mesh_curve_network(&net, &opts).unwrap();
+        assert_eq!(report.cycles.len(), 2);
+        assert!(report.cycles.iter().all(|c| c.patches == 1 && c.quads == 64));
+        assert_eq!(mesh.quads.len(), 128);
+        let uses = edge_uses(&mesh);
+        let open: Vec<_> = uses.iter().filter(|(_, &n)| n == 1).collect();
+        assert_eq!(open.len(), 6 * 8, "open edges only on the 6-unit outer boundary");
+        assert!(uses.values().all(|&n| n <= 2));
+        assert_eq!(mesh.curve_edges.len(), 7 * 8);
+        assert_eq!(mesh.corner_nodes.len(), 6);
+        let sicn = mesh::stats::quad_acceptance_sicn_values(&mesh, None);
+        assert!(sicn.iter().all(|&s| s > 0.9), "{sicn:?}");
+    }
+
+    /// Fig. 17: the letter P. Its layout spans the hole (a known defect of
+    /// this stage, issue 30): the fold is found and the cycle refused with
+    /// a one-line error, never written folded.
+    #[test]
+    fn the_letter_p_layout_folds_over_its_hole_and_is_refused() {
+        let loops = fixtures::letter_p();
+        let weld = Welder::new(1e-9);
+        let err = mesh_cycle(&loops, 0.1, &PairingOptions::default(), &weld).unwrap_err();
+        assert!(err.contains("inverted"), "{err}");
+        assert!(!err.contains('\n'), "{err}");
+    }
+
+    /// A cycle with a hole whose layout does not fold: a square plate with
+    /// a square hole is meshed as one welded annulus, open only on the two
+    /// loops, no node inside the hole, every quad valid.
+    #[test]
+    fn a_square_plate_with_a_square_hole_is_one_welded_annulus() {
+        let square = |lo: f64, hi: f64| vec![[lo, lo, 0.0], [hi, lo, 0.0], [hi, hi, 0.0], [lo, hi, 0.0]];
+        let mut hole = square(1.0, 2.0);
+        hole.reverse();
+        let loops = CycleLoops {
+            outer: crate::curvenet::LoopPolyline { points: square(0.0, 3.0), fixed: vec![] },
+            holes: vec![crate::curvenet::LoopPolyline { points: hole, fixed: vec![] }],
+        };
+        let weld = Welder::new(1e-9);
+        let (pieces, summary) = mesh_cycle(&loops, 0.1, &PairingOptions::default(), &weld).unwrap();
+        assert_eq!(summary.connectors, 1);
+        let net = json_of(&loops);
+        let (mesh, _) = assemble(&net, &[(0, pieces)], &weld);
+        let uses = edge_uses(&mesh);
+        assert!(uses.values().all(|&n| n <= 2));
+        let open_length: f64 = uses
+            .iter()
+            .filter(|(_, &n)| n == 1)
+            .map(|(&(a, b), _)| vec3::dist(mesh.nodes[a as usize], mesh.nodes[b as usize]))
+            .sum();
+        assert!((open_length - 16.0).abs() < 1e-9, "open length {open_length}");
+        let inside = |p: &Vec3| p[0] > 1.0 + 1e-9 && p[0] < 2.0 - 1e-9 && p[1] > 1.0 + 1e-9 && p[1] < 2.0 - 1e-9;
+        assert!(!mesh.nodes.iter().any(inside));
+        for q in &mesh.quads {
+            let p = q.map(|v| mesh.nodes[v as usize]);
+            assert!(mesh::quality::quad_sicn(&p, &[[0.0, 0.0, 1.0]; 4]) > 0.0);
+        }
+    }
+
+    /// Fig. 5 top: the house's midpoint layout is 5 patches around a
+    /// valence-5 vertex.
+    #[test]
+    fn the_midpoint_layout_of_the_house_is_five_patches_around_a_valence_5_vertex() {
+        let house = fixtures::house();
+        let points = house.outer.points.clone();
+        let paired = PairedCycle {
+            starts: (0..5).collect(),
+            pairs: vec![(0, 2), (1, 3)],
+            costs: vec![0.0; 2],
+            unsplittable: vec![false; 5],
+            diameter: 2.5,
+            points,
+        };
+        let mid = midpoint_pairing(&paired);
+        assert_eq!(mid.starts.len(), 10);
+        let q = crate::curvenet::quadrangulate(&mid, 0.1).unwrap();
+        assert_eq!((q.patches, q.interior_vertex_valences.clone()), (5, vec![5]));
+    }
+
+    /// Bad sizes are refused before any work.
+    #[test]
+    fn a_size_that_is_not_positive_is_an_error() {
+        let net = json_of(&fixtures::house());
+        for size in [0.0, -1.0, f64::NAN] {
+            let opts = CurvesOptions { size: Some(size), ..Default::default() };
+            assert!(matches!(mesh_curve_network(&net, &opts), Err(CurvesError::BadSize(_))));
+        }
+    }
+
+    /// A network of one curve per loop of `loops` and one cycle.
+    fn json_of(loops: &CycleLoops) -> CurveNetwork {
+        let curve = |pts: &[Vec3]| {
+            let mut p: Vec<Vec3> = pts.to_vec();
+            p.push(pts[0]);
+            format!("{{\"points\": {}}}", serde_json::to_string(&p).unwrap())
+        };
+        let mut curves = vec![curve(&loops.outer.points)];
+        curves.extend(loops.holes.iter().map(|h| curve(&h.points)));
+        let uses: Vec<String> = (0..curves.len()).map(|i| format!("[[{i}, 1]]")).collect();
+        let text = format!(
+            "{{\"curves\": [{}], \"cycles\": [{{\"loops\": [{}]}}]}}",
+            curves.join(","),
+            uses.join(",")
+        );
+        parse_json(&text, None).unwrap()
+    }
+}
