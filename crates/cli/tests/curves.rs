@@ -1,0 +1,102 @@
+//! `quadrille curves`: a curve network (JSON, OBJ, a CAD model's face loops)
+//! meshed with quads; bad input refused with one line and no file.
+
+mod common;
+
+use common::{assert_clean_failure, cad, quadrille, stats_json};
+
+/// Two unit squares sharing a side, as OBJ lines.
+const TWO_SQUARES: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nl 1 2 3 4 1\nl 2 5 6 3 2\n";
+
+#[test]
+fn two_squares_give_one_welded_mesh_layout_and_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let net = dir.path().join("squares.obj");
+    std::fs::write(&net, TWO_SQUARES).unwrap();
+    let out = dir.path().join("squares.msh");
+    let layout = dir.path().join("layout.obj");
+    let saved = dir.path().join("saved.json");
+    let r = quadrille(&[
+        "curves",
+        net.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "0.25",
+        "--layout",
+        layout.to_str().unwrap(),
+        "--write-network",
+        saved.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+    assert_eq!(report["totals"]["cycles"], 2);
+    assert_eq!(report["totals"]["patches"], 2);
+    assert_eq!(report["totals"]["quads"], 32);
+    // the mesh: 32 quads, open only on the outer boundary (6 units at 0.25)
+    let s = quadrille(&["stats", out.to_str().unwrap(), "--json"]);
+    let stats: serde_json::Value = serde_json::from_slice(&s.stdout).unwrap();
+    assert_eq!(stats["quads"], 32);
+    assert_eq!(stats["open_edges"], 24);
+    assert_eq!(stats["inverted_quads_element_geometry"], 0);
+    // the layout: one quad per patch
+    let l = std::fs::read_to_string(&layout).unwrap();
+    assert_eq!(l.lines().filter(|x| x.starts_with("f ")).count(), 2);
+    // the saved network reads back and meshes the same
+    let again = dir.path().join("again.msh");
+    let r2 = quadrille(&["curves", saved.to_str().unwrap(), "-o", again.to_str().unwrap(), "--size", "0.25", "--quiet"]);
+    assert!(r2.status.success(), "{}", String::from_utf8_lossy(&r2.stderr));
+    assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&again).unwrap());
+}
+
+#[test]
+fn the_rounded_cube_face_loops_mesh_without_inverted_quads() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = cad("s12o_cube_rounded_1.stp");
+    let out = dir.path().join("cube.msh");
+    let r = quadrille(&["curves", model.to_str().unwrap(), "-o", out.to_str().unwrap(), "--json", "--threads", "1"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+    let cycles = report["cycles"].as_array().unwrap();
+    assert_eq!(cycles.len(), 26);
+    // each spherical triangle: 3 patches around one valence-3 vertex
+    let triangles = cycles.iter().filter(|c| c["interior_valences"] == serde_json::json!([3])).count();
+    assert_eq!(triangles, 8);
+    assert!(cycles.iter().filter(|c| c["patches"] == 3).count() == 8);
+    let stats: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
+    assert_eq!(stats["inverted_quads"], 0);
+    assert_eq!(stats["inverted_quads_element_geometry"], 0);
+    assert_eq!(stats["non_manifold_edges"], 0);
+    // nodes on the CAD: curve nodes exactly, face nodes within 1 % of the diagonal
+    assert!(stats["cad_distance"]["max_relative"].as_f64().unwrap() < 0.01);
+    // the same mesh on two threads
+    let two = dir.path().join("cube2.msh");
+    let r2 = quadrille(&["curves", model.to_str().unwrap(), "-o", two.to_str().unwrap(), "--quiet", "--threads", "2"]);
+    assert!(r2.status.success());
+    assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&two).unwrap());
+}
+
+#[test]
+fn bad_networks_are_one_line_errors_with_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.msh");
+    let cases: [(&str, &str, &str); 4] = [
+        ("open.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n", "open.obj"),
+        ("trunc.json", "{\"curves\": [", "trunc.json"),
+        ("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nl 1 2 3 1\n", "flat.obj"),
+        ("nan.json", "{\"curves\":[{\"points\":[[0,0,0],[1,0,0],[NaN,1,0],[0,0,0]]}],\"cycles\":[{\"loops\":[[[0,1]]]}]}", "nan.json"),
+    ];
+    for (name, text, shown) in cases {
+        let net = dir.path().join(name);
+        std::fs::write(&net, text).unwrap();
+        let r = quadrille(&["curves", net.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+        assert_clean_failure(&r, shown);
+        assert!(!out.exists(), "{name}: no output file");
+    }
+    let r = quadrille(&["curves", dir.path().join("missing.json").to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_clean_failure(&r, "missing.json");
+    let r = quadrille(&["curves", "x.json", "-o", dir.path().join("out.stl").to_str().unwrap()]);
+    assert_clean_failure(&r, "out.stl");
+    assert!(std::fs::read_dir(dir.path()).unwrap().all(|e| !e.unwrap().file_name().to_string_lossy().ends_with(".msh")));
+}
