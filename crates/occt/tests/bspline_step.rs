@@ -188,35 +188,14 @@ fn read_back(path: &Path, patches: &[BSplinePatch]) -> ReadBack {
     out
 }
 
-fn python() -> String {
-    if let Some(p) = std::env::var("QUADRILLE_PYTHON")
-        .ok()
-        .filter(|s| !s.is_empty())
-    {
-        return p;
-    }
-    let venv = "/root/.cache/quadrille/pyenv/bin/python";
-    if Path::new(venv).exists() {
-        return venv.into();
-    }
-    "python3".into()
-}
+#[path = "../../mesh/tests/common/python.rs"]
+mod python;
+use python::python;
 
 /// True when gmsh imports; false (the check skips) otherwise, unless
 /// `QUADRILLE_REQUIRE_GMSH=1`.
 fn gmsh_available() -> bool {
-    let ok = Command::new(python())
-        .args(["-c", "import gmsh"])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false);
-    if !ok {
-        if std::env::var("QUADRILLE_REQUIRE_GMSH").as_deref() == Ok("1") {
-            panic!("QUADRILLE_REQUIRE_GMSH=1 but the gmsh Python module is not importable");
-        }
-        eprintln!("SKIPPED gmsh check: the gmsh Python module is not importable");
-    }
-    ok
+    python::python_module_available("gmsh")
 }
 
 #[test]

@@ -13,27 +13,9 @@ use spline::{
 };
 use std::process::Command;
 
-fn python() -> String {
-    std::env::var("QUADRILLE_PYTHON")
-        .ok()
-        .filter(|s| !s.is_empty())
-        .unwrap_or_else(|| "python3".to_string())
-}
-
-fn python_module_available(module: &str) -> bool {
-    let ok = Command::new(python())
-        .args(["-c", &format!("import {module}")])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false);
-    if !ok {
-        if std::env::var("QUADRILLE_REQUIRE_GMSH").as_deref() == Ok("1") {
-            panic!("QUADRILLE_REQUIRE_GMSH=1 but the {module} Python module is not importable");
-        }
-        eprintln!("SKIPPED {module} check: the {module} Python module is not importable");
-    }
-    ok
-}
+#[path = "../../mesh/tests/common/python.rs"]
+mod python;
+use python::{python, python_module_available};
 
 /// The dome z = 0.5 (1 − x²)(1 − y²) over [−1, 1]².
 fn dome(x: f64, y: f64) -> Point3 {

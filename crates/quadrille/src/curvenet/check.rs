@@ -184,8 +184,8 @@ impl SegmentGrid {
         for (i, s) in segments.iter().enumerate() {
             let pieces = (lens[i] / cell).ceil().clamp(1.0, 1e6) as usize;
             for j in 0..pieces {
-                let a = lerp(s[0], s[1], j as f64 / pieces as f64);
-                let b = lerp(s[0], s[1], (j + 1) as f64 / pieces as f64);
+                let a = vec3::lerp(s[0], s[1], j as f64 / pieces as f64);
+                let b = vec3::lerp(s[0], s[1], (j + 1) as f64 / pieces as f64);
                 let c0 = grid.cell_of([0, 1, 2].map(|k| a[k].min(b[k]) - tol));
                 let c1 = grid.cell_of([0, 1, 2].map(|k| a[k].max(b[k]) + tol));
                 for x in c0[0]..=c1[0] {
@@ -229,10 +229,6 @@ impl SegmentGrid {
             }
         }
     }
-}
-
-fn lerp(a: Vec3, b: Vec3, t: f64) -> Vec3 {
-    vec3::add(a, vec3::scale(vec3::sub(b, a), t))
 }
 
 /// Where closed loops come closer than `tol` to themselves or each other: two

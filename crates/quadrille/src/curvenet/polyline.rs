@@ -6,56 +6,13 @@
 /// A point or vector in 3D.
 pub type P3 = [f64; 3];
 
-/// `a − b`.
-pub fn sub(a: P3, b: P3) -> P3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-/// `a + b`.
-pub fn add(a: P3, b: P3) -> P3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-/// `s · a`.
-pub fn scale(a: P3, s: f64) -> P3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-/// The dot product.
-pub fn dot(a: P3, b: P3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// The cross product.
-pub fn cross(a: P3, b: P3) -> P3 {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-/// The Euclidean length.
-pub fn norm(a: P3) -> f64 {
-    dot(a, a).sqrt()
-}
-
-/// The distance between two points.
-pub fn dist(a: P3, b: P3) -> f64 {
-    norm(sub(a, b))
-}
-
-/// `a` scaled to unit length, or `None` when it is (nearly) zero.
-pub fn normalized(a: P3) -> Option<P3> {
-    let l = norm(a);
-    (l > 1e-300 && l.is_finite()).then(|| scale(a, 1.0 / l))
-}
+pub use geometry::vec3::{add, cross, dist, dot, lerp, norm, normalize as normalized, scale, sub};
 
 /// The unsigned angle between two vectors in `[0, π]` (0 when one is zero).
 pub fn angle(a: P3, b: P3) -> f64 {
     norm(cross(a, b)).atan2(dot(a, b))
 }
 
-/// The point at fraction `s` from `a` to `b`.
-pub fn lerp(a: P3, b: P3, s: f64) -> P3 {
-    add(a, scale(sub(b, a), s))
-}
 
 /// The distance from `p` to the straight segment `a`–`b`.
 pub fn point_segment_distance(p: P3, a: P3, b: P3) -> f64 {
