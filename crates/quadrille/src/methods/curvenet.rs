@@ -145,7 +145,7 @@ pub enum CurvesError {
 pub fn curves_size(net: &CurveNetwork, opts: &CurvesOptions) -> Result<f64, CurvesError> {
     let h = opts
         .size
-        .unwrap_or(opts.size_factor * net.diagonal() / crate::DEFAULT_DIVISIONS);
+        .unwrap_or(opts.size_factor * net.diagonal() / crate::core::options::DEFAULT_DIVISIONS);
     if h.is_finite() && h > 0.0 {
         Ok(h)
     } else {
