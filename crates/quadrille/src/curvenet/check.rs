@@ -68,7 +68,7 @@ pub(crate) fn segment_segment(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3) -> (f64, V
 /// Newell vector of a closed polyline (about its centroid): its length is the
 /// area of the loop's projection on the best plane, its direction the normal
 /// about which the loop runs counter-clockwise.
-pub(crate) fn newell(points: &[Vec3]) -> Vec3 {
+pub fn newell(points: &[Vec3]) -> Vec3 {
     let c = centroid(points);
     let n = points.len();
     let mut s = [0.0; 3];

@@ -110,14 +110,7 @@ pub fn coons_point(
 }
 
 /// Newell normal (vector area, not normalised) of a closed polygon.
-pub fn newell(points: &[Vec3]) -> Vec3 {
-    let mut n = [0.0; 3];
-    for k in 0..points.len() {
-        let c = cross(points[k], points[(k + 1) % points.len()]);
-        n = add(n, scale(c, 0.5));
-    }
-    n
-}
+pub use super::check::newell;
 
 /// Interior layout vertices by Eq. (1): each is the weighted mean over its
 /// quads (G, E_i, C_i, E_{i+1}) of the parallelogram rule E_i + E_{i+1} − C_i,

@@ -15,12 +15,7 @@ pub fn angle(a: P3, b: P3) -> f64 {
 
 
 /// The distance from `p` to the straight segment `a`–`b`.
-pub fn point_segment_distance(p: P3, a: P3, b: P3) -> f64 {
-    let ab = sub(b, a);
-    let l2 = dot(ab, ab);
-    let s = if l2 > 0.0 { (dot(sub(p, a), ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
-    dist(p, lerp(a, b, s))
-}
+pub use geometry::vec3::segment_distance as point_segment_distance;
 
 /// The distance from `p` to an open polyline.
 pub fn point_polyline_distance(p: P3, line: &[P3]) -> f64 {
@@ -81,17 +76,9 @@ pub fn diameter(points: &[P3]) -> f64 {
 
 /// The Newell normal of a closed polyline: its length is twice the area of
 /// the (projected) loop, its direction the side it runs counter-clockwise
-/// about.
+/// about ([`super::check::newell`], doubled).
 pub fn newell_normal(points: &[P3]) -> P3 {
-    let n = points.len();
-    let mut s = [0.0; 3];
-    for i in 0..n {
-        let (a, b) = (points[i], points[(i + 1) % n]);
-        s[0] += (a[1] - b[1]) * (a[2] + b[2]);
-        s[1] += (a[2] - b[2]) * (a[0] + b[0]);
-        s[2] += (a[0] - b[0]) * (a[1] + b[1]);
-    }
-    s
+    scale(super::check::newell(points), 2.0)
 }
 
 /// The turning angle at sample `i` of a closed polyline, measured over `w`

@@ -344,8 +344,7 @@ struct Facing {
 impl Facing {
     fn of(points: &[Vec3]) -> Self {
         let n = points.len();
-        let newell = (0..n).fold([0.0; 3], |acc, i| vec3::add(acc, vec3::cross(points[i], points[(i + 1) % n])));
-        let normal = vec3::normalize(newell);
+        let normal = vec3::normalize(crate::curvenet::geometry::newell(points));
         let planar = normal.is_some_and(|u| {
             let centre = vec3::scale(points.iter().fold([0.0; 3], |a, &p| vec3::add(a, p)), 1.0 / n as f64);
             let size = points.iter().map(|&p| vec3::dist(p, centre)).fold(0.0, f64::max);

@@ -5,6 +5,7 @@
 //! ordered boundary loops and the edge table the Ricci flow, the cut graph
 //! and the immersion share.
 
+use geometry::vec3::{cross, norm, sub};
 use thiserror::Error;
 
 /// Marks a missing face in [`ShellTopology::edge_faces`] (a boundary edge).
@@ -159,22 +160,6 @@ pub(crate) fn union(parent: &mut [usize], a: usize, b: usize) {
         let (lo, hi) = (ra.min(rb), ra.max(rb));
         parent[hi] = lo;
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// The interior angle between vectors `a` and `b` (robust near 0 and π).
