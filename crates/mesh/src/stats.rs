@@ -156,6 +156,11 @@ pub struct MeshStats {
     /// finds negative in the written mesh file read without its CAD. The
     /// same with or without a Model.
     pub inverted_quads_element_geometry: usize,
+    /// `inverted_quads` less the quads in `excused_quads` (those touching a
+    /// CAD corner below [`SHARP_CORNER_DEG`]): the count the validity bars use.
+    pub inverted_quads_outside_sharp: usize,
+    /// `inverted_quads_element_geometry` less the quads in `excused_quads`.
+    pub inverted_quads_element_geometry_outside_sharp: usize,
     /// Element edges used by exactly one element (holes or the boundary of an open shell).
     pub open_edges: usize,
     /// Element edges used by more than two elements.
@@ -342,15 +347,16 @@ impl MeshStats {
         };
         let mut sicn = Vec::with_capacity(mesh.quads.len());
         let mut sj = Vec::with_capacity(mesh.quads.len());
+        // per quad: inverted by the CAD normals, by the element geometry
+        let mut inverted = Vec::with_capacity(mesh.quads.len());
         for (q, n) in mesh.quads.iter().zip(&normals) {
             let p = quad_points(mesh, q);
             let cs = corner_sicn(&p, n);
-            if cs.iter().any(|&x| x < 0.0) {
-                s.inverted_quads += 1;
-            }
-            if element_corner_sicn(&p).iter().any(|&x| x < 0.0) {
-                s.inverted_quads_element_geometry += 1;
-            }
+            let by_normals = cs.iter().any(|&x| x < 0.0);
+            let by_element = element_corner_sicn(&p).iter().any(|&x| x < 0.0);
+            s.inverted_quads += usize::from(by_normals);
+            s.inverted_quads_element_geometry += usize::from(by_element);
+            inverted.push((by_normals, by_element));
             sicn.push(min4(cs));
             sj.push(min4(corner_scaled_jacobian(&p, n)));
         }
@@ -410,6 +416,12 @@ impl MeshStats {
         let mut excused = vec![false; sicn.len()];
         for e in &s.excused_quads {
             excused[e.quad] = true;
+        }
+        for (&(by_normals, by_element), &e) in inverted.iter().zip(&excused) {
+            if !e {
+                s.inverted_quads_outside_sharp += usize::from(by_normals);
+                s.inverted_quads_element_geometry_outside_sharp += usize::from(by_element);
+            }
         }
         s.min_sicn_excluding_sharp = sicn
             .iter()
@@ -702,6 +714,26 @@ mod tests {
             mesh.quad_face.push(FaceId(0));
         }
         (model, mesh)
+    }
+
+    #[test]
+    fn inverted_counts_outside_sharp_corners_leave_out_the_excused_quads() {
+        // quad 0 touches the 5° corner (excused), quad 1 does not; a bow-tie
+        // (nodes 1 and 2 of the quad swapped) is negative by both judges
+        let bow_tie = |q: [u32; 4]| [q[0], q[2], q[1], q[3]];
+        let (model, mut mesh) = wedge();
+        mesh.quads[0] = bow_tie(mesh.quads[0]);
+        let s = MeshStats::compute(&mesh, Some(&model));
+        assert_eq!((s.inverted_quads, s.inverted_quads_element_geometry), (1, 1), "{s}");
+        assert_eq!(s.inverted_quads_outside_sharp, 0, "{s}");
+        assert_eq!(s.inverted_quads_element_geometry_outside_sharp, 0, "{s}");
+        let (model, mut mesh) = wedge();
+        mesh.quads[1] = bow_tie(mesh.quads[1]);
+        let s = MeshStats::compute(&mesh, Some(&model));
+        assert_eq!((s.inverted_quads, s.inverted_quads_element_geometry), (1, 1), "{s}");
+        assert_eq!(s.inverted_quads_outside_sharp, 1, "{s}");
+        assert_eq!(s.inverted_quads_element_geometry_outside_sharp, 1, "{s}");
+        assert!(s.to_string().contains("1 / 1"), "{s}");
     }
 
     #[test]

@@ -114,6 +114,15 @@ impl fmt::Display for MeshStats {
             )?;
             row(
                 f,
+                "inverted excluding them (CAD / element)",
+                format!(
+                    "{} / {}",
+                    self.inverted_quads_outside_sharp,
+                    self.inverted_quads_element_geometry_outside_sharp
+                ),
+            )?;
+            row(
+                f,
                 "min SICN excluding them",
                 format!("{:.3}", self.min_sicn_excluding_sharp),
             )?;
