@@ -1,13 +1,14 @@
 //! Tests of the renderer on hand-built meshes: properties of the pixels, not
 //! just "it ran".
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::f64::consts::TAU;
 
 use geometry::primitives;
 use geometry::vec3::{cross, dot, sub, Vec3};
 use geometry::{CornerId, CurveId, FaceId, Model};
 
+use super::legend::thousands;
 use super::*;
 use crate::quadmesh::NodeClass;
 
