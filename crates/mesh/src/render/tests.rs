@@ -1,7 +1,7 @@
 //! Tests of the renderer on hand-built meshes: properties of the pixels, not
 //! just "it ran".
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::f64::consts::TAU;
 
 use geometry::primitives;
