@@ -37,7 +37,7 @@ def main():
     curves = net["curves"]
     allpts = np.array([p for c in curves for p in c["points"]], dtype=float)
     diag = float(np.linalg.norm(allpts.max(0) - allpts.min(0)))
-    weld = 1e-9 * diag * 1000
+    weld = 1e-6 * diag  # end points closer than this are one geo point
 
     gmsh.initialize(["-v", "0"])
     gmsh.option.setNumber("General.Terminal", 0)
@@ -120,7 +120,7 @@ def main():
         if kind == "none":
             continue
         wires = []
-        for li, loop in enumerate(loops):
+        for loop in loops:
             wires.append(gmsh.model.geo.addCurveLoop([s * curve_tag[cu] for cu, s in loop]))
         stag = int(net["cycles"][ci].get("cad_face", ci + 1))
         if kind == "filling":
