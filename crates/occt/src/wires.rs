@@ -14,6 +14,16 @@
 //! Each curve use is sampled at equal arc lengths at most 1/200 of the
 //! diagonal apart and turning at most 5° per segment, its ends replaced by
 //! the welded points, so consecutive uses share their end points exactly.
+//!
+//! Not yet read by `quadrille curves`. The intended wiring (in
+//! `quadrille::curvenet`, CAD input): when `occt::load` fails with
+//! `ImportError::NoFace`, call [`load_wires`]; each [`ClosedWire`] is one
+//! cycle of one loop, `[curve, ±1]` per [`WireUse`] (`forward` → +1), each CAD
+//! curve one network polyline (its forward samples, `cad_curve` = id + 1), no
+//! `cad_face`; the side the quads face is the loop's Newell normal (a
+//! wireframe has no face orientation); [`Wires::open_curves`] named on one
+//! line (curves at a junction or a dead end), and an error when no wire is
+//! closed.
 
 use std::path::Path;
 
@@ -297,7 +307,7 @@ fn resample(dense: &[(f64, Vec3)], forward: bool, spacing: f64) -> Vec<f64> {
         1.0
     };
     let by_turn = (turn.to_degrees() / TURN_DEG).ceil();
-    let n = by_length.max(by_turn).max(1.0).min(1e6) as usize;
+    let n = by_length.max(by_turn).clamp(1.0, 1e6) as usize;
     let mut out = Vec::with_capacity(n + 1);
     out.push(ts[0]);
     let mut j = 1;
