@@ -41,20 +41,24 @@ pub(crate) fn counts(m: &ModelPtr) -> (usize, usize, usize) {
     (nf, ne, nv)
 }
 
-/// Builds the model from a loaded shape.
-pub(crate) fn build(m: &ModelPtr, path: &Path) -> Result<Import, ImportError> {
+/// The corners and curves of a shape (3D geometry only; a curve with no 3D
+/// curve has `geom: None` until a face's pcurve fills it) with OCCT's
+/// tolerances: what [`build`] and `wires::build` share.
+pub(crate) struct CurveSet {
+    pub(crate) corners: Vec<Corner>,
+    pub(crate) curves: Vec<CurveEntity>,
+    pub(crate) corner_tolerance: Vec<f64>,
+    pub(crate) curve_tolerance: Vec<f64>,
+    pub(crate) curve_same_parameter: Vec<bool>,
+}
+
+/// Reads every vertex and edge of a loaded shape.
+pub(crate) fn build_curves(m: &ModelPtr, path: &Path) -> Result<CurveSet, ImportError> {
     let invalid = |detail: String| ImportError::Invalid {
         path: path.to_path_buf(),
         detail,
     };
-    let (nf, ne, nv) = counts(m);
-    if nf == 0 {
-        return Err(ImportError::NoFace {
-            path: path.to_path_buf(),
-            detail: format!("the shape has {ne} edges and {nv} vertices but no face"),
-        });
-    }
-
+    let (_, ne, nv) = counts(m);
     // Corners.
     let mut corners = Vec::with_capacity(nv);
     let mut corner_tolerance = Vec::with_capacity(nv);
@@ -114,6 +118,37 @@ pub(crate) fn build(m: &ModelPtr, path: &Path) -> Result<Import, ImportError> {
         curve_tolerance.push(info.tolerance);
         curve_same_parameter.push(info.same_parameter != 0);
     }
+
+    Ok(CurveSet {
+        corners,
+        curves,
+        corner_tolerance,
+        curve_tolerance,
+        curve_same_parameter,
+    })
+}
+
+/// Builds the model from a loaded shape.
+pub(crate) fn build(m: &ModelPtr, path: &Path) -> Result<Import, ImportError> {
+    let invalid = |detail: String| ImportError::Invalid {
+        path: path.to_path_buf(),
+        detail,
+    };
+    let (nf, ne, nv) = counts(m);
+    if nf == 0 {
+        return Err(ImportError::NoFace {
+            path: path.to_path_buf(),
+            detail: format!("the shape has {ne} edges and {nv} vertices but no face"),
+        });
+    }
+
+    let CurveSet {
+        corners,
+        mut curves,
+        corner_tolerance,
+        curve_tolerance,
+        curve_same_parameter,
+    } = build_curves(m, path)?;
 
     // Faces.
     let mut faces = Vec::with_capacity(nf);

@@ -23,6 +23,7 @@ mod bspline_step;
 mod ffi;
 mod geom;
 mod import;
+mod wires;
 mod step_references;
 
 use std::ffi::CString;
@@ -35,6 +36,7 @@ pub use bspline_step::{
 };
 pub use geom::{OcctCurve, OcctCurve2d, OcctSurface, PcurveOnSurface};
 pub use import::Import;
+pub use wires::{load_wires, ClosedWire, WireUse, Wires};
 
 use geometry::Model;
 

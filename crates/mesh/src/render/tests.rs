@@ -8,6 +8,7 @@ use geometry::primitives;
 use geometry::vec3::{cross, dot, sub, Vec3};
 use geometry::{CornerId, CurveId, FaceId, Model};
 
+use super::legend::thousands;
 use super::*;
 use crate::quadmesh::NodeClass;
 
