@@ -53,6 +53,7 @@ fn options(args: &CurvesArgs) -> Result<CurvesOptions> {
         size: args.size,
         size_factor: args.size_factor.unwrap_or(1.0),
         skip_bad: args.skip_bad,
+        network: !args.no_network,
         threads: args.threads,
         ..Default::default()
     };

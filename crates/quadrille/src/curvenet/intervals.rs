@@ -11,7 +11,9 @@
 
 use std::time::Instant;
 
-use good_lp::{constraint, variable, Expression, ProblemVariables, Solution, SolverModel, Variable};
+use good_lp::{
+    constraint, variable, Expression, ProblemVariables, Solution, SolverModel, Variable,
+};
 
 /// The weight of one interval of mismatch against one interval more in
 /// total (the spec's w).
@@ -45,7 +47,11 @@ pub fn solve_intervals(prog: &IntervalProgram) -> Result<IntervalSolution, Strin
     let started = Instant::now();
     let n = prog.lower.len();
     if n == 0 {
-        return Ok(IntervalSolution { counts: vec![], mismatch: 0, seconds: 0.0 });
+        return Ok(IntervalSolution {
+            counts: vec![],
+            mismatch: 0,
+            seconds: 0.0,
+        });
     }
     let mut vars = ProblemVariables::new();
     let xs: Vec<Variable> = prog
@@ -75,7 +81,9 @@ pub fn solve_intervals(prog: &IntervalProgram) -> Result<IntervalSolution, Strin
     for &(a, b) in &prog.equal {
         model.add_constraint(constraint!(xs[a] - xs[b] == 0.0));
     }
-    let solution = model.solve().map_err(|e| format!("the interval program: HiGHS: {e}"))?;
+    let solution = model
+        .solve()
+        .map_err(|e| format!("the interval program: HiGHS: {e}"))?;
     let counts: Vec<usize> = xs
         .iter()
         .zip(&prog.lower)
@@ -89,7 +97,11 @@ pub fn solve_intervals(prog: &IntervalProgram) -> Result<IntervalSolution, Strin
             sum(l).abs_diff(sum(r))
         })
         .sum();
-    Ok(IntervalSolution { counts, mismatch, seconds: started.elapsed().as_secs_f64() })
+    Ok(IntervalSolution {
+        counts,
+        mismatch,
+        seconds: started.elapsed().as_secs_f64(),
+    })
 }
 
 #[cfg(test)]

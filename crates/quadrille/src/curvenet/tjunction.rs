@@ -42,7 +42,12 @@ impl NetLeaf {
     /// A part as paired, every segment start primary.
     pub fn new(cycle: usize, paired: PairedCycle) -> NetLeaf {
         let primary = vec![true; paired.starts.len()];
-        NetLeaf { cycle, paired, primary, changed: false }
+        NetLeaf {
+            cycle,
+            paired,
+            primary,
+            changed: false,
+        }
     }
 }
 
@@ -74,10 +79,21 @@ impl Arcs {
         }
         let u = u - self.total * (u / self.total).floor();
         let k = self.cumulative.partition_point(|&c| c <= u).clamp(1, n) - 1;
-        let end = if k + 1 < n { self.cumulative[k + 1] } else { self.total };
+        let end = if k + 1 < n {
+            self.cumulative[k + 1]
+        } else {
+            self.total
+        };
         let len = end - self.cumulative[k];
-        let f = if len > 0.0 { ((u - self.cumulative[k]) / len).clamp(0.0, 1.0) } else { 0.0 };
-        vec3::add(points[k], vec3::scale(vec3::sub(points[(k + 1) % n], points[k]), f))
+        let f = if len > 0.0 {
+            ((u - self.cumulative[k]) / len).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        vec3::add(
+            points[k],
+            vec3::scale(vec3::sub(points[(k + 1) % n], points[k]), f),
+        )
     }
 }
 
@@ -96,7 +112,12 @@ fn rebuild(paired: &PairedCycle, arcs: &Arcs, q: &[f64]) -> (Vec<Vec3>, Vec<usiz
     let (q0, end) = (q[0], q[0] + arcs.total);
     let turn = (q0 / arcs.total.max(f64::MIN_POSITIVE)).floor();
     let mut originals: Vec<(f64, usize)> = (0..2 * np)
-        .map(|i| (arcs.cumulative[i % np] + arcs.total * (turn + (i / np) as f64), i % np))
+        .map(|i| {
+            (
+                arcs.cumulative[i % np] + arcs.total * (turn + (i / np) as f64),
+                i % np,
+            )
+        })
         .filter(|&(u, _)| u >= q0 - eps && u < end - eps)
         .collect();
     originals.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -128,8 +149,16 @@ fn move_start(leaf: &mut NetLeaf, k: usize, shift: f64) -> bool {
     let mut q = start_positions(&leaf.paired, &arcs);
     let m = q.len();
     let new = q[k] + shift;
-    let prev = if k > 0 { q[k - 1] } else { q[m - 1] - arcs.total };
-    let next = if k + 1 < m { q[k + 1] } else { q[0] + arcs.total };
+    let prev = if k > 0 {
+        q[k - 1]
+    } else {
+        q[m - 1] - arcs.total
+    };
+    let next = if k + 1 < m {
+        q[k + 1]
+    } else {
+        q[0] + arcs.total
+    };
     if !(new > prev && new < next) {
         return false;
     }
@@ -159,7 +188,13 @@ fn split_chord(leaf: &mut NetLeaf, k: usize, f: f64) -> bool {
     }
     let arcs = Arcs::of(&p.points);
     let q = start_positions(p, &arcs);
-    let end = |s: usize| if s + 1 < m { q[s + 1] } else { q[0] + arcs.total };
+    let end = |s: usize| {
+        if s + 1 < m {
+            q[s + 1]
+        } else {
+            q[0] + arcs.total
+        }
+    };
     let (lk, lj) = (end(k) - q[k], end(j) - q[j]);
     let least = 1e-9 * arcs.total;
     if f * lk < least || (1.0 - f) * lk < least || f * lj < least || (1.0 - f) * lj < least {
@@ -216,10 +251,17 @@ fn project(curve: &Polyline, p: Vec3) -> (f64, f64) {
         let (a, b) = (curve.points[k - 1], curve.points[k]);
         let ab = vec3::sub(b, a);
         let len2 = vec3::dot(ab, ab);
-        let t = if len2 > 0.0 { (vec3::dot(vec3::sub(p, a), ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
+        let t = if len2 > 0.0 {
+            (vec3::dot(vec3::sub(p, a), ab) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         let d = vec3::dist(p, vec3::add(a, vec3::scale(ab, t)));
         if d < best.0 {
-            best = (d, curve.cumulative[k - 1] + t * (curve.cumulative[k] - curve.cumulative[k - 1]));
+            best = (
+                d,
+                curve.cumulative[k - 1] + t * (curve.cumulative[k] - curve.cumulative[k - 1]),
+            );
         }
     }
     best
@@ -263,7 +305,10 @@ pub struct SharedCurve {
 impl SharedCurve {
     /// Curve positions of one side's vertices (segment ends), ascending.
     pub fn vertices(&self, side: usize) -> Vec<f64> {
-        let mut v: Vec<f64> = self.sides[side].iter().flat_map(|s| [s.from, s.to]).collect();
+        let mut v: Vec<f64> = self.sides[side]
+            .iter()
+            .flat_map(|s| [s.from, s.to])
+            .collect();
         v.sort_by(f64::total_cmp);
         v.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * self.length);
         v
@@ -296,7 +341,11 @@ impl SharedCurve {
 /// The shared curves of the network whose two cycles are both meshed and
 /// whose every point both sides cover with segments; the others are
 /// counted as the second value (left as they are).
-pub fn shared_curves(net: &CurveNetwork, leaves: &[NetLeaf], tol: f64) -> (Vec<SharedCurve>, usize) {
+pub fn shared_curves(
+    net: &CurveNetwork,
+    leaves: &[NetLeaf],
+    tol: f64,
+) -> (Vec<SharedCurve>, usize) {
     let mut out = Vec::new();
     let mut skipped = 0;
     for c in 0..net.curves().len() {
@@ -311,17 +360,30 @@ pub fn shared_curves(net: &CurveNetwork, leaves: &[NetLeaf], tol: f64) -> (Vec<S
 
 /// Curve `c` as a [`SharedCurve`]: `None` when two meshed cycles do not
 /// share it, `Err` when a side does not cover it with segments.
-fn shared_curve(net: &CurveNetwork, leaves: &[NetLeaf], c: usize, tol: f64) -> Option<Result<SharedCurve, ()>> {
+fn shared_curve(
+    net: &CurveNetwork,
+    leaves: &[NetLeaf],
+    c: usize,
+    tol: f64,
+) -> Option<Result<SharedCurve, ()>> {
     let uses = net.curve_cycles(c);
     if uses.len() != 2 || uses[0] == uses[1] {
         return None;
     }
-    if !uses.iter().all(|&cycle| leaves.iter().any(|l| l.cycle == cycle)) {
+    if !uses
+        .iter()
+        .all(|&cycle| leaves.iter().any(|l| l.cycle == cycle))
+    {
         return None;
     }
     let poly = Polyline::new(net.curves()[c].points.clone());
     let length = poly.length();
-    let mut shared = SharedCurve { curve: c, length, cycles: [uses[0], uses[1]], sides: [vec![], vec![]] };
+    let mut shared = SharedCurve {
+        curve: c,
+        length,
+        cycles: [uses[0], uses[1]],
+        sides: [vec![], vec![]],
+    };
     for (side, &cycle) in uses.iter().enumerate() {
         for (li, leaf) in leaves.iter().enumerate().filter(|(_, l)| l.cycle == cycle) {
             shared.sides[side].extend(segments_along(leaf, li, &poly, tol));
@@ -331,7 +393,11 @@ fn shared_curve(net: &CurveNetwork, leaves: &[NetLeaf], c: usize, tol: f64) -> O
         let sum: f64 = shared.sides[side].iter().map(|s| s.hi() - s.lo()).sum();
         (sum - length).abs() <= 1e-6 * length + 2.0 * tol
     };
-    Some(if covered(0) && covered(1) { Ok(shared) } else { Err(()) })
+    Some(if covered(0) && covered(1) {
+        Ok(shared)
+    } else {
+        Err(())
+    })
 }
 
 /// The segments of `leaf` lying along `curve` (ends and middle within `tol`,
@@ -346,13 +412,22 @@ fn segments_along(leaf: &NetLeaf, li: usize, curve: &Polyline, tol: f64) -> Vec<
         if p.unsplittable[s] {
             continue;
         }
-        let end = if s + 1 < m { q[s + 1] } else { q[0] + arcs.total };
+        let end = if s + 1 < m {
+            q[s + 1]
+        } else {
+            q[0] + arcs.total
+        };
         let (d0, from) = project(curve, arcs.point_at(&p.points, q[s]));
         let (d1, to) = project(curve, arcs.point_at(&p.points, end));
         let (dm, _) = project(curve, arcs.point_at(&p.points, 0.5 * (q[s] + end)));
         let along = ((to - from).abs() - (end - q[s])).abs() <= 1e-6 * (end - q[s]) + 2.0 * tol;
         if d0 <= tol && d1 <= tol && dm <= tol && along && (to - from).abs() > tol {
-            out.push(SideSegment { leaf: li, segment: s, from, to });
+            out.push(SideSegment {
+                leaf: li,
+                segment: s,
+                from,
+                to,
+            });
         }
     }
     out
@@ -398,7 +473,9 @@ pub fn resolve_t_junctions(
         let (curves, _) = shared_curves(net, leaves, tol);
         for sc in &curves {
             // one change at a time: the sides are measured again after it
-            while let Some(done) = resolve_one(sc.curve, net, leaves, radius, tol, fixed, &mut refused) {
+            while let Some(done) =
+                resolve_one(sc.curve, net, leaves, radius, tol, fixed, &mut refused)
+            {
                 match done {
                     Change::Merged => report.merged += 1,
                     Change::Split => report.split += 1,
@@ -437,7 +514,13 @@ enum Change {
 
 /// The part, segment start and orientation (+1: the part runs up the curve)
 /// of one side's vertex at curve position `v`.
-fn vertex_start(sc: &SharedCurve, side: usize, v: f64, leaves: &[NetLeaf], tol: f64) -> Option<(usize, usize, f64)> {
+fn vertex_start(
+    sc: &SharedCurve,
+    side: usize,
+    v: f64,
+    leaves: &[NetLeaf],
+    tol: f64,
+) -> Option<(usize, usize, f64)> {
     for s in &sc.sides[side] {
         let sign = if s.to > s.from { 1.0 } else { -1.0 };
         if (s.from - v).abs() <= tol {
@@ -475,7 +558,9 @@ fn resolve_one(
             if refused.contains(&tag) {
                 continue;
             }
-            let Some((li, k, sign)) = vertex_start(&sc, side, v, leaves, tol) else { continue };
+            let Some((li, k, sign)) = vertex_start(&sc, side, v, leaves, tol) else {
+                continue;
+            };
             let here = point_of(&leaves[li], k);
             let v_primary = leaves[li].primary[k];
             // merge: the nearest other-side vertex within 5δ
@@ -507,7 +592,10 @@ fn resolve_one(
                 continue;
             }
             // split the other side's segment that holds v, and its mate
-            let holder = sc.sides[1 - side].iter().find(|s| s.lo() < v - tol && s.hi() > v + tol).copied();
+            let holder = sc.sides[1 - side]
+                .iter()
+                .find(|s| s.lo() < v - tol && s.hi() > v + tol)
+                .copied();
             if let Some(s) = holder {
                 let f = (v - s.from).abs() / (s.to - s.from).abs();
                 if split_chord(&mut leaves[s.leaf], s.segment, f) {
@@ -551,7 +639,9 @@ pub fn snap_secondary_vertices(
                     count += intervals(pair[0].leaf, pair[0].segment);
                     let v = pair[0].hi();
                     let target = a + (b - a) * count as f64 / total as f64;
-                    let Some((li, k, sign)) = vertex_start(sc, side, v, leaves, tol) else { continue };
+                    let Some((li, k, sign)) = vertex_start(sc, side, v, leaves, tol) else {
+                        continue;
+                    };
                     if leaves[li].primary[k] || (target - v).abs() <= 1e-12 * sc.length {
                         continue;
                     }
@@ -572,7 +662,12 @@ mod tests {
     fn square_leaf() -> NetLeaf {
         // a 2 × 1 rectangle, 4 segments, pairs (0, 2), (1, 3)
         let paired = PairedCycle {
-            points: vec![[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+            points: vec![
+                [0.0, 0.0, 0.0],
+                [2.0, 0.0, 0.0],
+                [2.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ],
             starts: vec![0, 1, 2, 3],
             pairs: vec![(0, 2), (1, 3)],
             costs: vec![0.1, 0.2],

@@ -45,6 +45,9 @@ pub struct CurvesOptions {
     pub pairing: PairingOptions,
     /// Mesh the valid cycles and list the others instead of failing.
     pub skip_bad: bool,
+    /// Run the network stage (spec §7, `methods::curvenet_network`); off:
+    /// each cycle keeps its own sampling (for comparisons).
+    pub network: bool,
     /// Worker threads (cycles are meshed in parallel); `None`: all cores.
     /// The output is the same for any count.
     pub threads: Option<usize>,
@@ -57,6 +60,7 @@ impl Default for CurvesOptions {
             size_factor: 1.0,
             pairing: PairingOptions::default(),
             skip_bad: false,
+            network: true,
             threads: None,
         }
     }
@@ -207,7 +211,10 @@ pub fn mesh_curve_network(
     if meshed.is_empty() {
         return Err(CurvesError::NothingMeshed { file, skipped: report.skipped.len() });
     }
-    report.network = super::curvenet_network::network_stage(net, &mut meshed, h, weld.tolerance, opts.threads);
+    if opts.network {
+        report.network =
+            super::curvenet_network::network_stage(net, &mut meshed, h, weld.tolerance, opts.threads);
+    }
     for (summary, (_, leaves)) in report.cycles.iter_mut().zip(&meshed) {
         summarise_leaves(summary, leaves);
     }

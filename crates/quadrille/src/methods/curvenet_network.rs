@@ -96,12 +96,18 @@ pub(super) fn network_stage(
             v
         })
         .collect();
-    let mut prog = IntervalProgram { lower, ..Default::default() };
+    let mut prog = IntervalProgram {
+        lower,
+        ..Default::default()
+    };
     let (curves, _) = shared_curves(net, &leaves, tol);
     for sc in &curves {
         for (a, b) in sc.primary_segments(tol) {
             let side = |k: usize| -> Vec<usize> {
-                sc.inside(k, a, b, tol).iter().map(|s| seg_var[s.leaf][s.segment]).collect()
+                sc.inside(k, a, b, tol)
+                    .iter()
+                    .map(|s| seg_var[s.leaf][s.segment])
+                    .collect()
             };
             prog.equal_sums.push((side(0), side(1)));
         }
@@ -128,14 +134,25 @@ pub(super) fn network_stage(
             s.counts
         }
         Err(e) => {
-            report.notes.push(format!("{e}: each chord keeps its smallest count"));
+            report
+                .notes
+                .push(format!("{e}: each chord keeps its smallest count"));
             prog.lower.clone()
         }
     };
-    report.snapped = snap_secondary_vertices(net, &mut leaves, tol, &|li, s| counts[seg_var[li][s]]);
+    report.snapped =
+        snap_secondary_vertices(net, &mut leaves, tol, &|li, s| counts[seg_var[li][s]]);
     // lay out and sample again, in parallel, in order
-    let mut flat: Vec<&mut Leaf> = meshed.iter_mut().flat_map(|(_, ls)| ls.iter_mut()).collect();
-    let jobs: Vec<(usize, &NetLeaf, &Leaf)> = leaves.iter().enumerate().zip(flat.iter()).map(|((i, n), l)| (i, n, &**l)).collect();
+    let mut flat: Vec<&mut Leaf> = meshed
+        .iter_mut()
+        .flat_map(|(_, ls)| ls.iter_mut())
+        .collect();
+    let jobs: Vec<(usize, &NetLeaf, &Leaf)> = leaves
+        .iter()
+        .enumerate()
+        .zip(flat.iter())
+        .map(|((i, n), l)| (i, n, &**l))
+        .collect();
     let resample = |&(li, net_leaf, old): &(usize, &NetLeaf, &Leaf)| -> Result<Option<(PairedCycle, crate::curvenet::CycleQuads)>, String> {
         let p = &net_leaf.paired;
         let intervals = |layout: &crate::curvenet::layout::Layout| -> Vec<usize> {
@@ -161,7 +178,12 @@ pub(super) fn network_stage(
         let q = sample_layout_with_intervals(p, layout, n);
         unfolded(q, &old.facing).map(|q| Some((p.clone(), q))).map_err(|e| e.to_string())
     };
-    let outcomes = match threads.and_then(|n| rayon::ThreadPoolBuilder::new().num_threads(n.max(1)).build().ok()) {
+    let outcomes = match threads.and_then(|n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n.max(1))
+            .build()
+            .ok()
+    }) {
         Some(pool) => pool.install(|| map_in_order(&jobs, resample)),
         None => map_in_order(&jobs, resample),
     };
@@ -204,7 +226,11 @@ mod tests {
     #[test]
     fn the_t_junction_of_an_ell_on_a_rectangle_is_resolved() {
         let net = parse_json(&fixtures::ell_on_rectangle_json(), None).unwrap();
-        let opts = CurvesOptions { size: Some(0.3), threads: Some(1), ..Default::default() };
+        let opts = CurvesOptions {
+            size: Some(0.3),
+            threads: Some(1),
+            ..Default::default()
+        };
         let (mesh, report) = mesh_curve_network(&net, &opts).unwrap();
         let tj = &report.network.t_junctions;
         assert_eq!(tj.shared_curves, 1, "{:?}", report.network);
@@ -229,10 +255,33 @@ mod tests {
             );
             open_length += vec3::dist(p, q);
         }
-        assert!((open_length - 10.0).abs() < 1e-6, "open length {open_length}");
+        assert!(
+            (open_length - 10.0).abs() < 1e-6,
+            "open length {open_length}"
+        );
         for q in &mesh.quads {
             let p = q.map(|v| mesh.nodes[v as usize]);
             assert!(mesh::quality::quad_sicn(&p, &[[0.0, 0.0, 1.0]; 4]) > 0.0);
         }
+        // the same without the network stage: the shared side stays open
+        let alone = CurvesOptions { network: false, ..opts };
+        let (own, own_report) = mesh_curve_network(&net, &alone).unwrap();
+        assert_eq!(own_report.network.t_junctions.split, 0);
+        let mut own_uses: BTreeMap<(u32, u32), usize> = BTreeMap::new();
+        for q in &own.quads {
+            for k in 0..4 {
+                let (a, b) = (q[k], q[(k + 1) % 4]);
+                *own_uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        let open_on_shared = own_uses
+            .iter()
+            .filter(|(_, &n)| n == 1)
+            .filter(|(&(a, b), _)| {
+                let mid = vec3::scale(vec3::add(own.nodes[a as usize], own.nodes[b as usize]), 0.5);
+                mid[1].abs() < 1e-9 && mid[0] > 1e-9 && mid[0] < 2.0 - 1e-9
+            })
+            .count();
+        assert!(open_on_shared > 0);
     }
 }
