@@ -53,6 +53,7 @@ fn options(args: &CurvesArgs) -> Result<CurvesOptions> {
         size: args.size,
         size_factor: args.size_factor.unwrap_or(1.0),
         skip_bad: args.skip_bad,
+        network: !args.no_network,
         threads: args.threads,
         ..Default::default()
     };
@@ -157,6 +158,9 @@ pub fn run(args: &CurvesArgs) -> Result<()> {
             eprintln!("cycle {}: {n}", c.cycle);
         }
     }
+    for n in &report.network.notes {
+        eprintln!("network: {n}");
+    }
     if args.json {
         println!("{}", report_json(&report, mesh.quads.len()));
     } else if !args.quiet {
@@ -182,6 +186,12 @@ fn summary_text(r: &CurvesReport, quads: usize) -> String {
             if c.midpoint_layout { " (midpoint layout)" } else { "" }
         );
     }
+    let n = &r.network;
+    let tj = &n.t_junctions;
+    s += &format!(
+        "network: {} shared curves, {} T-junctions merged, {} chords split, {} unresolved, {} secondary vertices ({} snapped), interval mismatch {}, intervals {:.3} s\n",
+        tj.shared_curves, tj.merged, tj.split, tj.unresolved, tj.secondary, n.snapped, n.mismatch, n.interval_seconds
+    );
     s += &format!(
         "{} cycles meshed, {} skipped, {} quads, edge length {:.4}\n",
         r.cycles.len(),
@@ -221,6 +231,21 @@ fn report_json(r: &CurvesReport, quads: usize) -> String {
     let seconds: f64 = r.cycles.iter().map(|c| c.seconds).sum();
     serde_json::to_string_pretty(&serde_json::json!({
         "cycles": cycles,
+        "network": {
+            "shared_curves": r.network.t_junctions.shared_curves,
+            "skipped_curves": r.network.t_junctions.skipped_curves,
+            "merged": r.network.t_junctions.merged,
+            "split": r.network.t_junctions.split,
+            "unresolved": r.network.t_junctions.unresolved,
+            "secondary": r.network.t_junctions.secondary,
+            "snapped": r.network.snapped,
+            "chords": r.network.chords,
+            "primary_segments": r.network.primary_segments,
+            "mismatch": r.network.mismatch,
+            "relaid": r.network.relaid,
+            "interval_seconds": r.network.interval_seconds,
+            "seconds": r.network.seconds,
+        },
         "skipped": r.skipped.iter().map(|(c, why)| serde_json::json!({"cycle": c, "reason": why})).collect::<Vec<_>>(),
         "totals": {
             "cycles": r.cycles.len(),

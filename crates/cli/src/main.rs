@@ -117,6 +117,9 @@ pub struct CurvesArgs {
     /// Mesh the valid cycles and list the others instead of failing.
     #[arg(long)]
     skip_bad: bool,
+    /// Skip the network stage (T-junctions, intervals shared across cycles): each cycle sampled on its own, as a comparison
+    #[arg(long)]
+    no_network: bool,
     /// Refinement goes on while the average pair cost drops by this factor (paper: 1.25).
     #[arg(long)]
     drop: Option<f64>,

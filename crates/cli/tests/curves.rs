@@ -64,6 +64,11 @@ fn the_rounded_cube_face_loops_mesh_without_inverted_quads() {
     let triangles = cycles.iter().filter(|c| c["interior_valences"] == serde_json::json!([3])).count();
     assert_eq!(triangles, 8);
     assert!(cycles.iter().filter(|c| c["patches"] == 3).count() == 8);
+    // the network stage: every shared curve resolved, watertight intervals
+    let network = &report["network"];
+    assert_eq!(network["shared_curves"], 48, "{network}");
+    assert_eq!(network["unresolved"], 0, "{network}");
+    assert_eq!(network["mismatch"], 0, "{network}");
     let stats: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
     assert_eq!(stats["inverted_quads"], 0);
     assert_eq!(stats["inverted_quads_element_geometry"], 0);

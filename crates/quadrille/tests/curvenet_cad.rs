@@ -133,3 +133,32 @@ fn every_bundled_model_gives_valid_cycles() {
         }
     }
 }
+
+/// Issue 30, "Done when": the rounded cube and the cube with a spherical
+/// corner are meshed cycle by cycle and the network stage (spec §7) makes
+/// the whole mesh watertight: every cycle meshed, no edge used once (the
+/// solids are closed) or more than twice, no interval mismatch left.
+#[test]
+fn the_rounded_cubes_are_watertight() {
+    use quadrille::methods::curvenet::{mesh_curve_network, CurvesOptions};
+    for name in ["s12o_cube_rounded_1.stp", "s14o_cube_corner_sub_sphere.stp"] {
+        let model = load(name);
+        let (net, _) = network_from_model(&model, None).unwrap();
+        let opts = CurvesOptions { threads: Some(1), ..Default::default() };
+        let (mesh, report) = mesh_curve_network(&net, &opts).unwrap();
+        assert!(report.skipped.is_empty(), "{name}: {:?}", report.skipped);
+        assert_eq!(report.cycles.len(), net.cycles().len(), "{name}");
+        assert_eq!(report.network.mismatch, 0, "{name}: {:?}", report.network);
+        assert_eq!(report.network.t_junctions.unresolved, 0, "{name}: {:?}", report.network);
+        let mut uses: BTreeMap<(u32, u32), usize> = BTreeMap::new();
+        for q in &mesh.quads {
+            for k in 0..4 {
+                let (a, b) = (q[k], q[(k + 1) % 4]);
+                *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        let open = uses.values().filter(|&&n| n == 1).count();
+        let non_manifold = uses.values().filter(|&&n| n > 2).count();
+        assert_eq!((open, non_manifold), (0, 0), "{name}: open and non-manifold edges");
+    }
+}

@@ -108,3 +108,39 @@ impl From<LoopPolyline> for CycleLoops {
         single(outer)
     }
 }
+
+/// Fig. 15: an L (corners (0,0), (2,0), (2,1), (1,1), (1,2), (0,2)) above a
+/// 2 × 1 rectangle that shares the L's bottom side, as a two-cycle network
+/// (JSON text, docs/curve-networks.md). Every curve is sampled every 0.05
+/// (δ = 0.05), so the L's segment end at the middle of the shared side,
+/// 1 away from the rectangle's corners, is a T-junction beyond 5δ.
+pub fn ell_on_rectangle_json() -> String {
+    let dense = |corners: &[[f64; 2]]| -> Vec<[f64; 3]> {
+        let mut out = vec![[corners[0][0], corners[0][1], 0.0]];
+        for w in corners.windows(2) {
+            let len = ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2)).sqrt();
+            let n = (len / 0.05).round() as usize;
+            for k in 1..=n {
+                let t = k as f64 / n as f64;
+                out.push([w[0][0] + t * (w[1][0] - w[0][0]), w[0][1] + t * (w[1][1] - w[0][1]), 0.0]);
+            }
+        }
+        out
+    };
+    let curves = [
+        // 0: the shared side, (0,0) to (2,0)
+        dense(&[[0.0, 0.0], [2.0, 0.0]]),
+        // 1: the rest of the L, (2,0) round to (0,0)
+        dense(&[[2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0], [0.0, 0.0]]),
+        // 2: the rest of the rectangle, (0,0) down and round to (2,0)
+        dense(&[[0.0, 0.0], [0.0, -1.0], [2.0, -1.0], [2.0, 0.0]]),
+    ];
+    let curves: Vec<String> = curves
+        .iter()
+        .map(|c| format!("{{\"points\": {:?}}}", c))
+        .collect();
+    format!(
+        "{{\"curves\": [{}], \"cycles\": [{{\"loops\": [[[0, 1], [1, 1]]]}}, {{\"loops\": [[[2, 1], [0, -1]]]}}]}}",
+        curves.join(", ")
+    )
+}

@@ -19,6 +19,12 @@
 //! - [`from_model`]: a network from the boundary loops of CAD faces;
 //! - [`error`]: [`CurveNetError`], one line naming file, cycle and place;
 //! - [`check`]: segment distances through a grid, Newell areas, welding.
+//!
+//! The network stage (§7), after every cycle is meshed on its own:
+//! - [`tjunction`]: T-junctions on shared curves merged or split (chords
+//!   split in two), secondary vertices snapped onto the shared sampling;
+//! - [`intervals`]: one interval count per poly-chord by an integer program,
+//!   equal on both sides of every shared primary segment.
 
 pub(crate) mod check;
 pub(crate) mod error;
@@ -101,8 +107,10 @@ pub struct PairedCycle {
 pub mod cut;
 pub mod dislocation;
 pub mod geometry;
+pub mod intervals;
 pub mod layout;
 pub mod sample;
+pub mod tjunction;
 
 pub use layout::LayoutError;
 pub use sample::{quadrangulate, CycleQuads};

@@ -271,6 +271,18 @@ impl CurveNetwork {
         d
     }
 
+    /// The cycles using curve `c`, one entry per use (empty when out of range).
+    pub fn curve_cycles(&self, c: usize) -> Vec<usize> {
+        self.curve_uses.get(c).map_or_else(Vec::new, |u| u.iter().map(|&(cycle, _, _)| cycle).collect())
+    }
+
+    /// True when `p` is a point every cycle keeps as a segment endpoint: a
+    /// listed corner or a junction of three or more curve ends (spec §7.2's
+    /// fixed input corners and T-junctions).
+    pub fn is_fixed_point(&self, p: Vec3) -> bool {
+        self.fixed.contains(&key(p))
+    }
+
     /// Total number of curve points.
     pub fn point_count(&self) -> usize {
         self.curves.iter().map(|c| c.points.len()).sum()

@@ -71,6 +71,12 @@ pub fn chord_intervals(cycle: &PairedCycle, layout: &Layout, h: f64, minimums: &
 /// Samples a layout (interior vertices placed) into welded dense quads.
 pub fn sample_layout(cycle: &PairedCycle, layout: Layout, h: f64, minimums: &[usize]) -> CycleQuads {
     let intervals = chord_intervals(cycle, &layout, h, minimums);
+    sample_layout_with_intervals(cycle, layout, intervals)
+}
+
+/// Samples a layout with given interval counts, one per `layout.chords`
+/// entry (the network stage's, spec §7.4).
+pub fn sample_layout_with_intervals(cycle: &PairedCycle, layout: Layout, intervals: Vec<usize>) -> CycleQuads {
     let curves = rung_curves(&layout, cycle);
     let mut nodes: Vec<Vec3> = layout.positions.clone();
     let mut boundary: Vec<bool> = (0..nodes.len())

@@ -10,9 +10,12 @@
 //! cycle whose layout still fails gets the midpoint layout (Fig. 5 top),
 //! named in the report.
 //!
-//! Not yet built (issue 30): the network stage of §4 (T-junctions resolved
-//! across cycles, intervals by an integer program), so two cycles sharing a
-//! curve are welded only where both sample it alike.
+//! Then the network stage (spec §7, `methods::curvenet_network`): the
+//! T-junctions on curves two cycles share are merged or split
+//! (`curvenet::tjunction`), one interval count per poly-chord is chosen for
+//! the whole network (`curvenet::intervals`), secondary vertices are snapped
+//! onto the shared sampling and the changed parts laid out and sampled again,
+//! so every shared curve is sampled once and the weld closes the mesh.
 
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -42,6 +45,9 @@ pub struct CurvesOptions {
     pub pairing: PairingOptions,
     /// Mesh the valid cycles and list the others instead of failing.
     pub skip_bad: bool,
+    /// Run the network stage (spec §7, `methods::curvenet_network`); off:
+    /// each cycle keeps its own sampling (for comparisons).
+    pub network: bool,
     /// Worker threads (cycles are meshed in parallel); `None`: all cores.
     /// The output is the same for any count.
     pub threads: Option<usize>,
@@ -54,6 +60,7 @@ impl Default for CurvesOptions {
             size_factor: 1.0,
             pairing: PairingOptions::default(),
             skip_bad: false,
+            network: true,
             threads: None,
         }
     }
@@ -107,6 +114,8 @@ pub struct CurvesReport {
     pub skipped: Vec<(usize, String)>,
     /// Boundary nodes merged with another part's or cycle's.
     pub welded_nodes: usize,
+    /// What the network stage did.
+    pub network: super::curvenet_network::NetworkReport,
 }
 
 /// Why a network could not be meshed.
@@ -161,7 +170,7 @@ pub fn mesh_curve_network(
     let h = curves_size(net, opts)?;
     let file = net.file().map(|f| format!("{f}: ")).unwrap_or_default();
     let mut report = CurvesReport { h, ..Default::default() };
-    let mut meshed: Vec<(usize, Vec<CycleQuads>)> = Vec::new();
+    let mut meshed: Vec<(usize, Vec<Leaf>)> = Vec::new();
     let weld = Welder::new(net.weld_tolerance().max(1e-12 * net.diagonal()));
     let cycles: Vec<usize> = (0..net.cycles().len()).collect();
     let mesh_one = |&cycle: &usize| {
@@ -202,6 +211,17 @@ pub fn mesh_curve_network(
     if meshed.is_empty() {
         return Err(CurvesError::NothingMeshed { file, skipped: report.skipped.len() });
     }
+    if opts.network {
+        report.network =
+            super::curvenet_network::network_stage(net, &mut meshed, h, weld.tolerance, opts.threads);
+    }
+    for (summary, (_, leaves)) in report.cycles.iter_mut().zip(&meshed) {
+        summarise_leaves(summary, leaves);
+    }
+    let meshed: Vec<(usize, Vec<CycleQuads>)> = meshed
+        .into_iter()
+        .map(|(c, leaves)| (c, leaves.into_iter().map(|l| l.quads).collect()))
+        .collect();
     let (mesh, welded) = assemble(net, &meshed, &weld);
     report.welded_nodes = welded;
     Ok((mesh, report))
@@ -214,10 +234,36 @@ const MAX_CUT_DEPTH: usize = 8;
 /// on both sides (each round can only raise counts).
 const MAX_COUNT_ROUNDS: usize = 6;
 
-/// One leaf of a cycle's meshing: a part's pairing and its quads.
-struct Leaf {
-    paired: PairedCycle,
-    quads: CycleQuads,
+/// One leaf of a cycle's meshing: a part's pairing, its quads and which
+/// way they face.
+#[derive(Debug)]
+pub(super) struct Leaf {
+    pub(super) paired: PairedCycle,
+    pub(super) quads: CycleQuads,
+    pub(super) facing: Facing,
+}
+
+/// A cycle's summary figures of its (final) leaves: segments, pairs,
+/// patches, layout quads, interior valences and quads.
+fn summarise_leaves(summary: &mut CycleSummary, leaves: &[Leaf]) {
+    summary.segments = leaves.iter().map(|l| l.paired.starts.len()).sum();
+    summary.pairs = leaves
+        .iter()
+        .flat_map(|l| l.paired.pairs.iter().copied().zip(l.paired.costs.iter().copied()))
+        .collect();
+    summary.patches = leaves.iter().map(|l| l.quads.patches).sum();
+    summary.layout_quads = leaves
+        .iter()
+        .flat_map(|l| {
+            let corners = &l.quads.layout.positions;
+            l.quads.layout.quads.iter().map(move |lq| lq.corners.map(|v| corners[v]))
+        })
+        .collect();
+    summary.interior_valences = leaves
+        .iter()
+        .flat_map(|l| l.quads.interior_vertex_valences.iter().copied())
+        .collect();
+    summary.quads = leaves.iter().map(|l| l.quads.quads.len()).sum();
 }
 
 /// The quads of one cycle (one piece per part) and its summary.
@@ -226,7 +272,7 @@ fn mesh_cycle(
     h: f64,
     opts: &PairingOptions,
     weld: &Welder,
-) -> Result<(Vec<CycleQuads>, CycleSummary), String> {
+) -> Result<(Vec<Leaf>, CycleSummary), String> {
     let mut least: BTreeMap<[[i64; 3]; 2], usize> = BTreeMap::new();
     for _ in 0..MAX_COUNT_ROUNDS {
         let mut leaves = Vec::new();
@@ -249,7 +295,7 @@ fn mesh_cycle(
         if !changed {
             summary.parts = leaves.len();
             summary.quads = leaves.iter().map(|l| l.quads.quads.len()).sum();
-            return Ok((leaves.into_iter().map(|l| l.quads).collect(), summary));
+            return Ok((leaves, summary));
         }
     }
     Err(format!(
@@ -320,7 +366,7 @@ fn mesh_part(
         .layout_quads
         .extend(quads.layout.quads.iter().map(|lq| lq.corners.map(|v| corners[v])));
     summary.interior_valences.extend(quads.interior_vertex_valences.iter().copied());
-    leaves.push(Leaf { paired, quads });
+    leaves.push(Leaf { paired, quads, facing });
     Ok(())
 }
 
@@ -336,13 +382,14 @@ const PLANAR: f64 = 1e-6;
 /// Which way a cycle's quads must face: its Newell normal, and whether the
 /// cycle is planar (then every quad faces it, else none turns more than 120°
 /// away).
-struct Facing {
+#[derive(Debug)]
+pub(super) struct Facing {
     normal: Option<Vec3>,
     planar: bool,
 }
 
 impl Facing {
-    fn of(points: &[Vec3]) -> Self {
+    pub(super) fn of(points: &[Vec3]) -> Self {
         let n = points.len();
         let normal = vec3::normalize(crate::curvenet::geometry::newell(points));
         let planar = normal.is_some_and(|u| {
@@ -371,7 +418,7 @@ impl Facing {
 
 /// `q` itself when none of its quads is inverted ([`Facing::inverted`]),
 /// else an error naming the count.
-fn unfolded(q: CycleQuads, facing: &Facing) -> Result<CycleQuads, LayoutError> {
+pub(super) fn unfolded(q: CycleQuads, facing: &Facing) -> Result<CycleQuads, LayoutError> {
     let folded = q.quads.iter().filter(|quad| facing.inverted(&quad.map(|v| q.nodes[v]))).count();
     if folded == 0 {
         Ok(q)
@@ -382,7 +429,7 @@ fn unfolded(q: CycleQuads, facing: &Facing) -> Result<CycleQuads, LayoutError> {
 
 /// Segment `s`'s end points, snapped and sorted: the same key for a cut or
 /// connector seen from either side.
-fn segment_key(paired: &PairedCycle, s: usize, weld: &Welder) -> [[i64; 3]; 2] {
+pub(super) fn segment_key(paired: &PairedCycle, s: usize, weld: &Welder) -> [[i64; 3]; 2] {
     let k = paired.starts.len();
     let a = weld.cell(paired.points[paired.starts[s]]);
     let b = weld.cell(paired.points[paired.starts[(s + 1) % k]]);
@@ -554,13 +601,13 @@ fn corner_candidates(net: &CurveNetwork) -> Vec<Vec3> {
 
 /// Cells of the weld tolerance's size: points of two parts or cycles that
 /// are one point fall in the same or a neighbouring cell.
-struct Welder {
+pub(super) struct Welder {
     tolerance: f64,
     cell_size: f64,
 }
 
 impl Welder {
-    fn new(tolerance: f64) -> Self {
+    pub(super) fn new(tolerance: f64) -> Self {
         let tolerance = tolerance.max(f64::MIN_POSITIVE);
         Welder { tolerance, cell_size: 2.0 * tolerance }
     }
@@ -711,7 +758,8 @@ mod tests {
             holes: vec![crate::curvenet::LoopPolyline { points: hole, fixed: vec![] }],
         };
         let weld = Welder::new(1e-9);
-        let (pieces, summary) = mesh_cycle(&loops, 0.1, &PairingOptions::default(), &weld).unwrap();
+        let (leaves, summary) = mesh_cycle(&loops, 0.1, &PairingOptions::default(), &weld).unwrap();
+        let pieces: Vec<CycleQuads> = leaves.into_iter().map(|l| l.quads).collect();
         assert_eq!(summary.connectors, 1);
         let net = json_of(&loops);
         let (mesh, _) = assemble(&net, &[(0, pieces)], &weld);

@@ -25,6 +25,7 @@
 pub(crate) mod baseline;
 pub(crate) mod coarse;
 pub mod curvenet;
+pub mod curvenet_network;
 pub(crate) mod driver;
 pub(crate) mod guard;
 pub(crate) mod options;
