@@ -255,7 +255,7 @@ fn render(result: &SplineResult, name: &str, png: &std::path::Path) -> Result<()
         }
     }
     let title = format!(
-        "{} — {} patches, {} span(s)",
+        "{} - {} patches, {} span(s)",
         std::path::Path::new(name)
             .file_name()
             .map(|f| f.to_string_lossy().into_owned())
@@ -267,6 +267,7 @@ fn render(result: &SplineResult, name: &str, png: &std::path::Path) -> Result<()
         title: Some(&title),
         overlay: Some(&overlay),
         show_irregular: false,
+        show_info: false,
         ..Default::default()
     };
     mesh::render::render_png(&m, &ropts, png)?;

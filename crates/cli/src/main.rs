@@ -129,7 +129,7 @@ pub struct SplineArgs {
     #[arg(long, default_value_t = 1)]
     refine: usize,
     /// Patch interiors.
-    #[arg(long, value_enum, default_value_t = InteriorArg::Coons)]
+    #[arg(long, value_enum, default_value_t = InteriorArg::Fit)]
     interior: InteriorArg,
     /// Write a picture of the patches with the layout drawn over them.
     #[arg(long, value_name = "PIC.png")]

@@ -52,7 +52,7 @@ impl Default for SplineOptions {
             segments: Segments::Auto,
             tolerance: None,
             refine: 1,
-            interior: Interior::Coons,
+            interior: Interior::Fit,
         }
     }
 }
