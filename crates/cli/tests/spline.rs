@@ -85,6 +85,22 @@ fn l_plate_gives_three_watertight_flat_patches() {
         area += ((c[0] - a[0]) * (c[1] - a[1])).abs();
     }
     assert!((area - 300.0).abs() < 1e-6, "{area}");
+    // as STEP, read back: 3 faces; the 2 inner arcs shared by 2 faces, the 8 boundary arcs free
+    let step = dir.path().join("lplate.step");
+    let r = quadrille(&[
+        "spline",
+        input.to_str().unwrap(),
+        "-o",
+        step.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let back = occt::load(&step).unwrap();
+    assert_eq!(back.faces.len(), 3);
+    let users: Vec<usize> = back.curve_faces().iter().map(|f| f.len()).collect();
+    assert_eq!(users.iter().filter(|&&n| n == 2).count(), 2, "{users:?}");
+    assert_eq!(users.iter().filter(|&&n| n == 1).count(), 8, "{users:?}");
+    assert_eq!(users.len(), 10, "{users:?}");
 }
 
 #[test]
