@@ -143,6 +143,9 @@ pub enum SplineMethodError {
     /// Interior cones would be needed.
     #[error("the shell needs interior cones, which this version does not place yet (S2): {0}")]
     NeedsCones(String),
+    /// The shell falls apart.
+    #[error("the shell has {0} connected components; give the faces of one with --faces")]
+    Components(usize),
     /// The Ricci flow failed.
     #[error("{0}")]
     Ricci(#[from] RicciError),
@@ -179,10 +182,7 @@ fn disk_with_corners(
     let topo = shell.check()?;
     let loops = topo.boundary_loops.len();
     if topo.components != 1 {
-        return Err(SplineMethodError::NeedsCones(format!(
-            "the shell has {} components; give the faces of one with --faces",
-            topo.components
-        )));
+        return Err(SplineMethodError::Components(topo.components));
     }
     let cones = boundary_corner_cones(shell, &topo);
     let sum: i32 = cones.iter().map(|c| c.index).sum();
