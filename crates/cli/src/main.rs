@@ -12,6 +12,7 @@ mod cmd_field;
 mod cmd_info;
 mod cmd_mesh;
 mod cmd_render;
+mod cmd_spline;
 mod cmd_stats;
 mod files;
 mod progress;
@@ -82,6 +83,66 @@ size map) and singularity_index (0 on triangles, +1 or -1 on singularities).",
         after_help = "Examples:\n  quadrille curves net.json -o net.msh --png net.png\n  quadrille curves part.step --faces 1,4 -o faces.msh --json\n  quadrille curves net.obj --check\n  quadrille curves net.json -o net.vtu --size 0.05 --skip-bad --timings"
     )]
     Curves(CurvesArgs),
+    /// Untrimmed, watertight bicubic B-spline patches of an open shell (CAD faces or a
+    /// triangle mesh) by Ricci flow; this version: disks whose boundary corners need no
+    /// interior cone. See docs/spline.md.
+    #[command(
+        after_help = "Examples:\n  quadrille spline plate.step -o plate.step\n  quadrille spline part.step --faces 3 -o face3.iges --json\n  quadrille spline shell.stl -o shell.json --segments 4 --refine 2 --interior fit"
+    )]
+    Spline(SplineArgs),
+}
+
+/// How `quadrille spline` makes patch interiors.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InteriorArg {
+    /// The exact B-spline Coons patch of the four boundary curves (the paper).
+    Coons,
+    /// Least squares on the shell, boundary curves fixed (Coons where it would fold).
+    Fit,
+}
+
+/// Arguments of `quadrille spline`.
+#[derive(Args, Debug)]
+pub struct SplineArgs {
+    /// Shell: CAD (.step, .stp, .iges, .igs, .brep, .brp) or triangle mesh (.stl, .obj, .ply, .msh).
+    input: PathBuf,
+    #[command(flatten)]
+    import: ImportArgs,
+    /// Output: .step/.stp (one B-spline face per patch, sewn), .iges/.igs (type 128),
+    /// .json (the multipatch) or .vtu (Bézier quadrilaterals).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// The faces that make the shell, 1-based (default: all).
+    #[arg(long, value_delimiter = ',')]
+    faces: Option<Vec<usize>>,
+    /// Triangle edge length of the shell (default: the model's diagonal / 72).
+    #[arg(long)]
+    triangle_size: Option<f64>,
+    /// Uniform spans per arc: a number, or auto (the smallest of 1, 2, 3, 4, 6, 8, 12, 16,
+    /// 24, 32 meeting --tolerance).
+    #[arg(long, default_value = "auto")]
+    segments: String,
+    /// Max distance of the shell's vertices to the patches (default: 0.1 % of the diagonal).
+    #[arg(long)]
+    tolerance: Option<f64>,
+    /// Boehm refinement: every span split into this many.
+    #[arg(long, default_value_t = 1)]
+    refine: usize,
+    /// Patch interiors.
+    #[arg(long, value_enum, default_value_t = InteriorArg::Fit)]
+    interior: InteriorArg,
+    /// Write a picture of the patches with the layout drawn over them.
+    #[arg(long, value_name = "PIC.png")]
+    png: Option<PathBuf>,
+    /// Print the report as JSON.
+    #[arg(long)]
+    json: bool,
+    /// Print the time of each stage.
+    #[arg(long)]
+    timings: bool,
+    /// Print nothing but errors.
+    #[arg(long)]
+    quiet: bool,
 }
 
 /// Arguments of `quadrille curves`.
@@ -503,6 +564,7 @@ fn main() -> ExitCode {
         Command::Stats(a) => Some(&a.import),
         Command::Render(a) => Some(&a.import),
         Command::Curves(_) => None,
+        Command::Spline(a) => Some(&a.import),
     };
     if let Some(Err(e)) = import.map(files::set_trimesh_options) {
         eprintln!("error: {}", error_chain(&e));
@@ -515,6 +577,7 @@ fn main() -> ExitCode {
         Command::Render(a) => cmd_render::run(&a),
         Command::Field(a) => cmd_field::run(&a),
         Command::Curves(a) => cmd_curves::run(&a),
+        Command::Spline(a) => cmd_spline::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

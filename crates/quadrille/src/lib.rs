@@ -27,6 +27,8 @@
 //! - [`topology`]: defects, cavities, regularization;
 //! - [`coarse`]: the coarse high-order method's stages;
 //! - [`curvenet`]: quads from closed 3D curve cycles;
+//! - [`shell`], [`ricci`], [`cut`], [`immersion`], [`layout`]: the stages of
+//!   `quadrille spline` (open shell, Ricci flow, cut, plane map, quad layout);
 //! - [`methods`]: the recipes ([`MeshMethod`]) and the driver.
 //!
 //! Each folder exposes the items other crates use (re-exported in its
@@ -49,6 +51,7 @@ pub mod field;
 pub mod fixtures;
 pub mod frontal;
 pub mod immersion;
+pub mod layout;
 pub mod methods;
 pub mod ricci;
 pub mod shell;

@@ -9,7 +9,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The folders of `src`, bottom to top (ARCHITECTURE.md, "The `quadrille` crate").
-const LAYERS: [&str; 16] = [
+const LAYERS: [&str; 17] = [
     "core",
     "combinatorics",
     "curves",
@@ -25,6 +25,7 @@ const LAYERS: [&str; 16] = [
     "ricci",
     "cut",
     "immersion",
+    "layout",
     "methods",
 ];
 

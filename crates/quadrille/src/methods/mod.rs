@@ -18,9 +18,8 @@
 //! - [`curvenet`]: quads from the closed cycles of a 3D curve network, no
 //!   surface given (paper curve-network-quadrangulation; `quadrille curves`).
 //!
-//! Coming methods get a file here each: `coarse` (coarse block layouts and
-//! high-order quads by ILP) and `spline` (trim-free spline patches); see
-//! ARCHITECTURE.md.
+//! - [`spline`]: untrimmed bicubic B-spline patches of an open shell (paper
+//!   ricci-flow-iga-reconstruction; `quadrille spline`), the cone-free disks so far.
 
 pub(crate) mod baseline;
 pub(crate) mod coarse;
@@ -32,6 +31,7 @@ pub(crate) mod options;
 pub(crate) mod quasi_structured;
 pub(crate) mod regular;
 pub(crate) mod report;
+pub mod spline;
 pub(crate) mod unstructured;
 
 #[cfg(test)]

@@ -12,7 +12,9 @@
 
 use thiserror::Error;
 
+mod corners;
 mod refine;
+pub use corners::boundary_corner_cones;
 pub use refine::refine_cone_rings;
 
 use crate::field::crossfield::linsolve::Factor;

@@ -8,6 +8,9 @@
 use geometry::vec3::{cross, norm, sub};
 use thiserror::Error;
 
+mod from_model;
+pub use from_model::shell_from_model;
+
 /// Marks a missing face in [`ShellTopology::edge_faces`] (a boundary edge).
 pub const NO_FACE: usize = usize::MAX;
 

@@ -1,0 +1,259 @@
+//! `quadrille spline`: open shells that need no interior cone (disks whose
+//! boundary corners sum to Σ I = 4) to untrimmed, watertight bicubic
+//! B-spline patches; shells needing cones refused with one line, no file.
+
+mod common;
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use common::{assert_clean_failure, cad, quadrille};
+
+/// An OBJ triangle mesh of the grid cells (i, j) of an n × n grid kept by
+/// `keep`, mapped by `map` from [0, 1]².
+fn grid_obj(
+    n: usize,
+    keep: impl Fn(usize, usize) -> bool,
+    map: impl Fn(f64, f64) -> [f64; 3],
+) -> String {
+    let mut s = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let p = map(i as f64 / n as f64, j as f64 / n as f64);
+            let _ = writeln!(s, "v {} {} {}", p[0], p[1], p[2]);
+        }
+    }
+    let id = |i: usize, j: usize| j * (n + 1) + i + 1;
+    for j in 0..n {
+        for i in 0..n {
+            if keep(i, j) {
+                let _ = writeln!(s, "f {} {} {}", id(i, j), id(i + 1, j), id(i + 1, j + 1));
+                let _ = writeln!(s, "f {} {} {}", id(i, j), id(i + 1, j + 1), id(i, j + 1));
+            }
+        }
+    }
+    s
+}
+
+fn run_json(input: &Path, out: &Path, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "spline",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    let r = quadrille(&args);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    serde_json::from_slice(&r.stdout).unwrap()
+}
+
+#[test]
+fn l_plate_gives_three_watertight_flat_patches() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("lplate.obj");
+    // [0, 20]² without [10, 20]², in the plane z = 5
+    let obj = grid_obj(
+        8,
+        |i, j| !(i >= 4 && j >= 4),
+        |u, v| [20.0 * u, 20.0 * v, 5.0],
+    );
+    std::fs::write(&input, obj).unwrap();
+    let out = dir.path().join("lplate.json");
+    let rep = run_json(&input, &out, &[]);
+    assert_eq!(rep["corners"], 6);
+    assert_eq!(rep["reflex_corners"], 1);
+    assert_eq!(rep["separatrices"], 2);
+    assert_eq!(rep["patches"], 3);
+    assert_eq!(rep["shared_sides"], 2);
+    assert_eq!(rep["max_gap"], 0.0);
+    assert!(rep["min_scaled_jacobian"].as_f64().unwrap() > 0.0);
+    let mp = spline::json::read_json(&out).unwrap();
+    assert_eq!(mp.patches().len(), 3);
+    let shared = mp.shared_sides();
+    assert_eq!((shared.pairs, shared.max_gap), (2, 0.0));
+    let d = rep["diagonal"].as_f64().unwrap();
+    for p in mp.points() {
+        assert!((p[2] - 5.0).abs() < 1e-9 * d, "{p:?}");
+    }
+    // the patches cover the L: area 300
+    let mut area = 0.0;
+    for k in 0..3 {
+        let p = mp.patch(k).unwrap();
+        let (a, c) = (p.eval(0.0, 0.0), p.eval(1.0, 1.0));
+        area += ((c[0] - a[0]) * (c[1] - a[1])).abs();
+    }
+    assert!((area - 300.0).abs() < 1e-6, "{area}");
+    // as STEP, read back: 3 faces; the 2 inner arcs shared by 2 faces, the 8 boundary arcs free
+    let step = dir.path().join("lplate.step");
+    let r = quadrille(&[
+        "spline",
+        input.to_str().unwrap(),
+        "-o",
+        step.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let back = occt::load(&step).unwrap();
+    assert_eq!(back.faces.len(), 3);
+    let users: Vec<usize> = back.curve_faces().iter().map(|f| f.len()).collect();
+    assert_eq!(users.iter().filter(|&&n| n == 2).count(), 2, "{users:?}");
+    assert_eq!(users.iter().filter(|&&n| n == 1).count(), 8, "{users:?}");
+    assert_eq!(users.len(), 10, "{users:?}");
+}
+
+#[test]
+fn quarter_cylinder_is_one_patch_within_the_tolerance() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("quarter.obj");
+    let r = 3.0;
+    let obj = grid_obj(
+        24,
+        |_, _| true,
+        |u, v| {
+            let a = u * std::f64::consts::FRAC_PI_2;
+            [r * a.cos(), r * a.sin(), 4.0 * v]
+        },
+    );
+    std::fs::write(&input, obj).unwrap();
+    for interior in ["coons", "fit"] {
+        let out = dir.path().join(format!("quarter_{interior}.iges"));
+        let json = dir.path().join(format!("quarter_{interior}.json"));
+        let rep = run_json(&input, &json, &["--interior", interior]);
+        assert_eq!(rep["patches"], 1);
+        assert_eq!(rep["corners"], 4);
+        assert_eq!(rep["tolerance_met"], true);
+        let tol = rep["tolerance"].as_f64().unwrap();
+        let mp = spline::json::read_json(&json).unwrap();
+        let p = mp.patch(0).unwrap();
+        let mut worst: f64 = 0.0;
+        for i in 0..=30 {
+            for j in 0..=30 {
+                let x = p.eval(i as f64 / 30.0, j as f64 / 30.0);
+                worst = worst.max(((x[0] * x[0] + x[1] * x[1]).sqrt() - r).abs());
+            }
+        }
+        assert!(worst < tol, "{interior}: {worst} vs {tol}");
+        // IGES: one type 128 entity, no trims
+        let r2 = quadrille(&[
+            "spline",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--quiet",
+        ]);
+        assert!(r2.status.success());
+        let text = std::fs::read_to_string(&out).unwrap();
+        let de: Vec<&str> = text
+            .lines()
+            .filter(|l| l.len() >= 73 && &l[72..73] == "D")
+            .collect();
+        let types: Vec<&str> = de.iter().step_by(2).map(|l| l[..8].trim()).collect();
+        assert_eq!(types, vec!["128"], "{types:?}");
+    }
+}
+
+#[test]
+fn cad_face_written_as_step_reads_back_open_and_untrimmed() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("face.step");
+    // a planar square face of the cube
+    let model = cad("s11o_cube_cyl.stp");
+    let rep = run_json(
+        &model,
+        &out,
+        &["--faces", "2", "--segments", "2", "--refine", "2"],
+    );
+    assert_eq!(rep["patches"], 1);
+    assert_eq!(rep["segments"], 2);
+    let back = occt::load(&out).unwrap();
+    assert_eq!(back.faces.len(), 1);
+    assert_eq!(back.faces[0].loops.len(), 1);
+    // free edges only: the 4 boundary curves, each used by the one face
+    assert_eq!(back.curves.len(), 4);
+    for (c, users) in back.curve_faces().iter().enumerate() {
+        assert_eq!(users.len(), 1, "curve {c}");
+    }
+}
+
+#[test]
+fn cap_needing_cones_is_refused_with_one_line_and_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("cap.obj");
+    // a spherical cap over the unit disk, polar rings: a smooth boundary, Σ I = 0
+    let (rings, sectors) = (6, 32);
+    let lift = |x: f64, y: f64| [x, y, (3.0 - x * x - y * y).sqrt()];
+    let mut s = String::new();
+    let c = lift(0.0, 0.0);
+    let _ = writeln!(s, "v {} {} {}", c[0], c[1], c[2]);
+    for r in 1..=rings {
+        for k in 0..sectors {
+            let a = std::f64::consts::TAU * k as f64 / sectors as f64;
+            let rr = r as f64 / rings as f64;
+            let p = lift(rr * a.cos(), rr * a.sin());
+            let _ = writeln!(s, "v {} {} {}", p[0], p[1], p[2]);
+        }
+    }
+    let id = |r: usize, k: usize| {
+        if r == 0 {
+            1
+        } else {
+            2 + (r - 1) * sectors + k % sectors
+        }
+    };
+    for k in 0..sectors {
+        let _ = writeln!(s, "f {} {} {}", id(0, 0), id(1, k), id(1, k + 1));
+    }
+    for r in 1..rings {
+        for k in 0..sectors {
+            let _ = writeln!(s, "f {} {} {}", id(r, k), id(r + 1, k), id(r + 1, k + 1));
+            let _ = writeln!(s, "f {} {} {}", id(r, k), id(r + 1, k + 1), id(r, k + 1));
+        }
+    }
+    std::fs::write(&input, s).unwrap();
+    let out = dir.path().join("cap.step");
+    let r = quadrille(&[
+        "spline",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = assert_clean_failure(&r, "cap.obj");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("interior cones") && err.contains("Σ I = 0"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn bad_options_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.step");
+    let model = cad("s11o_cube_cyl.stp");
+    for (flag, value, needle) in [
+        ("--segments", "0", "--segments"),
+        ("--segments", "many", "--segments"),
+        ("--refine", "0", "--refine"),
+        ("--tolerance", "0", "--tolerance"),
+        ("--faces", "99", "out of range"),
+    ] {
+        let r = quadrille(&[
+            "spline",
+            model.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            flag,
+            value,
+        ]);
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{flag} {value}: {stderr}");
+        assert!(
+            stderr.starts_with("error: ") && stderr.contains(needle),
+            "{stderr}"
+        );
+        assert!(!out.exists());
+    }
+}

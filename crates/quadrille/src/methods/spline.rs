@@ -1,0 +1,364 @@
+//! `quadrille spline` for the shells that need no interior cone (issue 31,
+//! paper ricci-flow-iga-reconstruction): a topological disk whose boundary
+//! corner indices sum to 4. Boundary corners are the only cones (K̄ = I·π/2,
+//! 0 elsewhere), the Ricci flow flattens the shell to an orthogonal polygon
+//! ψ, the separatrices of its reflex corners cut ψ into rectangles
+//! (`layout`), and each rectangle becomes an untrimmed bicubic B-spline
+//! patch: arcs fitted once (shared sides bit-identical), interiors by the
+//! exact Coons patch of §9.4 or fitted to the shell (ours).
+//!
+//! Not built yet: interior cones (S2) and the layout energy (S6–S7), so a
+//! shell with holes, with Σ I ≠ 4, or whose ψ is not orthogonal is refused
+//! with one error line.
+
+use std::time::Instant;
+
+use spline::{jacobian_check, Multipatch, SplineError};
+use thiserror::Error;
+
+use crate::cut::{cut_to_disk, CutError};
+use crate::immersion::{immerse, ImmersionError};
+use crate::layout::{orthogonal_boundary, trace_layout, Layout, LayoutError, PsiLocator};
+use crate::ricci::{boundary_corner_cones, ricci_flow, RicciError, RicciOptions};
+use crate::shell::{Shell, ShellError, ShellTopology};
+
+mod fit;
+pub use fit::{Interior, Segments, SEGMENT_CHOICES};
+
+/// ψ's boundary runs must be straight and axis-aligned within this share of
+/// ψ's diagonal (issue 31: 1e-6 of the size).
+pub const ORTHOGONAL_TOLERANCE: f64 = 1e-6;
+
+/// Default `--tolerance`: this share of the shell's diagonal (0.1 %).
+pub const DEFAULT_TOLERANCE_SHARE: f64 = 1e-3;
+
+/// Options of [`splines_from_shell`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SplineOptions {
+    /// Spans per arc, or the smallest of [`SEGMENT_CHOICES`] meeting the tolerance.
+    pub segments: Segments,
+    /// Max distance of the shell's vertices to the patches (model units);
+    /// `None`: [`DEFAULT_TOLERANCE_SHARE`] of the shell's diagonal.
+    pub tolerance: Option<f64>,
+    /// Boehm refinement: each span split into this many (1: none).
+    pub refine: usize,
+    /// How patch interiors are made.
+    pub interior: Interior,
+}
+
+impl Default for SplineOptions {
+    fn default() -> Self {
+        SplineOptions {
+            segments: Segments::Auto,
+            tolerance: None,
+            refine: 1,
+            interior: Interior::Fit,
+        }
+    }
+}
+
+/// Wall times of the stages (seconds).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SplineTimes {
+    /// Shell check and corner cones.
+    pub shell: f64,
+    /// Ricci flow.
+    pub ricci: f64,
+    /// Cut, immersion, boundary check and tracing.
+    pub layout: f64,
+    /// Arc fits, patches, distances, refinement and the Jacobian check.
+    pub splines: f64,
+}
+
+/// What [`splines_from_shell`] did, with the figures of the issue's report.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SplineReport {
+    /// Shell triangles and vertices.
+    pub triangles: usize,
+    /// Shell vertices.
+    pub vertices: usize,
+    /// Boundary corners (cones), and how many of them are reflex (I = −1).
+    pub corners: usize,
+    /// Reflex corners.
+    pub reflex_corners: usize,
+    /// Ricci Newton iterations and final max |K̄ − K|.
+    pub ricci_iterations: usize,
+    /// Final max |K̄ − K| (radians).
+    pub ricci_error: f64,
+    /// Largest bend of a boundary run of ψ off its axis, over ψ's diagonal.
+    pub boundary_deviation: f64,
+    /// Smallest signed triangle area of ψ over its 3D area (Q1: positive).
+    pub min_area_ratio: f64,
+    /// Separatrices traced.
+    pub separatrices: usize,
+    /// Patches (rectangles of the layout).
+    pub patches: usize,
+    /// Layout arcs (each fitted once).
+    pub arcs: usize,
+    /// Spans per arc before refinement.
+    pub segments: usize,
+    /// The refinement factor applied.
+    pub refine: usize,
+    /// Control points of the multipatch (shared ones once).
+    pub control_points: usize,
+    /// The shell's bounding-box diagonal.
+    pub diagonal: f64,
+    /// The tolerance in model units.
+    pub tolerance: f64,
+    /// Max and mean distance of the shell's vertices to their patch.
+    pub max_distance: f64,
+    /// Mean distance of the shell's vertices to their patch.
+    pub mean_distance: f64,
+    /// `max_distance ≤ tolerance`.
+    pub tolerance_met: bool,
+    /// Patch sides shared by two patches, and the largest control-point gap there (0: watertight).
+    pub shared_sides: usize,
+    /// Largest gap across shared sides.
+    pub max_gap: f64,
+    /// Smallest scaled Jacobian over every patch's Gauss points (after refinement).
+    pub min_scaled_jacobian: f64,
+    /// Patches whose interior fit folded and fell back to Coons.
+    pub coons_fallbacks: usize,
+    /// Stage times.
+    pub times: SplineTimes,
+}
+
+/// The result: the multipatch, the layout in 3D (for pictures) and the report.
+#[derive(Clone, Debug)]
+pub struct SplineResult {
+    /// The conforming multipatch.
+    pub multipatch: Multipatch,
+    /// The layout arcs as 3D polylines on the shell.
+    pub layout_polylines: Vec<Vec<[f64; 3]>>,
+    /// The report.
+    pub report: SplineReport,
+}
+
+/// Why no multipatch was made.
+#[derive(Debug, Error)]
+pub enum SplineMethodError {
+    /// The shell is not an open, oriented, genus-0 manifold.
+    #[error("{0}")]
+    Shell(#[from] ShellError),
+    /// Interior cones would be needed.
+    #[error("the shell needs interior cones, which this version does not place yet (S2): {0}")]
+    NeedsCones(String),
+    /// The shell falls apart.
+    #[error("the shell has {0} connected components; give the faces of one with --faces")]
+    Components(usize),
+    /// The Ricci flow failed.
+    #[error("{0}")]
+    Ricci(#[from] RicciError),
+    /// The cut failed.
+    #[error("{0}")]
+    Cut(#[from] CutError),
+    /// The immersion failed or folded.
+    #[error("{0}")]
+    Immersion(#[from] ImmersionError),
+    /// The layout failed.
+    #[error("{0}")]
+    Layout(#[from] LayoutError),
+    /// The spline math failed.
+    #[error("splines: {0}")]
+    Spline(#[from] SplineError),
+    /// Patches whose Jacobian is not positive everywhere.
+    #[error("non-positive Jacobian on {count} patch(es): {list}")]
+    NonPositive {
+        /// How many.
+        count: usize,
+        /// `patch k (min scaled J x)` for each.
+        list: String,
+    },
+    /// Bad options.
+    #[error("{0}")]
+    Option(String),
+}
+
+/// Checks the shell is a single disk whose boundary corners' indices sum to
+/// 4 (Σ I = 4χ, χ = 1) and returns its topology and cones.
+fn disk_with_corners(
+    shell: &Shell,
+) -> Result<(ShellTopology, Vec<crate::ricci::Cone>), SplineMethodError> {
+    let topo = shell.check()?;
+    let loops = topo.boundary_loops.len();
+    if topo.components != 1 {
+        return Err(SplineMethodError::Components(topo.components));
+    }
+    let cones = boundary_corner_cones(shell, &topo);
+    let sum: i32 = cones.iter().map(|c| c.index).sum();
+    if topo.euler != 1 || sum != 4 {
+        let convex = cones.iter().filter(|c| c.index > 0).count();
+        return Err(SplineMethodError::NeedsCones(format!(
+            "{loops} boundary loop(s), χ = {}, boundary corners {} ({convex} convex, {} reflex) with Σ I = {sum}; without interior cones only a disk (one loop, χ = 1) with Σ I = 4 works",
+            topo.euler,
+            cones.len(),
+            cones.iter().filter(|c| c.index < 0).count(),
+        )));
+    }
+    Ok((topo, cones))
+}
+
+/// The bounding-box diagonal of a point set.
+fn diagonal(points: &[[f64; 3]]) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    geometry::vec3::dist(lo, hi)
+}
+
+/// Runs the cone-free path on a shell: corners, Ricci flow, immersion,
+/// layout, splines (see the module docs).
+pub fn splines_from_shell(
+    shell: &Shell,
+    opts: &SplineOptions,
+) -> Result<SplineResult, SplineMethodError> {
+    if opts.refine == 0 {
+        return Err(SplineMethodError::Option(
+            "--refine must be at least 1".into(),
+        ));
+    }
+    if let Segments::Fixed(k) = opts.segments {
+        if k == 0 {
+            return Err(SplineMethodError::Option(
+                "--segments must be at least 1".into(),
+            ));
+        }
+    }
+    let t0 = Instant::now();
+    let (topo, cones) = disk_with_corners(shell)?;
+    let diag = diagonal(&shell.vertices);
+    let tolerance = opts.tolerance.unwrap_or(DEFAULT_TOLERANCE_SHARE * diag);
+    if !(tolerance > 0.0 && tolerance.is_finite()) {
+        return Err(SplineMethodError::Option(format!(
+            "--tolerance {tolerance} must be a positive number"
+        )));
+    }
+    let t_shell = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let metric = ricci_flow(shell, &topo, &cones, &RicciOptions::default())?;
+    let t_ricci = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
+    let cut = cut_to_disk(shell, &topo, &cones)?;
+    let imm = immerse(shell, &topo, &cut, &metric)?;
+    if !(imm.min_signed_area > 0.0) {
+        return Err(SplineMethodError::Layout(LayoutError::NotOrthogonal(
+            format!(
+                "ψ folds: smallest signed triangle area {:.3e} (Q1)",
+                imm.min_signed_area
+            ),
+        )));
+    }
+    let poly = orthogonal_boundary(&topo, &cut, &imm, &cones, ORTHOGONAL_TOLERANCE)?;
+    let layout = trace_layout(&poly)?;
+    let locator = PsiLocator::new(&cut, &imm);
+    let t_layout = t2.elapsed().as_secs_f64();
+    let t3 = Instant::now();
+    let samples = fit::ShellSamples::new(shell, &cut, &imm, &layout);
+    let ctx = fit::FitContext {
+        shell,
+        layout: &layout,
+        locator: &locator,
+        samples: &samples,
+    };
+    let (segments, mut mp, mut dist, fallbacks) = match opts.segments {
+        Segments::Fixed(k) => {
+            let (mp, fb) = ctx.build(k, opts.interior)?;
+            let d = ctx.distances(&mp)?;
+            (k, mp, d, fb)
+        }
+        Segments::Auto => {
+            let mut last = None;
+            for &k in SEGMENT_CHOICES.iter() {
+                let (mp, fb) = ctx.build(k, opts.interior)?;
+                let d = ctx.distances(&mp)?;
+                let ok = d.0 <= tolerance;
+                last = Some((k, mp, d, fb));
+                if ok {
+                    break;
+                }
+            }
+            last.ok_or_else(|| SplineMethodError::Option("no segment count to try".into()))?
+        }
+    };
+    if opts.refine > 1 {
+        mp = mp.refined(opts.refine)?;
+        dist = ctx.distances(&mp)?;
+    }
+    let shared = mp.shared_sides();
+    let mut min_sj = f64::INFINITY;
+    let mut bad = Vec::new();
+    for k in 0..layout.rects.len() {
+        let patch = mp.patch(k)?;
+        let normal = |_x: [f64; 3], s: f64, t: f64| ctx.normal(k, s, t);
+        let rep = jacobian_check(&patch, &normal)?;
+        min_sj = min_sj.min(rep.min_scaled_jacobian);
+        if !rep.is_positive() {
+            bad.push(format!(
+                "patch {k} (min scaled J {:.3})",
+                rep.min_scaled_jacobian
+            ));
+        }
+    }
+    if !bad.is_empty() {
+        return Err(SplineMethodError::NonPositive {
+            count: bad.len(),
+            list: bad.join(", "),
+        });
+    }
+    let layout_polylines = ctx.layout_polylines();
+    let t_splines = t3.elapsed().as_secs_f64();
+    let report = SplineReport {
+        triangles: shell.triangles.len(),
+        vertices: shell.vertices.len(),
+        corners: cones.len(),
+        reflex_corners: cones.iter().filter(|c| c.index < 0).count(),
+        ricci_iterations: metric.iterations,
+        ricci_error: metric.max_error,
+        boundary_deviation: poly.max_deviation / poly.size,
+        min_area_ratio: imm.min_area_ratio,
+        separatrices: layout.separatrices,
+        patches: layout.rects.len(),
+        arcs: layout.arcs.len(),
+        segments,
+        refine: opts.refine,
+        control_points: mp.points().len(),
+        diagonal: diag,
+        tolerance,
+        max_distance: dist.0,
+        mean_distance: dist.1,
+        tolerance_met: dist.0 <= tolerance,
+        shared_sides: shared.pairs,
+        max_gap: shared.max_gap,
+        min_scaled_jacobian: min_sj,
+        coons_fallbacks: fallbacks,
+        times: SplineTimes {
+            shell: t_shell,
+            ricci: t_ricci,
+            layout: t_layout,
+            splines: t_splines,
+        },
+    };
+    Ok(SplineResult {
+        multipatch: mp,
+        layout_polylines,
+        report,
+    })
+}
+
+/// The layout of `shell` alone (for tests and pictures): corners, flow,
+/// immersion, boundary check and tracing.
+pub fn layout_of_shell(shell: &Shell) -> Result<Layout, SplineMethodError> {
+    let (topo, cones) = disk_with_corners(shell)?;
+    let metric = ricci_flow(shell, &topo, &cones, &RicciOptions::default())?;
+    let cut = cut_to_disk(shell, &topo, &cones)?;
+    let imm = immerse(shell, &topo, &cut, &metric)?;
+    let poly = orthogonal_boundary(&topo, &cut, &imm, &cones, ORTHOGONAL_TOLERANCE)?;
+    Ok(trace_layout(&poly)?)
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,177 @@
+use super::*;
+
+/// A flat grid shell: the unit cells (i, j) of an n × n grid of side `h`
+/// for which `keep(i, j)` holds, each split into two triangles, mapped by `map`.
+pub(crate) fn grid_shell(
+    n: usize,
+    keep: impl Fn(usize, usize) -> bool,
+    map: impl Fn(f64, f64) -> [f64; 3],
+) -> Shell {
+    let mut vertices = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            vertices.push(map(i as f64 / n as f64, j as f64 / n as f64));
+        }
+    }
+    let id = |i: usize, j: usize| j * (n + 1) + i;
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            if keep(i, j) {
+                triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+    }
+    // drop unused vertices
+    let mut used = vec![usize::MAX; vertices.len()];
+    let mut kept = Vec::new();
+    for t in &mut triangles {
+        for v in t.iter_mut() {
+            if used[*v] == usize::MAX {
+                used[*v] = kept.len();
+                kept.push(vertices[*v]);
+            }
+            *v = used[*v];
+        }
+    }
+    Shell::from_triangles(kept, triangles)
+}
+
+/// An L-shaped plate in z = 0.3: the square [0, 2]² without [1, 2]².
+pub(crate) fn l_plate(n: usize) -> Shell {
+    grid_shell(
+        n,
+        |i, j| !(2 * i >= n && 2 * j >= n),
+        |u, v| [2.0 * u, 2.0 * v, 0.3],
+    )
+}
+
+#[test]
+fn l_plate_gives_three_watertight_flat_patches() {
+    let shell = l_plate(12);
+    let r = splines_from_shell(&shell, &SplineOptions::default()).unwrap();
+    let rep = &r.report;
+    assert_eq!((rep.corners, rep.reflex_corners), (6, 1));
+    assert_eq!(rep.separatrices, 2);
+    assert_eq!(rep.patches, 3);
+    assert_eq!(r.multipatch.patches().len(), 3);
+    // two interior arcs, each shared by two patches, bit-identical
+    assert_eq!(rep.shared_sides, 2);
+    assert_eq!(rep.max_gap, 0.0);
+    assert!(rep.min_scaled_jacobian > 0.0, "{}", rep.min_scaled_jacobian);
+    let d = rep.diagonal;
+    for p in r.multipatch.points() {
+        assert!((p[2] - 0.3).abs() < 1e-9 * d, "{p:?}");
+    }
+    assert!(rep.max_distance < 1e-9 * d);
+    // flat: one span is enough
+    assert_eq!(rep.segments, 1);
+    assert!(rep.ricci_error < 1e-9);
+    assert!(rep.boundary_deviation < 1e-6);
+}
+
+#[test]
+fn quarter_cylinder_is_one_patch_close_to_the_cylinder() {
+    let radius = 1.0;
+    let shell = grid_shell(
+        16,
+        |_, _| true,
+        |u, v| {
+            let a = u * std::f64::consts::FRAC_PI_2;
+            [radius * a.cos(), radius * a.sin(), 2.0 * v]
+        },
+    );
+    for interior in [Interior::Coons, Interior::Fit] {
+        let opts = SplineOptions {
+            interior,
+            ..Default::default()
+        };
+        let r = splines_from_shell(&shell, &opts).unwrap();
+        let rep = &r.report;
+        assert_eq!((rep.corners, rep.patches, rep.separatrices), (4, 1, 0));
+        assert!(rep.tolerance_met, "{rep:?}");
+        // the patch against the true cylinder
+        let patch = r.multipatch.patch(0).unwrap();
+        let mut worst: f64 = 0.0;
+        for i in 0..=20 {
+            for j in 0..=20 {
+                let p = patch.eval(i as f64 / 20.0, j as f64 / 20.0);
+                worst = worst.max(((p[0] * p[0] + p[1] * p[1]).sqrt() - radius).abs());
+            }
+        }
+        assert!(worst < rep.tolerance, "{worst} vs {}", rep.tolerance);
+        assert!(rep.min_scaled_jacobian > 0.5, "{}", rep.min_scaled_jacobian);
+    }
+}
+
+#[test]
+fn fixed_segments_and_refinement_set_the_net() {
+    let shell = l_plate(8);
+    let opts = SplineOptions {
+        segments: Segments::Fixed(3),
+        refine: 2,
+        ..Default::default()
+    };
+    let r = splines_from_shell(&shell, &opts).unwrap();
+    for g in r.multipatch.patches() {
+        // 3 spans × 2 = 6 spans, cubic: 9 control points per direction
+        assert_eq!((g.n_s(), g.n_t()), (9, 9));
+    }
+    assert_eq!(r.multipatch.shared_sides().max_gap, 0.0);
+}
+
+/// A spherical cap over the unit disk (polar rings: a smooth boundary).
+pub(crate) fn spherical_cap(rings: usize, sectors: usize) -> Shell {
+    let lift = |x: f64, y: f64| [x, y, (3.0 - x * x - y * y).sqrt()];
+    let mut vertices = vec![lift(0.0, 0.0)];
+    for r in 1..=rings {
+        for k in 0..sectors {
+            let a = std::f64::consts::TAU * k as f64 / sectors as f64;
+            let rr = r as f64 / rings as f64;
+            vertices.push(lift(rr * a.cos(), rr * a.sin()));
+        }
+    }
+    let id = |r: usize, k: usize| {
+        if r == 0 {
+            0
+        } else {
+            1 + (r - 1) * sectors + k % sectors
+        }
+    };
+    let mut triangles = Vec::new();
+    for k in 0..sectors {
+        triangles.push([0, id(1, k), id(1, k + 1)]);
+    }
+    for r in 1..rings {
+        for k in 0..sectors {
+            triangles.push([id(r, k), id(r + 1, k), id(r + 1, k + 1)]);
+            triangles.push([id(r, k), id(r + 1, k + 1), id(r, k + 1)]);
+        }
+    }
+    Shell::from_triangles(vertices, triangles)
+}
+
+#[test]
+fn a_cap_without_corners_needs_cones() {
+    // smooth boundary: no corner, Σ I = 0 ≠ 4
+    let shell = spherical_cap(6, 24);
+    let e = splines_from_shell(&shell, &SplineOptions::default()).unwrap_err();
+    let msg = e.to_string();
+    assert!(matches!(e, SplineMethodError::NeedsCones(_)), "{msg}");
+    assert!(
+        msg.contains("interior cones") && msg.contains("Σ I = 0") && !msg.contains('\n'),
+        "{msg}"
+    );
+}
+
+#[test]
+fn a_plate_with_a_hole_needs_cones() {
+    let shell = grid_shell(
+        6,
+        |i, j| !((2..4).contains(&i) && (2..4).contains(&j)),
+        |u, v| [u, v, 0.0],
+    );
+    let e = splines_from_shell(&shell, &SplineOptions::default()).unwrap_err();
+    assert!(matches!(e, SplineMethodError::NeedsCones(_)), "{e}");
+}
