@@ -126,7 +126,7 @@ fn build(m: &ModelPtr, path: &Path) -> Result<Wires, ImportError> {
         .iter()
         .map(|c| dense_samples(&model, c))
         .collect();
-    let diag = diagonal(&model, &dense);
+    let diag = diagonal(&model);
     let spacing = SPACING * diag;
 
     // weld the end corners of the usable curves
@@ -251,21 +251,9 @@ fn dense_samples(model: &Model, c: &CurveEntity) -> Option<Vec<(f64, Vec3)>> {
         .then_some(pts)
 }
 
-/// Bounding-box diagonal of the corners and the dense samples (1 when empty or flat to a point).
-fn diagonal(model: &Model, dense: &[Option<Vec<(f64, Vec3)>>]) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    let all = model
-        .corners
-        .iter()
-        .map(|c| c.point)
-        .chain(dense.iter().flatten().flatten().map(|(_, p)| *p));
-    for p in all {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let d = dist(lo, hi);
+/// The model's bounding-box diagonal ([`Model::diagonal`]), 1 when empty or flat to a point.
+fn diagonal(model: &Model) -> f64 {
+    let d = model.diagonal();
     if d.is_finite() && d > 0.0 {
         d
     } else {

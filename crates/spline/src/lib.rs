@@ -16,7 +16,7 @@ pub mod error;
 pub mod iges;
 pub mod json;
 pub mod knots;
-mod linalg;
+pub mod linalg;
 pub mod multipatch;
 pub mod refine;
 pub mod surface;

@@ -1,10 +1,10 @@
-//! A dense Cholesky solve for the small normal equations of curve fitting.
+//! A dense Cholesky solve for the small normal equations of curve and patch fitting.
 
 /// Solves `a x = b` for a symmetric positive definite `n × n` matrix `a`
 /// (row-major) and each right-hand side in `rhs` (overwritten by its
 /// solution). Returns `Err((row, pivot))` when a pivot is not positive
 /// relative to the largest diagonal entry: the system is singular.
-pub(crate) fn cholesky_solve(
+pub fn cholesky_solve(
     mut a: Vec<f64>,
     n: usize,
     rhs: &mut [Vec<f64>],

@@ -67,20 +67,9 @@ pub fn shell_from_model(model: &Model, faces: &[usize], size: f64) -> Result<She
             }
         }
     }
-    // Drop vertices no triangle uses (poles merged away), renumber.
-    let mut used = vec![usize::MAX; vertices.len()];
-    let mut kept = Vec::new();
-    for t in &mut triangles {
-        for v in t.iter_mut() {
-            if used[*v] == usize::MAX {
-                used[*v] = kept.len();
-                kept.push(vertices[*v]);
-            }
-            *v = used[*v];
-        }
-    }
     orient_consistently(&mut triangles);
-    Ok(Shell::from_triangles(kept, triangles))
+    // vertices no triangle uses (poles merged away) are dropped
+    Ok(Shell::from_used_vertices(&vertices, triangles))
 }
 
 /// Flips triangles breadth-first so that every manifold edge is run in

@@ -181,6 +181,23 @@ impl Shell {
         }
     }
 
+    /// A shell from vertex positions and triangles, keeping only the vertices
+    /// some triangle uses (in order of first use), triangles renumbered.
+    pub fn from_used_vertices(vertices: &[[f64; 3]], mut triangles: Vec<[usize; 3]>) -> Shell {
+        let mut used = vec![usize::MAX; vertices.len()];
+        let mut kept = Vec::new();
+        for t in &mut triangles {
+            for v in t.iter_mut() {
+                if used[*v] == usize::MAX {
+                    used[*v] = kept.len();
+                    kept.push(vertices[*v]);
+                }
+                *v = used[*v];
+            }
+        }
+        Shell::from_triangles(kept, triangles)
+    }
+
     /// A shell from triangle soup: vertices at bit-identical positions merged
     /// into one (the first, in order of position), triangles renumbered.
     /// Triangles that collapse (two corners merged) are dropped.

@@ -316,9 +316,12 @@ fn fit_interior(
             }
         }
     }
-    let solution = cholesky_solve(&mut a, m, &rhs).ok_or_else(|| {
+    // the three coordinates as three right-hand sides of one factorization
+    let mut columns: Vec<Vec<f64>> = (0..3).map(|d| rhs.iter().map(|r| r[d]).collect()).collect();
+    spline::linalg::cholesky_solve(a, m, &mut columns).map_err(|_| {
         SplineError::Fit("interior fit: the normal equations are singular".into())
     })?;
+    let solution: Vec<[f64; 3]> = (0..m).map(|u| [columns[0][u], columns[1][u], columns[2][u]]).collect();
     let mut control = coons.control_points().to_vec();
     for j in 1..nt - 1 {
         for i in 1..ns - 1 {
@@ -330,49 +333,3 @@ fn fit_interior(
     BSplinePatch::new(ks.clone(), kt.clone(), control)
 }
 
-/// Solves the dense symmetric positive definite system `a x = b` (a is
-/// overwritten by its Cholesky factor); `None` when not positive definite.
-fn cholesky_solve(a: &mut [f64], m: usize, b: &[[f64; 3]]) -> Option<Vec<[f64; 3]>> {
-    for j in 0..m {
-        let mut d = a[j * m + j];
-        for k in 0..j {
-            d -= a[j * m + k] * a[j * m + k];
-        }
-        if !(d > 0.0) {
-            return None;
-        }
-        let d = d.sqrt();
-        a[j * m + j] = d;
-        for i in j + 1..m {
-            let mut s = a[i * m + j];
-            for k in 0..j {
-                s -= a[i * m + k] * a[j * m + k];
-            }
-            a[i * m + j] = s / d;
-        }
-    }
-    let mut y = b.to_vec();
-    for i in 0..m {
-        for k in 0..i {
-            let l = a[i * m + k];
-            for d in 0..3 {
-                y[i][d] -= l * y[k][d];
-            }
-        }
-        for d in 0..3 {
-            y[i][d] /= a[i * m + i];
-        }
-    }
-    for i in (0..m).rev() {
-        for k in i + 1..m {
-            let l = a[k * m + i];
-            for d in 0..3 {
-                y[i][d] -= l * y[k][d];
-            }
-        }
-        for d in 0..3 {
-            y[i][d] /= a[i * m + i];
-        }
-    }
-    Some(y)
-}

@@ -23,19 +23,7 @@ pub(crate) fn grid_shell(
             }
         }
     }
-    // drop unused vertices
-    let mut used = vec![usize::MAX; vertices.len()];
-    let mut kept = Vec::new();
-    for t in &mut triangles {
-        for v in t.iter_mut() {
-            if used[*v] == usize::MAX {
-                used[*v] = kept.len();
-                kept.push(vertices[*v]);
-            }
-            *v = used[*v];
-        }
-    }
-    Shell::from_triangles(kept, triangles)
+    Shell::from_used_vertices(&vertices, triangles)
 }
 
 /// An L-shaped plate in z = 0.3: the square [0, 2]² without [1, 2]².
