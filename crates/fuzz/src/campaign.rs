@@ -199,6 +199,10 @@ impl Campaign {
     /// Runs cases `from..to` in one worker; returns the case to go on from.
     fn batch(&self, seeds: &Seeds, from: u64, to: u64, sum: &mut Summary) -> Result<u64, String> {
         let scratch = tempfile::tempdir().map_err(|e| e.to_string())?;
+        // the worker's stderr, whose last line names what a crash was (an
+        // allocation that failed, an OCCT message) when the worker dies
+        let stderr_path = scratch.path().join("worker-stderr.txt");
+        let stderr_file = std::fs::File::create(&stderr_path).map_err(|e| e.to_string())?;
         let mut child = Command::new(&self.exe)
             .args(["worker", self.target.name()])
             .arg(&self.seeds)
@@ -206,7 +210,7 @@ impl Campaign {
             .arg(scratch.path())
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
-            .stderr(Stdio::null())
+            .stderr(Stdio::from(stderr_file))
             .spawn()
             .map_err(|e| format!("{}: {e}", self.exe.display()))?;
         let stdout = child.stdout.take().expect("piped stdout");
@@ -262,7 +266,15 @@ impl Campaign {
             return Ok(to);
         }
         let case = current.unwrap_or(from);
-        self.record(seeds, case, DefectKind::Crash, describe(status), sum)?;
+        let mut detail = describe(status);
+        // a crash may need the state earlier cases left in the worker
+        if case > from {
+            detail.push_str(&format!(" (worker began at case {from})"));
+        }
+        if let Some(last) = last_line(&stderr_path) {
+            detail.push_str(&format!("; stderr: {last}"));
+        }
+        self.record(seeds, case, DefectKind::Crash, detail, sum)?;
         Ok(case + 1)
     }
 
@@ -294,6 +306,14 @@ impl Campaign {
         });
         Ok(())
     }
+}
+
+/// The last non-empty line of a worker's stderr file, at most 300 characters.
+fn last_line(path: &std::path::Path) -> Option<String> {
+    let text = std::fs::read(path).ok()?;
+    let text = String::from_utf8_lossy(&text);
+    let line = text.lines().rev().find(|l| !l.trim().is_empty())?;
+    Some(line.trim().chars().take(300).collect())
 }
 
 #[cfg(unix)]
