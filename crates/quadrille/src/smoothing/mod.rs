@@ -14,5 +14,6 @@ pub(crate) mod repair;
 pub use kernels::{optimize, optimize_nodes, raise_average, OptimizeOptions, OptimizeReport};
 pub use repair::{
     lift_poor_quads, optimize_around, sharp_corner_weights, smooth, smooth_then_untangle, untangle,
-    POOR_SICN, SHARP_CORNER_WEIGHT, UNTANGLE_BELOW, UNTANGLE_MAX_NODES, UNTANGLE_PASSES,
+    untangle_budget, untangle_counted, Untangled, POOR_SICN, SHARP_CORNER_WEIGHT, UNTANGLE_BELOW,
+    UNTANGLE_EVALUATIONS_FIXED, UNTANGLE_EVALUATIONS_PER_NODE, UNTANGLE_MAX_NODES, UNTANGLE_PASSES,
 };

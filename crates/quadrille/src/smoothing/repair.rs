@@ -221,6 +221,10 @@ pub const UNTANGLE_BELOW: f64 = 0.1;
 pub const UNTANGLE_PASSES: usize = 4;
 /// A face with more nodes to untangle than this is beyond local repair.
 pub const UNTANGLE_MAX_NODES: usize = 5000;
+/// [`untangle_budget`]'s allowance per node of the patch (star evaluations).
+pub const UNTANGLE_EVALUATIONS_PER_NODE: u64 = 100;
+/// [`untangle_budget`]'s allowance whatever the patch's size.
+pub const UNTANGLE_EVALUATIONS_FIXED: u64 = 2_000;
 
 /// The first smoothing of a face mesher's fresh patch `p` of face `fid`:
 /// `sweeps` sweeps of [`smooth`], then [`untangle`] of the quads below
@@ -245,7 +249,9 @@ pub fn smooth_then_untangle(model: &Model, fid: FaceId, p: &mut QuadPatch, sweep
 /// A move is kept only when it raises that worst value. Quads at the corners
 /// `sharp` count as [`SHARP_CORNER_WEIGHT`] times their SICN. Returns the
 /// number of improved nodes. Gives up when more than `max_nodes` nodes would
-/// move.
+/// move, and stops when it has spent [`untangle_budget`] evaluations of a
+/// node's star (a count, not seconds, so the result does not depend on the
+/// machine's load).
 pub fn untangle(
     face: &Face,
     p: &mut QuadPatch,
@@ -254,6 +260,37 @@ pub fn untangle(
     max_nodes: usize,
     sharp: &[CornerId],
 ) -> usize {
+    untangle_counted(face, p, threshold, passes, max_nodes, sharp).improved
+}
+
+/// Star evaluations [`untangle`] may spend on a patch of `nodes` nodes.
+pub fn untangle_budget(nodes: usize) -> u64 {
+    UNTANGLE_EVALUATIONS_FIXED + UNTANGLE_EVALUATIONS_PER_NODE * nodes as u64
+}
+
+/// What one [`untangle_counted`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Untangled {
+    /// Nodes whose star's worst value rose.
+    pub improved: usize,
+    /// Star evaluations spent (each a quality evaluation of the quads
+    /// around one node): the work callers charge to their own budgets.
+    pub evaluations: u64,
+    /// The evaluation budget ran out before the search ended.
+    pub exhausted: bool,
+}
+
+/// [`untangle`], also returning the work it spent.
+pub fn untangle_counted(
+    face: &Face,
+    p: &mut QuadPatch,
+    threshold: f64,
+    passes: usize,
+    max_nodes: usize,
+    sharp: &[CornerId],
+) -> Untangled {
+    let budget = untangle_budget(p.nodes.len());
+    let mut evaluations = 0u64;
     let (quads_of, nbrs) = adjacency(p);
     let weights = sharp_corner_weights(p, sharp);
     let quality = |p: &QuadPatch, q: u32| {
@@ -308,7 +345,11 @@ pub fn untangle(
                     })
                     .fold(f64::INFINITY, f64::min)
             };
+            if evaluations >= budget {
+                return Untangled { improved, evaluations, exhausted: true };
+            }
             let mut w = star_worst(p);
+            evaluations += 1;
             let mut cur = p.nodes[i].uv;
             let mut step = f64::INFINITY;
             for &j in &nbrs[i] {
@@ -322,7 +363,7 @@ pub fn untangle(
             let stop = step * 1e-4;
             let start_w = w;
             let mut iters = 0;
-            while step > stop && iters < 40 {
+            while step > stop && iters < 40 && evaluations < budget {
                 iters += 1;
                 let mut best: Option<([f64; 2], f64, [f64; 3])> = None;
                 for k in 0..8 {
@@ -336,6 +377,7 @@ pub fn untangle(
                     p.nodes[i].uv = uv;
                     p.pos[i] = x;
                     let v = star_worst(p);
+                    evaluations += 1;
                     p.nodes[i].uv = old_uv;
                     p.pos[i] = old_x;
                     if v > w && best.is_none_or(|b| v > b.1) {
@@ -361,7 +403,7 @@ pub fn untangle(
             break;
         }
     }
-    improved
+    Untangled { improved, evaluations, exhausted: evaluations >= budget }
 }
 
 #[cfg(test)]
@@ -392,5 +434,46 @@ mod tests {
         let moves = smooth(face, &mut p, 3);
         assert!(moves > 0);
         assert!(q(&p) >= before);
+    }
+
+    #[test]
+    fn untangling_stays_within_its_evaluation_budget() {
+        let m = primitives::cylinder(1.0, 2.0);
+        let plan = plan_curves(&m, 0.15);
+        let cms = discretize_all(&m, &plan);
+        let face = &m.faces[0];
+        let mut ft = FaceTriangulation::new(&m, FaceId(0), &cms, 0.3).unwrap();
+        ft.refine().unwrap();
+        let tris = ft.triangles();
+        let mut p = split_triangles(face, &ft.nodes, &ft.pos, &tris, &ft.boundary_mid);
+        smooth(face, &mut p, 3);
+        // every face-interior node pulled half way towards the first one:
+        // many quads fold, far more work than the budget allows
+        let interior: Vec<usize> = (0..p.nodes.len())
+            .filter(|&i| p.nodes[i].node == NodeRef::Interior)
+            .collect();
+        let c = p.nodes[interior[0]].uv;
+        for &i in &interior {
+            let uv = p.nodes[i].uv;
+            let moved = [0.5 * (uv[0] + c[0]), 0.5 * (uv[1] + c[1])];
+            p.nodes[i].uv = moved;
+            p.pos[i] = face.surface.eval(moved);
+        }
+        let worst = |p: &QuadPatch| {
+            p.quads
+                .iter()
+                .map(|q| quad_quality(face, &p.nodes, &p.pos, q))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let before = worst(&p);
+        assert!(before < 0.0, "the test needs folded quads: {before}");
+        let budget = untangle_budget(p.nodes.len());
+        let r = untangle_counted(face, &mut p, 0.5, 50, 100_000, &[]);
+        // the count may pass the budget by at most one node's compass step (8)
+        assert!(r.evaluations <= budget + 8, "{} > {budget}", r.evaluations);
+        assert!(r.exhausted, "50 passes on a folded face should exhaust the budget");
+        assert!(r.improved > 0);
+        // a move is kept only when it raises its star's worst value
+        assert!(worst(&p) >= before);
     }
 }

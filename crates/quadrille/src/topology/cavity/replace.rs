@@ -27,6 +27,9 @@ const CAVITY_KERNEL_SWEEPS: usize = 8;
 /// Work units charged per vertex of a smoothed cavity (the per-face cap,
 /// [`default_work_cap`](super::default_work_cap), was calibrated with this charge).
 const SMOOTHING_WORK: usize = 30;
+/// Work units charged per star evaluation of the untangler (a few surface
+/// evaluations each; a smoothed vertex costs [`SMOOTHING_WORK`]).
+const UNTANGLE_EVALUATION_WORK: u64 = 1;
 /// Quads below this SICN after the kernels get the untangler.
 const CAVITY_UNTANGLE_BELOW: f64 = 0.2;
 
@@ -422,7 +425,11 @@ impl Work<'_> {
             .map(|q| quad_quality(self.face, &sub.nodes, &sub.pos, q))
             .fold(f64::INFINITY, f64::min);
         if worst < CAVITY_UNTANGLE_BELOW {
-            crate::smoothing::untangle(self.face, &mut sub, CAVITY_UNTANGLE_BELOW, 4, 5000, &[]);
+            let untangled =
+                crate::smoothing::untangle_counted(self.face, &mut sub, CAVITY_UNTANGLE_BELOW, 4, 5000, &[]);
+            // the untangler's star evaluations are the cavity step's costliest
+            // work: charged to the face's cap, so the cap bounds them
+            self.units += UNTANGLE_EVALUATION_WORK * untangled.evaluations;
         }
         self.units += (movable.len() * SMOOTHING_WORK) as u64 + quads.len() as u64;
         for (i, &v) in back.iter().enumerate() {
