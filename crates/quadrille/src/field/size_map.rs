@@ -317,7 +317,13 @@ fn corner_clusters(model: &Model, tol: f64) -> Vec<usize> {
         }
         let c = cell(k.point);
         for d in 0..27i64 {
-            let key = [c[0] + d % 3 - 1, c[1] + (d / 3) % 3 - 1, c[2] + d / 9 - 1];
+            // saturating: a far-away point's cell index is clamped to i64's
+            // ends (the distance test below still decides)
+            let key = [
+                c[0].saturating_add(d % 3 - 1),
+                c[1].saturating_add((d / 3) % 3 - 1),
+                c[2].saturating_add(d / 9 - 1),
+            ];
             for &j in grid.get(&key).map(Vec::as_slice).unwrap_or(&[]) {
                 if j != i && vec3::dist(k.point, model.corners[j].point) <= tol {
                     let (a, b) = (root(&mut parent, i), root(&mut parent, j));
