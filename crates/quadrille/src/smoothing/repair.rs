@@ -414,16 +414,21 @@ mod tests {
     use crate::triangulate::split::split_triangles;
     use geometry::{primitives, FaceId};
 
+    /// The side face of `m` (a cylinder) triangulated at 0.3 and split into quads.
+    fn cylinder_side_patch(m: &Model) -> QuadPatch {
+        let plan = plan_curves(m, 0.15);
+        let cms = discretize_all(m, &plan);
+        let mut ft = FaceTriangulation::new(m, FaceId(0), &cms, 0.3).unwrap();
+        ft.refine().unwrap();
+        let tris = ft.triangles();
+        split_triangles(&m.faces[0], &ft.nodes, &ft.pos, &tris, &ft.boundary_mid)
+    }
+
     #[test]
     fn smoothing_never_worsens_the_worst_quad() {
         let m = primitives::cylinder(1.0, 2.0);
-        let plan = plan_curves(&m, 0.15);
-        let cms = discretize_all(&m, &plan);
         let face = &m.faces[0];
-        let mut ft = FaceTriangulation::new(&m, FaceId(0), &cms, 0.3).unwrap();
-        ft.refine().unwrap();
-        let tris = ft.triangles();
-        let mut p = split_triangles(face, &ft.nodes, &ft.pos, &tris, &ft.boundary_mid);
+        let mut p = cylinder_side_patch(&m);
         let q = |p: &QuadPatch| {
             p.quads
                 .iter()
@@ -439,13 +444,8 @@ mod tests {
     #[test]
     fn untangling_stays_within_its_evaluation_budget() {
         let m = primitives::cylinder(1.0, 2.0);
-        let plan = plan_curves(&m, 0.15);
-        let cms = discretize_all(&m, &plan);
         let face = &m.faces[0];
-        let mut ft = FaceTriangulation::new(&m, FaceId(0), &cms, 0.3).unwrap();
-        ft.refine().unwrap();
-        let tris = ft.triangles();
-        let mut p = split_triangles(face, &ft.nodes, &ft.pos, &tris, &ft.boundary_mid);
+        let mut p = cylinder_side_patch(&m);
         smooth(face, &mut p, 3);
         // every face-interior node pulled half way towards the first one:
         // many quads fold, far more work than the budget allows
