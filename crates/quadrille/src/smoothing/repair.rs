@@ -424,17 +424,20 @@ mod tests {
         split_triangles(&m.faces[0], &ft.nodes, &ft.pos, &tris, &ft.boundary_mid)
     }
 
+    /// The worst SICN (CAD normals) of `p`'s quads on `face`.
+    fn worst_quality(face: &Face, p: &QuadPatch) -> f64 {
+        p.quads
+            .iter()
+            .map(|q| quad_quality(face, &p.nodes, &p.pos, q))
+            .fold(f64::INFINITY, f64::min)
+    }
+
     #[test]
     fn smoothing_never_worsens_the_worst_quad() {
         let m = primitives::cylinder(1.0, 2.0);
         let face = &m.faces[0];
         let mut p = cylinder_side_patch(&m);
-        let q = |p: &QuadPatch| {
-            p.quads
-                .iter()
-                .map(|q| quad_quality(face, &p.nodes, &p.pos, q))
-                .fold(f64::INFINITY, f64::min)
-        };
+        let q = |p: &QuadPatch| worst_quality(face, p);
         let before = q(&p);
         let moves = smooth(face, &mut p, 3);
         assert!(moves > 0);
@@ -459,12 +462,7 @@ mod tests {
             p.nodes[i].uv = moved;
             p.pos[i] = face.surface.eval(moved);
         }
-        let worst = |p: &QuadPatch| {
-            p.quads
-                .iter()
-                .map(|q| quad_quality(face, &p.nodes, &p.pos, q))
-                .fold(f64::INFINITY, f64::min)
-        };
+        let worst = |p: &QuadPatch| worst_quality(face, p);
         let before = worst(&p);
         assert!(before < 0.0, "the test needs folded quads: {before}");
         let budget = untangle_budget(p.nodes.len());
