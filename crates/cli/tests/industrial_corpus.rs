@@ -84,3 +84,32 @@ fn small_corpus_parts_mesh_valid_by_both_judges_and_closed() {
     let s: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
     assert!(!s["sharp_corners"].as_array().unwrap().is_empty(), "{s}");
 }
+
+#[test]
+fn the_unstructured_method_meshes_a_face_cut_open_by_a_slit() {
+    // the bearing's face 28 is a plane annulus cut open by a line used on
+    // both sides of one loop: no (u, v) triangulation takes it, and the
+    // plain method used to stop there ("two boundary points coincide")
+    let name = "angular_contact_bearing_10_30_9.step";
+    let model = industrial(name);
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bearing.msh");
+    let r = quadrille(&[
+        "mesh",
+        model.to_str().unwrap(),
+        "--method",
+        "unstructured",
+        "-o",
+        out.to_str().unwrap(),
+        "--threads",
+        "1",
+        "--quiet",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let s: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
+    assert_eq!(s["triangles"], 0, "{s}");
+    assert_eq!(s["inverted_quads_outside_sharp"], 0, "{s}");
+    assert_eq!(s["inverted_quads_element_geometry_outside_sharp"], 0, "{s}");
+    assert_eq!(s["open_edges"], 0, "{s}");
+    assert_eq!(s["non_manifold_edges"], 0, "{s}");
+}

@@ -196,7 +196,28 @@ pub(crate) fn mesh_quasi_structured(
                     let r = timed(&mut ft.fallback, "fallback", || {
                         mesh_face(model, fid, ctx.cms, 2.0 * h)
                     });
-                    r.map(|p| FaceOutcome::new(p, MadeBy::Fallback(reason)))
+                    match r {
+                        Ok(p) => Ok(FaceOutcome::new(p, MadeBy::Fallback(reason))),
+                        // a boundary no triangulation in (u, v) takes (a curve
+                        // on both sides of a slit of a plane): without the
+                        // pattern step, a pattern is the last resort before
+                        // the face is given up
+                        Err(failure) if !stages.patterns => {
+                            match timed(&mut ft.patterns, "patterns", || {
+                                mesh_face_pattern(model, fid, ctx.cms)
+                            }) {
+                                Ok((p, name)) => {
+                                    tracing::debug!(
+                                        "face {}: {failure:?}; meshed by pattern {name}",
+                                        fid.0 + 1
+                                    );
+                                    Ok(FaceOutcome::new(p, MadeBy::Pattern(name)))
+                                }
+                                Err(_) => Err(failure),
+                            }
+                        }
+                        Err(failure) => Err(failure),
+                    }
                 }
             }
         };
