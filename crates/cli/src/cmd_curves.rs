@@ -5,7 +5,10 @@
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use quadrille::curvenet::{network_from_model, read_network, write_network, CurveNetwork};
+use quadrille::curvenet::{
+    network_from_model, network_from_wires, read_network, write_network, CurveNetwork,
+    WireCurveUse,
+};
 use quadrille::methods::curvenet::{mesh_curve_network, CurvesOptions, CurvesReport};
 
 use crate::files;
@@ -19,7 +22,14 @@ const CAD_EXTENSIONS: [&str; 6] = ["step", "stp", "iges", "igs", "brep", "brp"];
 fn load_network(args: &CurvesArgs) -> Result<CurveNetwork> {
     let ext = files::extension(&args.network);
     if CAD_EXTENSIONS.contains(&ext.as_str()) {
-        let model = files::load_model(&args.network)?;
+        let model = match files::load_model(&args.network) {
+            Ok(model) => model,
+            // a wireframe: its closed wires are the cycles
+            Err(e) if matches!(e.downcast_ref(), Some(occt::ImportError::NoFace { .. })) => {
+                return load_wire_network(args, e)
+            }
+            Err(e) => return Err(e),
+        };
         let faces: Option<Vec<usize>> = args
             .faces
             .as_ref()
@@ -45,6 +55,32 @@ fn load_network(args: &CurvesArgs) -> Result<CurveNetwork> {
         }
         Ok(read_network(&args.network)?)
     }
+}
+
+/// The network of a CAD file with no face: its closed wires
+/// ([`occt::load_wires`]), each a cycle; `no_face` is the error of reading it
+/// for faces, given back when the file has no curve either.
+fn load_wire_network(args: &CurvesArgs, no_face: anyhow::Error) -> Result<CurveNetwork> {
+    let name = args.network.display();
+    if args.faces.is_some() {
+        bail!("{name}: --faces: the file has no face (a wireframe: its closed wires are the cycles)");
+    }
+    let wires = match occt::load_wires(&args.network) {
+        Ok(w) => w,
+        Err(occt::ImportError::NoFace { .. }) => return Err(no_face),
+        Err(e) => return Err(e.into()),
+    };
+    let closed: Vec<Vec<WireCurveUse<'_>>> = wires
+        .closed
+        .iter()
+        .map(|w| w.uses.iter().map(|u| (u.curve, u.forward, &u.points[..])).collect())
+        .collect();
+    let (net, note) =
+        network_from_wires(&closed, &wires.open_curves).with_context(|| format!("{name}"))?;
+    if let Some(note) = note {
+        eprintln!("{name}: {note}");
+    }
+    Ok(net.with_file(name.to_string()))
 }
 
 /// The method's options from the arguments.

@@ -105,3 +105,45 @@ fn bad_networks_are_one_line_errors_with_no_file() {
     assert_clean_failure(&r, "out.stl");
     assert!(std::fs::read_dir(dir.path()).unwrap().all(|e| !e.unwrap().file_name().to_string_lossy().ends_with(".msh")));
 }
+
+#[test]
+fn a_wireframe_with_no_face_gives_its_closed_wires_as_cycles() {
+    // occt's test file: a 2 × 1 rectangle of 4 lines, a circle of radius 0.5
+    // and an open line, each curve with its own end vertices (Gmsh's STEP)
+    let net = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../occt/tests/data/wires.step");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("wires.msh");
+    let r = quadrille(&[
+        "curves",
+        net.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "0.25",
+        "--json",
+    ]);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(r.status.success(), "{stderr}");
+    assert!(stderr.contains("curve 6 is in no closed wire"), "{stderr}");
+    let report: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+    assert_eq!(report["totals"]["cycles"], 2);
+    assert_eq!(report["totals"]["patches"], 2);
+    // the rectangle is one 8 × 4 patch at 0.25, the circle one p × q patch:
+    // open edges only on the two wires, 24 around the rectangle and
+    // 2 (p + q) around the circle
+    let s = quadrille(&["stats", out.to_str().unwrap(), "--json"]);
+    let stats: serde_json::Value = serde_json::from_slice(&s.stdout).unwrap();
+    let quads = stats["quads"].as_u64().unwrap();
+    let open = stats["open_edges"].as_u64().unwrap();
+    let circle = quads - 32;
+    let grid = (2..circle).find(|&p| circle % p == 0 && 24 + 2 * (p + circle / p) == open);
+    assert!(grid.is_some(), "{quads} quads, {open} open edges");
+    assert_eq!(stats["triangles"], 0);
+    assert_eq!(stats["non_manifold_edges"], 0);
+    assert_eq!(stats["inverted_quads_element_geometry"], 0, "{stats}");
+    // --faces has no face to pick
+    let r = quadrille(&["curves", net.to_str().unwrap(), "-o", out.to_str().unwrap(), "--faces", "1"]);
+    let line = assert_clean_failure(&r, "wires.step");
+    assert!(line.contains("has no face"), "{line}");
+}

@@ -1,7 +1,8 @@
 //! The industrial corpus (`data/industrial`, issue 32 item 3): small parts of it
 //! meshed by the default method are valid by both judges (CAD normals and
 //! element geometry) outside the quads excused at CAD corners below 10°, closed
-//! (no open edge) and hold the face count its MANIFEST.json records.
+//! (no open edge), the same bytes for 1 and 2 threads, and hold the face
+//! count its MANIFEST.json records.
 
 mod common;
 
@@ -61,6 +62,22 @@ fn small_corpus_parts_mesh_valid_by_both_judges_and_closed() {
         );
         assert_eq!(s["open_edges"], 0, "{name}");
         assert_eq!(s["non_manifold_edges"], 0, "{name}");
+        // two threads write the same bytes
+        let two = dir.path().join("part-2.msh");
+        let r = quadrille(&[
+            "mesh",
+            model.to_str().unwrap(),
+            "-o",
+            two.to_str().unwrap(),
+            "--threads",
+            "2",
+            "--quiet",
+        ]);
+        assert!(r.status.success(), "{name}");
+        assert!(
+            std::fs::read(&out).unwrap() == std::fs::read(&two).unwrap(),
+            "{name}: the meshes of 1 and 2 threads differ"
+        );
         // the loaded model is the part the manifest describes
         let info = quadrille(&["info", model.to_str().unwrap(), "--json"]);
         assert!(info.status.success(), "{name}");

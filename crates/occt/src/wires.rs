@@ -15,15 +15,11 @@
 //! diagonal apart and turning at most 5° per segment, its ends replaced by
 //! the welded points, so consecutive uses share their end points exactly.
 //!
-//! Not yet read by `quadrille curves`. The intended wiring (in
-//! `quadrille::curvenet`, CAD input): when `occt::load` fails with
-//! `ImportError::NoFace`, call [`load_wires`]; each [`ClosedWire`] is one
-//! cycle of one loop, `[curve, ±1]` per [`WireUse`] (`forward` → +1), each CAD
-//! curve one network polyline (its forward samples, `cad_curve` = id + 1), no
-//! `cad_face`; the side the quads face is the loop's Newell normal (a
-//! wireframe has no face orientation); [`Wires::open_curves`] named on one
-//! line (curves at a junction or a dead end), and an error when no wire is
-//! closed.
+//! `quadrille curves` reads it when [`crate::load`] finds no face
+//! (`ImportError::NoFace`): each [`ClosedWire`] becomes one cycle of one
+//! loop (`quadrille::curvenet::network_from_wires`), the quads facing the
+//! loop's Newell normal (a wireframe has no face orientation), and
+//! [`Wires::open_curves`] are named on one line.
 
 use std::path::Path;
 

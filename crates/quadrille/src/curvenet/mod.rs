@@ -29,6 +29,7 @@
 pub(crate) mod check;
 pub(crate) mod error;
 pub(crate) mod from_model;
+pub(crate) mod from_wires;
 pub(crate) mod io;
 pub(crate) mod network;
 
@@ -36,6 +37,7 @@ pub use error::{CurveNetError, Origin};
 pub use from_model::{
     network_from_model, SkipReason, SkippedFace, CAD_SPACING_FACTOR, CAD_TURN_DEGREES,
 };
+pub use from_wires::{network_from_wires, WireCurveUse};
 pub use io::{parse_json, parse_obj, read_network, to_json, write_network};
 pub use network::{
     CurveNetwork, CycleUse, NetworkCurve, NetworkCycle, INWARD_AREA_FACTOR, JUNCTION_TURN_DEGREES,
