@@ -41,7 +41,7 @@ pub(crate) struct Ring {
 }
 
 /// The face's single loop as a ring ([`loop_ring`]).
-fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, String> {
+pub(crate) fn boundary_ring(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Ring, String> {
     let face = &model.faces[fid.idx()];
     if face.loops.len() != 1 {
         return Err(format!("{} boundary loops", face.loops.len()));
@@ -345,7 +345,8 @@ pub fn mesh_face_pattern(
     }
     if corners.is_empty() {
         // every corner flat: a disk bounded by one smooth loop
-        return mesh_disk_o_grid(face, &ring).map(|p| (p, O_GRID.into()));
+        return crate::direct::o_grid::mesh_disk_o_grid(face, &ring)
+            .map(|p| (p, crate::direct::o_grid::O_GRID.into()));
     }
     if corners.len() < 3 {
         return Err(format!("{} convex corners", corners.len()));
@@ -407,93 +408,6 @@ pub fn mesh_face_pattern(
         .collect();
     let patch = smooth_and_check(face, nodes, pos, quads, &pattern.name)?;
     Ok((patch, pattern.name.clone()))
-}
-
-/// Name of the disk pattern of [`mesh_disk_o_grid`].
-pub const O_GRID: &str = "O";
-
-/// Rings of quads an O-grid puts between its middle grid and the boundary,
-/// per boundary edge: a disk of radius R with N boundary edges of length
-/// e = 2πR / N gets about 0.4 R / e rings (the middle square's corners sit
-/// about half-way out), at least one.
-const O_GRID_RINGS_PER_EDGE: f64 = 0.4 / std::f64::consts::TAU;
-
-/// A face bounded by one smooth loop (every corner flat: a disk, a
-/// cylinder's cap) as an O-grid: an `a × b` grid in the middle (`a + b` half
-/// the boundary's edge count), rings of quads from its perimeter out to the
-/// boundary, every boundary node on two quads. The middle grid's four corners
-/// are the only irregular vertices (valence 3): the four index-¼
-/// singularities of a disk's cross field. Before it, the unstructured mesher
-/// met them at the boundary, where a node on one quad made a 180° corner
-/// (s15o_cylinder's caps: worst SICN 0.16).
-fn mesh_disk_o_grid(face: &geometry::Face, ring: &Ring) -> Result<QuadPatch, String> {
-    let nb = ring.nodes.len();
-    if nb % 2 != 0 || nb < 8 {
-        return Err(format!("a disk of {nb} boundary edges"));
-    }
-    if ring.nodes.iter().any(|n| n.pole.is_some()) {
-        return Err("a disk with a pole on its boundary".into());
-    }
-    let a = nb / 4;
-    let b = nb / 2 - a;
-    let rings = ((O_GRID_RINGS_PER_EDGE * nb as f64).round() as usize).max(1);
-    // ids: the boundary ring first (level 0), then levels 1..=rings (level
-    // `rings` is the middle grid's perimeter), then the middle grid's inside
-    let level = |j: usize, i: usize| (j * nb + i % nb) as u32;
-    let inside = |x: usize, y: usize| ((rings + 1) * nb + (y - 1) * (a - 1) + (x - 1)) as u32;
-    let grid = |x: usize, y: usize| -> u32 {
-        let i = if y == 0 {
-            x
-        } else if x == a {
-            a + y
-        } else if y == b {
-            2 * a + b - x
-        } else if x == 0 {
-            (2 * a + 2 * b - y) % nb
-        } else {
-            return inside(x, y);
-        };
-        level(rings, i)
-    };
-    let nv = (rings + 1) * nb + (a - 1) * (b - 1);
-    let mut quads: Vec<[u32; 4]> = Vec::with_capacity(rings * nb + a * b);
-    for j in 0..rings {
-        for i in 0..nb {
-            quads.push([
-                level(j, i),
-                level(j, i + 1),
-                level(j + 1, i + 1),
-                level(j + 1, i),
-            ]);
-        }
-    }
-    for y in 0..b {
-        for x in 0..a {
-            quads.push([
-                grid(x, y),
-                grid(x + 1, y),
-                grid(x + 1, y + 1),
-                grid(x, y + 1),
-            ]);
-        }
-    }
-    let mut fixed = vec![false; nv];
-    fixed[..nb].fill(true);
-    let centroid = uv_centroid(&ring.nodes);
-    let mut uv: Vec<[f64; 2]> = (0..nv)
-        .map(|v| if v < nb { ring.nodes[v].uv } else { centroid })
-        .collect();
-    harmonic_uv(&quads, &mut uv, &fixed);
-    if needs_reversal(face, &quads, &uv) {
-        for q in &mut quads {
-            q.reverse();
-        }
-    }
-    let mut nodes = ring.nodes.clone();
-    let mut pos = ring.pos.clone();
-    let mut local: Vec<u32> = (0..nv as u32).collect();
-    place_interior(face, &uv, &fixed, &mut local, &mut nodes, &mut pos)?;
-    smooth_and_check(face, nodes, pos, quads, O_GRID)
 }
 
 /// Puts every vertex of a pattern that is not `fixed` on the surface at its
@@ -584,6 +498,7 @@ pub(crate) fn uv_centroid(nodes: &[LocalNode]) -> [f64; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::direct::O_GRID;
     use crate::curves::curve_mesh::{discretize_all, plan_curves};
     use geometry::primitives;
 
