@@ -37,7 +37,9 @@
 //!   or [`STEP4_KEEP`] (Step 4) of the old worst, and the average SICN there
 //!   dropped by at most [`AVG_SLACK`]. Otherwise the patch is restored
 //!   exactly, and that replacement is not tried again until another one is
-//!   kept.
+//!   kept. The untangling, the costliest part, is skipped when the average
+//!   after the kernels is already far below that bound (the untangler does
+//!   not raise the average, so the replacement would be undone anyway).
 //! - Growth keeps the cavity a disk: a quad is added only when it meets the
 //!   cavity along one path of its edges, so cavities never wrap around a
 //!   hole of the face.
