@@ -174,3 +174,12 @@ pub fn square_with_round_hole(hole_centre: [f64; 2], hole_r: f64) -> CycleLoops 
         holes: vec![circle_loop(hole_centre, hole_r, 48, true)],
     }
 }
+
+/// A square [−1, 1]² pierced by circular holes (centre, radius), 48
+/// samples each.
+pub fn square_with_round_holes(holes: &[([f64; 2], f64)]) -> CycleLoops {
+    CycleLoops {
+        outer: polygon(&[[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]),
+        holes: holes.iter().map(|&(c, r)| circle_loop(c, r, 48, true)).collect(),
+    }
+}

@@ -104,6 +104,14 @@ fn ring(cycle: &CycleLoops, opts: &PairingOptions) -> Result<(PairedCycle, Pairi
     let mut unsplittable = vec![false; 2 * k + 2];
     unsplittable[k] = true;
     unsplittable[2 * k + 1] = true;
+    // Connectors of an earlier split on the outer loop stay one segment.
+    for &[from, to] in &opts.unsplittable_edges {
+        let at = |s: usize, p: P3| dist(points[starts[s]], p) <= 1e-9 * d;
+        match (0..k).find(|&s| at(s, from) && at(s + 1, to)) {
+            Some(s) => unsplittable[s] = true,
+            None => return Err(PairingError::KeptEdge { from, to }),
+        }
+    }
     let costs = vec![0.0; pairs.len()];
     let paired = PairedCycle { points, starts, pairs, costs: costs.clone(), unsplittable, diameter: d };
     let report = PairingReport {
@@ -121,82 +129,115 @@ fn ring(cycle: &CycleLoops, opts: &PairingOptions) -> Result<(PairedCycle, Pairi
     Ok((paired, report))
 }
 
-/// One half of an annulus split by two connectors: a disk and its two
-/// connector edges (by position), each to stay one segment.
+/// One half of a holed cycle split by two connectors: a cycle with fewer
+/// holes and the connector edges (by position) that must stay one segment.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AnnulusHalf {
-    /// The disk: outer loop only.
+    /// The half: its outer loop runs along the old outer loop, one
+    /// connector, the split hole and the other connector; the other holes
+    /// that lie in it are its holes.
     pub loops: CycleLoops,
-    /// The two connectors, as edges of the disk's loop.
+    /// The connectors, as edges of the half's outer loop (the two new ones
+    /// and any earlier ones it keeps).
     pub connectors: Vec<[P3; 2]>,
 }
 
-/// Candidate connector pairs tested for the second connector, nearest first.
+/// Candidate connector pairs tested per connector, nearest first.
 const MAX_CONNECTOR_TRIES: usize = 4000;
 
-/// An annulus cut into two disks by two straight connectors (the "two
-/// connectors" route, when the ring folds: a non-convex outer loop such as
-/// the letter P's): the first between the closest samples, the second from
-/// the hole's far half (a quarter to three quarters of its length from the
-/// first) to the nearest outer sample it reaches without crossing a loop or
-/// the first connector, leaving the hole into the face (checked in the plane
-/// of the outer loop's Newell normal). `None` when the cycle has not exactly
-/// one hole or no second connector is found.
-pub fn split_annulus(cycle: &CycleLoops, opts: &PairingOptions) -> Option<[AnnulusHalf; 2]> {
-    if cycle.holes.len() != 1 {
+/// A cycle with holes cut into two by two straight connectors between one
+/// hole and the outer loop (the "two connectors" route, when the ring folds,
+/// as for the letter P's non-convex outer loop, or when there are several
+/// holes): the first from the outer loop to the hole's nearest sample, the
+/// second from the hole's far half (a quarter to three quarters of its
+/// length from the first) to the nearest outer sample; neither crosses a
+/// loop or the other connector, and each leaves the hole into the face
+/// (checked in the plane of the outer loop's Newell normal). The holes are
+/// tried nearest the outer loop first; the other holes go to the half they
+/// lie in, so halves are split again until none has a hole. `kept`: earlier
+/// connectors on the outer loop, passed on to the half that has them.
+/// `None` when there is no hole or no hole can be split off.
+pub fn split_annulus(cycle: &CycleLoops, kept: &[[P3; 2]], opts: &PairingOptions) -> Option<[AnnulusHalf; 2]> {
+    if cycle.holes.is_empty() {
         return None;
     }
-    let all: Vec<P3> = cycle.outer.points.iter().chain(&cycle.holes[0].points).copied().collect();
+    let all: Vec<P3> = std::iter::once(&cycle.outer).chain(&cycle.holes).flat_map(|l| l.points.iter().copied()).collect();
     let d = diameter(&all);
-    let mut dense = Vec::with_capacity(2);
-    for (li, lp) in [&cycle.outer, &cycle.holes[0]].into_iter().enumerate() {
+    let mut dense = Vec::with_capacity(1 + cycle.holes.len());
+    for (li, lp) in std::iter::once(&cycle.outer).chain(&cycle.holes).enumerate() {
         let (points, fixed) = clean_loop(lp, li, 1e-12 * d).ok()?;
         let (pts, index_of) = densify_closed(&points, opts.sample_spacing * d);
         let fixed: Vec<usize> = fixed.iter().map(|&f| index_of[f]).collect();
         dense.push((pts, fixed));
     }
-    let (o, h) = (&dense[0].0, &dense[1].0);
-    let (m, nh) = (o.len(), h.len());
-    let (ia, ib) = closest_samples(o, h);
     let frame = Plane::of(&cycle.outer.points);
-    let o2: Vec<[f64; 2]> = o.iter().map(|&p| frame.project(p)).collect();
-    let h2: Vec<[f64; 2]> = h.iter().map(|&p| frame.project(p)).collect();
-    let mut candidates: Vec<(f64, usize, usize)> = Vec::new();
-    for step in nh / 4..=(3 * nh) / 4 {
-        let jb = (ib + step) % nh;
-        for ja in (0..m).filter(|&ja| ja != ia) {
-            candidates.push((dist(o[ja], h[jb]), ja, jb));
-        }
+    let flat: Vec<Vec<[f64; 2]>> = dense.iter().map(|l| l.0.iter().map(|&p| frame.project(p)).collect()).collect();
+    let o = &dense[0].0;
+    let m = o.len();
+    // Holes by their distance to the outer loop.
+    let mut order: Vec<(f64, usize)> = (1..dense.len())
+        .map(|t| (dense[t].0.iter().map(|&q| o.iter().map(|&p| dist(p, q)).fold(f64::INFINITY, f64::min)).fold(f64::INFINITY, f64::min), t))
+        .collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for &(_, t) in &order {
+        let h = &dense[t].0;
+        let nh = h.len();
+        // A connector from outer sample a to hole sample b is clear when it
+        // crosses no loop (its own ends' edges aside) and no `other`
+        // segment, and its middle lies in the face.
+        let clear = |a: usize, b: usize, other: Option<[[f64; 2]; 2]>| {
+            let seg = [flat[0][a], flat[t][b]];
+            let mid = [0.5 * (seg[0][0] + seg[1][0]), 0.5 * (seg[0][1] + seg[1][1])];
+            (0..flat.len()).all(|l| {
+                let own = if l == 0 { a } else if l == t { b } else { usize::MAX };
+                !crosses_loop(seg, &flat[l], own) && (l == 0) == inside(mid, &flat[l])
+            }) && other.is_none_or(|c| !proper_cross(seg, c))
+        };
+        let nearest = |holes: &mut dyn Iterator<Item = usize>| -> Vec<(f64, usize, usize)> {
+            let mut c: Vec<(f64, usize, usize)> =
+                holes.flat_map(|b| (0..m).map(move |a| (dist(o[a], h[b]), a, b))).collect();
+            c.sort_by(|x, y| x.0.total_cmp(&y.0));
+            c.truncate(MAX_CONNECTOR_TRIES);
+            c
+        };
+        let Some((_, ia, ib)) = nearest(&mut (0..nh)).into_iter().find(|&(_, a, b)| clear(a, b, None)) else {
+            continue;
+        };
+        let first = [flat[0][ia], flat[t][ib]];
+        let far = nearest(&mut (nh / 4..=(3 * nh) / 4).map(|s| (ib + s) % nh));
+        let Some((_, ja, jb)) = far.into_iter().find(|&(_, a, b)| a != ia && b != ib && clear(a, b, Some(first))) else {
+            continue;
+        };
+        let half = |oa: usize, ob: usize, ha: usize, hb: usize| -> AnnulusHalf {
+            // Outer from oa to ob, connector, hole from ha to hb, closing connector.
+            let outer_run = super::polyline::cyclic_range(m, oa, ob);
+            let hole_run = super::polyline::cyclic_range(nh, ha, hb);
+            let mut points: Vec<P3> = outer_run.iter().map(|&i| o[i]).collect();
+            let last_outer = points.len() - 1;
+            points.extend(hole_run.iter().map(|&i| h[i]));
+            let mut fixed: Vec<usize> = vec![0, last_outer, last_outer + 1, points.len() - 1];
+            fixed.extend(outer_run.iter().enumerate().filter(|(_, i)| dense[0].1.contains(i)).map(|(k, _)| k));
+            fixed.extend(
+                hole_run.iter().enumerate().filter(|(_, i)| dense[t].1.contains(i)).map(|(k, _)| k + last_outer + 1),
+            );
+            fixed.sort_unstable();
+            fixed.dedup();
+            let mut connectors =
+                vec![[points[last_outer], points[last_outer + 1]], [points[points.len() - 1], points[0]]];
+            let n = points.len();
+            connectors.extend(
+                kept.iter().filter(|e| (0..n).any(|i| points[i] == e[0] && points[(i + 1) % n] == e[1])).copied(),
+            );
+            let flat_half: Vec<[f64; 2]> = points.iter().map(|&p| frame.project(p)).collect();
+            let holes = (1..dense.len())
+                .filter(|&u| u != t && inside(flat[u][0], &flat_half))
+                .map(|u| cycle.holes[u - 1].clone())
+                .collect();
+            AnnulusHalf { loops: CycleLoops { outer: super::LoopPolyline { points, fixed }, holes }, connectors }
+        };
+        return Some([half(ia, ja, jb, ib), half(ja, ia, ib, jb)]);
     }
-    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let first = [o2[ia], h2[ib]];
-    let (ja, jb) = candidates.iter().take(MAX_CONNECTOR_TRIES).find_map(|&(_, ja, jb)| {
-        let seg = [o2[ja], h2[jb]];
-        let mid = [0.5 * (seg[0][0] + seg[1][0]), 0.5 * (seg[0][1] + seg[1][1])];
-        let clear = !crosses_loop(seg, &o2, ja) && !crosses_loop(seg, &h2, jb + m) && !proper_cross(seg, first);
-        (clear && inside(mid, &o2) && !inside(mid, &h2)).then_some((ja, jb))
-    })?;
-    let half = |oa: usize, ob: usize, ha: usize, hb: usize| -> AnnulusHalf {
-        // Outer from oa to ob, connector, hole from ha to hb, closing connector.
-        let outer_run = super::polyline::cyclic_range(m, oa, ob);
-        let hole_run = super::polyline::cyclic_range(nh, ha, hb);
-        let mut points: Vec<P3> = outer_run.iter().map(|&i| o[i]).collect();
-        let last_outer = points.len() - 1;
-        points.extend(hole_run.iter().map(|&i| h[i]));
-        let mut fixed: Vec<usize> = vec![0, last_outer, last_outer + 1, points.len() - 1];
-        fixed.extend(outer_run.iter().enumerate().filter(|(_, i)| dense[0].1.contains(i)).map(|(k, _)| k));
-        fixed.extend(
-            hole_run.iter().enumerate().filter(|(_, i)| dense[1].1.contains(i)).map(|(k, _)| k + last_outer + 1),
-        );
-        fixed.sort_unstable();
-        fixed.dedup();
-        let connectors = vec![[points[last_outer], points[last_outer + 1]], [points[points.len() - 1], points[0]]];
-        AnnulusHalf {
-            loops: CycleLoops { outer: super::LoopPolyline { points, fixed }, holes: Vec::new() },
-            connectors,
-        }
-    };
-    Some([half(ia, ja, jb, ib), half(ja, ia, ib, jb)])
+    None
 }
 
 /// Whether the segment crosses an edge of the closed 2D polyline other
@@ -424,7 +465,7 @@ mod tests {
     /// is on one of the two loops.
     #[test]
     fn the_letter_p_splits_into_two_disks_by_two_connectors() {
-        let halves = split_annulus(&fixtures::letter_p(), &PairingOptions::default()).unwrap();
+        let halves = split_annulus(&fixtures::letter_p(), &[], &PairingOptions::default()).unwrap();
         let [lo, hi] = fixtures::P_HOLE;
         for half in &halves {
             assert_eq!(half.connectors.len(), 2);
@@ -445,6 +486,31 @@ mod tests {
         // The two halves tile the face: their areas sum to the P's (7.75 − 1.5).
         let total: f64 = halves.iter().map(|h| newell_normal(&h.loops.outer.points)[2] * 0.5).sum();
         assert!((total - 6.25).abs() < 1e-9, "{total}");
+    }
+
+    /// Two round holes in a square: the hole nearest the outer loop is
+    /// split off (the left one, ties by order), one half keeps the other
+    /// hole, the other has none; the connectors are the halves' shared
+    /// edges, each kept by both, and the halves' areas (holes subtracted)
+    /// sum to the face's.
+    #[test]
+    fn a_square_with_two_holes_splits_into_a_half_with_one_hole_and_a_disk() {
+        let cycle = fixtures::square_with_round_holes(&[([-0.45, 0.0], 0.3), ([0.45, 0.0], 0.3)]);
+        let halves = split_annulus(&cycle, &[], &PairingOptions::default()).unwrap();
+        let mut holes: Vec<usize> = halves.iter().map(|h| h.loops.holes.len()).collect();
+        holes.sort_unstable();
+        assert_eq!(holes, vec![0, 1]);
+        for c in &halves[0].connectors {
+            let back = [c[1], c[0]];
+            assert!(halves[1].connectors.contains(&back), "{c:?} is not shared");
+        }
+        let area = |h: &AnnulusHalf| {
+            0.5 * newell_normal(&h.loops.outer.points)[2]
+                + h.loops.holes.iter().map(|l| 0.5 * newell_normal(&l.points)[2]).sum::<f64>()
+        };
+        let face = 4.0 - 2.0 * 0.5 * 48.0 * 0.09 * (2.0 * PI / 48.0).sin();
+        let total: f64 = halves.iter().map(area).sum();
+        assert!((total - face).abs() < 1e-9, "{total} vs {face}");
     }
 
     /// Only annuli get the ring.

@@ -326,35 +326,50 @@ fn mesh_part(
             .map(|s| least.get(&segment_key(paired, s, weld)).copied().unwrap_or(0))
             .collect()
     };
-    // An annulus: the ring layout first (`curvenet::ring`), the matched
-    // pairing only when the ring folds.
-    let ring = pair_ring(loops, &popts).and_then(|r| r.ok()).and_then(|(paired, report)| {
-        let q = quadrangulate_with_minimums(&paired, h, &minimums_of(&paired)).and_then(|q| unfolded(q, &facing));
-        match q {
-            Ok(q) => Some((paired, report, q)),
-            Err(e) => {
-                summary.notes.push(format!("annulus: the ring layout failed ({e}), matched pairing used"));
-                None
-            }
-        }
-    });
-    if ring.is_none() && depth == 0 {
-        if let Some(halves) = split_annulus(loops, &popts) {
-            let mut part_leaves = Vec::new();
-            let mut part_summary = CycleSummary::default();
-            let split = halves.iter().try_for_each(|half| {
-                let o = PairingOptions { unsplittable_edges: half.connectors.clone(), ..opts.clone() };
-                mesh_part(&half.loops, h, &o, false, least, weld, depth + 1, &mut part_leaves, &mut part_summary)
-            });
-            match split {
-                Ok(()) => {
-                    summary.notes.push("annulus: split into two disks by two connectors".to_string());
-                    absorb(summary, part_summary);
-                    summary.connectors += 2;
-                    leaves.extend(part_leaves);
-                    return Ok(());
+    let matched = pair_cycle(loops, &popts).map_err(|e| e.to_string());
+    let matched_laid = matched
+        .as_ref()
+        .ok()
+        .map(|(paired, _)| quadrangulate_with_minimums(paired, h, &minimums_of(paired)).and_then(|q| unfolded(q, &facing)));
+    let matched_ok = matches!(matched_laid, Some(Ok(_)));
+    // A cycle with holes whose matched pairing fails or folds: an annulus
+    // gets the ring layout (`curvenet::ring`), else the holes are split off
+    // by two connectors at a time; the matched pairing's cut or midpoint
+    // layout only when both fail.
+    let mut ring = None;
+    if !loops.holes.is_empty() && !matched_ok {
+        ring = pair_ring(loops, &popts).and_then(|r| r.ok()).and_then(|(paired, report)| {
+            let q = quadrangulate_with_minimums(&paired, h, &minimums_of(&paired)).and_then(|q| unfolded(q, &facing));
+            match q {
+                Ok(q) => Some((paired, report, q)),
+                Err(e) => {
+                    summary.notes.push(format!("annulus: the ring layout failed ({e})"));
+                    None
                 }
-                Err(e) => summary.notes.push(format!("annulus: the two-connector split failed ({e}), matched pairing used")),
+            }
+        });
+        if ring.is_none() && depth < MAX_CUT_DEPTH {
+            if let Some(halves) = split_annulus(loops, &opts.unsplittable_edges, &popts) {
+                let mut part_leaves = Vec::new();
+                let mut part_summary = CycleSummary::default();
+                let split = halves.iter().try_for_each(|half| {
+                    let o = PairingOptions { unsplittable_edges: half.connectors.clone(), ..opts.clone() };
+                    mesh_part(&half.loops, h, &o, false, least, weld, depth + 1, &mut part_leaves, &mut part_summary)
+                });
+                match split {
+                    Ok(()) => {
+                        summary.notes.push(format!(
+                            "holes: split in two by two connectors ({} and {} holes left)",
+                            halves[0].loops.holes.len(),
+                            halves[1].loops.holes.len()
+                        ));
+                        absorb(summary, part_summary);
+                        summary.connectors += 2;
+                        leaves.extend(part_leaves);
+                        return Ok(());
+                    }
+                    Err(e) => summary.notes.push(format!("holes: the two-connector split failed ({e})")),
+                }
             }
         }
     }
@@ -367,8 +382,10 @@ fn mesh_part(
             (paired, report, Ok(q))
         }
         None => {
-            let (paired, report) = pair_cycle(loops, &popts).map_err(|e| e.to_string())?;
-            let laid = quadrangulate_with_minimums(&paired, h, &minimums_of(&paired)).and_then(|q| unfolded(q, &facing));
+            let (paired, report) = matched?;
+            let Some(laid) = matched_laid else {
+                return Err("curvenet: the matched pairing has no layout".to_string());
+            };
             (paired, report, laid)
         }
     };
