@@ -144,3 +144,42 @@ pub fn ell_on_rectangle_json() -> String {
         curves.join(", ")
     )
 }
+
+/// A circle of radius `r` about `centre` (z = 0), `n` samples,
+/// counter-clockwise about +z, or clockwise when `hole`.
+fn circle_loop(centre: [f64; 2], r: f64, n: usize, hole: bool) -> LoopPolyline {
+    let sign = if hole { -1.0 } else { 1.0 };
+    free_loop(
+        (0..n)
+            .map(|k| sign * 2.0 * PI * k as f64 / n as f64)
+            .map(|t| [centre[0] + r * t.cos(), centre[1] + r * t.sin(), 0.0])
+            .collect(),
+    )
+}
+
+/// An annulus: the unit circle pierced by a circular hole of radius
+/// `hole_r` about `hole_centre`, 64 and 48 samples.
+pub fn annulus(hole_centre: [f64; 2], hole_r: f64) -> CycleLoops {
+    CycleLoops {
+        outer: circle_loop([0.0, 0.0], 1.0, 64, false),
+        holes: vec![circle_loop(hole_centre, hole_r, 48, true)],
+    }
+}
+
+/// A square [−1, 1]² pierced by a circular hole of radius `hole_r` about
+/// `hole_centre` (48 samples).
+pub fn square_with_round_hole(hole_centre: [f64; 2], hole_r: f64) -> CycleLoops {
+    CycleLoops {
+        outer: polygon(&[[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]),
+        holes: vec![circle_loop(hole_centre, hole_r, 48, true)],
+    }
+}
+
+/// A square [−1, 1]² pierced by circular holes (centre, radius), 48
+/// samples each.
+pub fn square_with_round_holes(holes: &[([f64; 2], f64)]) -> CycleLoops {
+    CycleLoops {
+        outer: polygon(&[[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]),
+        holes: holes.iter().map(|&(c, r)| circle_loop(c, r, 48, true)).collect(),
+    }
+}

@@ -49,6 +49,7 @@ pub mod pairing;
 pub mod polyline;
 pub mod refine;
 pub mod roommates;
+pub mod ring;
 pub mod segment;
 
 #[cfg(test)]

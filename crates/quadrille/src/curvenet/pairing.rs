@@ -56,6 +56,11 @@ pub struct PairingOptions {
     /// stays one segment, never split: set for the parts of a cut cycle
     /// (Fig. 10), whose closing edge is the cut both parts must sample alike.
     pub closing_edge_unsplittable: bool,
+    /// Edges of the outer loop (from one point to the next, by position)
+    /// that stay one segment, never split: the connectors of an annulus
+    /// split in two (`curvenet::ring::split_annulus`). Their ends must be
+    /// fixed points.
+    pub unsplittable_edges: Vec<[P3; 2]>,
 }
 
 impl Default for PairingOptions {
@@ -82,6 +87,7 @@ impl Default for PairingOptions {
             max_segments: 40,
             sample_spacing: 1.0 / 200.0,
             closing_edge_unsplittable: false,
+            unsplittable_edges: Vec::new(),
         }
     }
 }
@@ -137,6 +143,15 @@ pub enum PairingError {
         /// The dense index of the outer loop's last point.
         last: usize,
     },
+    /// An edge asked to stay one segment does not run between two segment
+    /// starts.
+    #[error("curve cycle: the connector from {from:?} to {to:?} is not one segment between fixed points")]
+    KeptEdge {
+        /// The edge's first point.
+        from: P3,
+        /// The edge's second point.
+        to: P3,
+    },
     /// A loop with too few distinct points.
     #[error("curve cycle, loop {loop_index}: {count} distinct points, at least 3 needed")]
     TooFewPoints {
@@ -185,7 +200,7 @@ pub enum PairingError {
 
 /// A loop with consecutive duplicate points removed (fixed indices moved to
 /// the surviving copy), checked for finite coordinates and ≥ 3 points.
-fn clean_loop(lp: &LoopPolyline, loop_index: usize, tol: f64) -> Result<(Vec<P3>, Vec<usize>), PairingError> {
+pub(super) fn clean_loop(lp: &LoopPolyline, loop_index: usize, tol: f64) -> Result<(Vec<P3>, Vec<usize>), PairingError> {
     for (i, p) in lp.points.iter().enumerate() {
         if p.iter().any(|v| !v.is_finite()) {
             return Err(PairingError::NotFinite { loop_index, point: i });
@@ -231,6 +246,20 @@ fn keep_closing_edge(lp: &mut SegmentedLoop, last: usize) -> Result<(), PairingE
     }
 }
 
+/// Marks the segment from position `from` to position `to` (both segment
+/// starts, within `tol`) unsplittable.
+fn keep_edge(lp: &mut SegmentedLoop, from: P3, to: P3, tol: f64) -> Result<(), PairingError> {
+    let k = lp.starts.len();
+    let at = |s: usize, p: P3| dist(lp.points[lp.starts[s % k]], p) <= tol;
+    match (0..k).find(|&s| at(s, from) && at(s + 1, to)) {
+        Some(s) => {
+            lp.unsplittable[s] = true;
+            Ok(())
+        }
+        None => Err(PairingError::KeptEdge { from, to }),
+    }
+}
+
 /// Segments a cycle, joins its holes, and refines the segmentation with
 /// stable matching (spec §1–§4) into a [`PairedCycle`] for the layout stage.
 pub fn pair_cycle(cycle: &CycleLoops, opts: &PairingOptions) -> Result<(PairedCycle, PairingReport), PairingError> {
@@ -257,6 +286,11 @@ pub fn pair_cycle(cycle: &CycleLoops, opts: &PairingOptions) -> Result<(PairedCy
         let mut loop_segments = segment_loop(dense, &fixed, opts);
         if li == 0 && opts.closing_edge_unsplittable {
             keep_closing_edge(&mut loop_segments.segmented, index_of[points.len() - 1])?;
+        }
+        if li == 0 {
+            for &[from, to] in &opts.unsplittable_edges {
+                keep_edge(&mut loop_segments.segmented, from, to, 1e-9 * d)?;
+            }
         }
         segmented.push(loop_segments);
     }

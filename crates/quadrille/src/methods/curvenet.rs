@@ -27,6 +27,7 @@ use mesh::{NodeClass, QuadMesh};
 use crate::core::fast_hash::FastMap;
 use crate::core::work_queue::map_in_order;
 use crate::curvenet::cut::find_cut;
+use crate::curvenet::ring::{pair_ring, split_annulus};
 use crate::curvenet::sample::quadrangulate_with_minimums;
 use crate::curvenet::{
     pair_cycle, CurveNetError, CurveNetwork, CycleLoops, CycleQuads, LayoutError, PairedCycle,
@@ -319,12 +320,75 @@ fn mesh_part(
     summary: &mut CycleSummary,
 ) -> Result<(), String> {
     let popts = PairingOptions { closing_edge_unsplittable: closing, ..opts.clone() };
-    let (paired, report) = pair_cycle(loops, &popts).map_err(|e| e.to_string())?;
-    let minimums: Vec<usize> = (0..paired.starts.len())
-        .map(|s| least.get(&segment_key(&paired, s, weld)).copied().unwrap_or(0))
-        .collect();
     let facing = Facing::of(&loops.outer.points);
-    let laid = quadrangulate_with_minimums(&paired, h, &minimums).and_then(|q| unfolded(q, &facing));
+    let minimums_of = |paired: &PairedCycle| -> Vec<usize> {
+        (0..paired.starts.len())
+            .map(|s| least.get(&segment_key(paired, s, weld)).copied().unwrap_or(0))
+            .collect()
+    };
+    let matched = pair_cycle(loops, &popts).map_err(|e| e.to_string());
+    let matched_laid = matched
+        .as_ref()
+        .ok()
+        .map(|(paired, _)| quadrangulate_with_minimums(paired, h, &minimums_of(paired)).and_then(|q| unfolded(q, &facing)));
+    let matched_ok = matches!(matched_laid, Some(Ok(_)));
+    // A cycle with holes whose matched pairing fails or folds: an annulus
+    // gets the ring layout (`curvenet::ring`), else the holes are split off
+    // by two connectors at a time; the matched pairing's cut or midpoint
+    // layout only when both fail.
+    let mut ring = None;
+    if !loops.holes.is_empty() && !matched_ok {
+        ring = pair_ring(loops, &popts).and_then(|r| r.ok()).and_then(|(paired, report)| {
+            let q = quadrangulate_with_minimums(&paired, h, &minimums_of(&paired)).and_then(|q| unfolded(q, &facing));
+            match q {
+                Ok(q) => Some((paired, report, q)),
+                Err(e) => {
+                    summary.notes.push(format!("annulus: the ring layout failed ({e})"));
+                    None
+                }
+            }
+        });
+        if ring.is_none() && depth < MAX_CUT_DEPTH {
+            if let Some(halves) = split_annulus(loops, &opts.unsplittable_edges, &popts) {
+                let mut part_leaves = Vec::new();
+                let mut part_summary = CycleSummary::default();
+                let split = halves.iter().try_for_each(|half| {
+                    let o = PairingOptions { unsplittable_edges: half.connectors.clone(), ..opts.clone() };
+                    mesh_part(&half.loops, h, &o, false, least, weld, depth + 1, &mut part_leaves, &mut part_summary)
+                });
+                match split {
+                    Ok(()) => {
+                        summary.notes.push(format!(
+                            "holes: split in two by two connectors ({} and {} holes left)",
+                            halves[0].loops.holes.len(),
+                            halves[1].loops.holes.len()
+                        ));
+                        absorb(summary, part_summary);
+                        summary.connectors += 2;
+                        leaves.extend(part_leaves);
+                        return Ok(());
+                    }
+                    Err(e) => summary.notes.push(format!("holes: the two-connector split failed ({e})")),
+                }
+            }
+        }
+    }
+    let (paired, report, laid) = match ring {
+        Some((paired, report, q)) => {
+            summary.notes.push(format!(
+                "annulus: ring layout, one connector, {} sectors",
+                paired.starts.len() / 2 - 1
+            ));
+            (paired, report, Ok(q))
+        }
+        None => {
+            let (paired, report) = matched?;
+            let Some(laid) = matched_laid else {
+                return Err("curvenet: the matched pairing has no layout".to_string());
+            };
+            (paired, report, laid)
+        }
+    };
     let (paired, quads) = match laid {
         Ok(q) => (paired, q),
         Err(LayoutError::Disconnected { components, .. }) if depth < MAX_CUT_DEPTH => {
@@ -336,7 +400,9 @@ fn mesh_part(
                 cut.from, cut.to
             ));
             for part in &cut.parts {
-                mesh_part(&part.loops, h, opts, true, least, weld, depth + 1, leaves, summary)?;
+                let kept = edges_in(&part.loops.outer.points, &opts.unsplittable_edges);
+                let o = PairingOptions { unsplittable_edges: kept, ..opts.clone() };
+                mesh_part(&part.loops, h, &o, true, least, weld, depth + 1, leaves, summary)?;
             }
             return Ok(());
         }
@@ -368,6 +434,33 @@ fn mesh_part(
     summary.interior_valences.extend(quads.interior_vertex_valences.iter().copied());
     leaves.push(Leaf { paired, quads, facing });
     Ok(())
+}
+
+/// The edges of `edges` that are edges of the closed polyline (a cut part
+/// keeps its parent's connectors that fall in it).
+fn edges_in(points: &[Vec3], edges: &[[Vec3; 2]]) -> Vec<[Vec3; 2]> {
+    let n = points.len();
+    edges
+        .iter()
+        .filter(|e| (0..n).any(|i| points[i] == e[0] && points[(i + 1) % n] == e[1]))
+        .copied()
+        .collect()
+}
+
+/// Adds a part's summary figures (of the halves of a split annulus) to
+/// the cycle's.
+fn absorb(summary: &mut CycleSummary, part: CycleSummary) {
+    summary.segments += part.segments;
+    summary.pairs.extend(part.pairs);
+    summary.iterations += part.iterations;
+    summary.fallbacks += part.fallbacks;
+    summary.odd_parties += part.odd_parties;
+    summary.connectors += part.connectors;
+    summary.patches += part.patches;
+    summary.interior_valences.extend(part.interior_valences);
+    summary.layout_quads.extend(part.layout_quads);
+    summary.midpoint_layout |= part.midpoint_layout;
+    summary.notes.extend(part.notes);
 }
 
 /// Quads whose normal turns more than 120° from the cycle's Newell normal
@@ -733,16 +826,80 @@ mod tests {
         assert!(sicn.iter().all(|&s| s > 0.9), "{sicn:?}");
     }
 
-    /// Fig. 17: the letter P. Its layout spans the hole (a known defect of
-    /// this stage, issue 30): the fold is found and the cycle refused with
-    /// a one-line error, never written folded.
-    #[test]
-    fn the_letter_p_layout_folds_over_its_hole_and_is_refused() {
-        let loops = fixtures::letter_p();
+    /// Meshes one cycle with a hole and checks it as an annulus: every
+    /// quad valid by element geometry and facing +z, no edge used thrice,
+    /// open edges only on the two loops (their lengths sum to
+    /// `loops_length`), no node strictly inside the hole. Returns the
+    /// summary.
+    fn check_annulus(loops: &CycleLoops, in_hole: impl Fn(&Vec3) -> bool, loops_length: f64) -> CycleSummary {
         let weld = Welder::new(1e-9);
-        let err = mesh_cycle(&loops, 0.1, &PairingOptions::default(), &weld).unwrap_err();
-        assert!(err.contains("inverted"), "{err}");
-        assert!(!err.contains('\n'), "{err}");
+        let (leaves, summary) = mesh_cycle(loops, 0.1, &PairingOptions::default(), &weld).unwrap();
+        let pieces: Vec<CycleQuads> = leaves.into_iter().map(|l| l.quads).collect();
+        let net = json_of(loops);
+        let (mesh, _) = assemble(&net, &[(0, pieces)], &weld);
+        let uses = edge_uses(&mesh);
+        assert!(uses.values().all(|&n| n <= 2));
+        let open_length: f64 = uses
+            .iter()
+            .filter(|(_, &n)| n == 1)
+            .map(|(&(a, b), _)| vec3::dist(mesh.nodes[a as usize], mesh.nodes[b as usize]))
+            .sum();
+        // The mesh's boundary edges are chords of the loops' polylines: a
+        // little shorter on curved loops; a connector left open would add
+        // twice its length.
+        assert!(
+            open_length <= loops_length + 1e-9 && open_length > (1.0 - 3e-3) * loops_length,
+            "open length {open_length} ≠ {loops_length}"
+        );
+        assert!(!mesh.nodes.iter().any(in_hole), "a node inside the hole");
+        for q in &mesh.quads {
+            let p = q.map(|v| mesh.nodes[v as usize]);
+            assert!(mesh::quality::quad_sicn(&p, &[[0.0, 0.0, 1.0]; 4]) > 0.0, "{p:?}");
+        }
+        let bad = mesh::stats::quad_acceptance_sicn_values(&mesh, None).iter().filter(|&&s| s <= 0.0).count();
+        assert_eq!(bad, 0);
+        summary
+    }
+
+    /// The perimeter of a regular n-gon of circumradius r.
+    fn ngon(n: usize, r: f64) -> f64 {
+        2.0 * n as f64 * r * (std::f64::consts::PI / n as f64).sin()
+    }
+
+    /// Fig. 17: the letter P. Its outer loop is not convex, so the ring
+    /// folds (the stem's sector); it is split into two disks by two
+    /// connectors and meshed: no node inside the hole, open edges only on
+    /// the two loops, every quad valid.
+    #[test]
+    fn the_letter_p_is_meshed_around_its_hole_without_a_node_inside() {
+        let [lo, hi] = fixtures::P_HOLE;
+        let inside = |p: &Vec3| p[0] > lo[0] + 1e-9 && p[0] < hi[0] - 1e-9 && p[1] > lo[1] + 1e-9 && p[1] < hi[1] - 1e-9;
+        let summary = check_annulus(&fixtures::letter_p(), inside, 13.0 + 5.0);
+        assert_eq!(summary.connectors, 2, "{:?}", summary.notes);
+        assert!(summary.notes.iter().any(|n| n.contains("two connectors")), "{:?}", summary.notes);
+    }
+
+    /// Annuli with smooth loops get the ring layout (one connector, four
+    /// or more sectors): a circle in a circle, an off-centre hole, a square
+    /// with a round hole.
+    #[test]
+    fn annuli_get_the_ring_layout_all_quads_valid_and_no_node_in_the_hole() {
+        let cases = [
+            (fixtures::annulus([0.0, 0.0], 0.4), [0.0, 0.0], 0.4, ngon(64, 1.0) + ngon(48, 0.4)),
+            (fixtures::annulus([0.3, 0.1], 0.3), [0.3, 0.1], 0.3, ngon(64, 1.0) + ngon(48, 0.3)),
+            (fixtures::square_with_round_hole([0.0, 0.0], 0.4), [0.0, 0.0], 0.4, 8.0 + ngon(48, 0.4)),
+            (fixtures::square_with_round_hole([0.4, -0.3], 0.35), [0.4, -0.3], 0.35, 8.0 + ngon(48, 0.35)),
+        ];
+        for (loops, c, r, length) in cases {
+            // Strictly inside the hole's inscribed circle.
+            let apothem = r * (std::f64::consts::PI / 48.0).cos();
+            let inside = |p: &Vec3| (p[0] - c[0]).hypot(p[1] - c[1]) < apothem - 1e-9;
+            let summary = check_annulus(&loops, inside, length);
+            assert_eq!(summary.connectors, 1);
+            assert_eq!(summary.interior_valences, Vec::<usize>::new(), "a ring has no interior vertex");
+            assert!(summary.patches >= 4, "{}", summary.patches);
+            assert!(summary.notes.iter().any(|n| n.contains("ring layout")), "{:?}", summary.notes);
+        }
     }
 
     /// A cycle with a hole whose layout does not fold: a square plate with
