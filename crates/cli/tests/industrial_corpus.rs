@@ -120,7 +120,10 @@ fn regular_method_meshes_a_part_its_baseline_cannot() {
         "1",
         "--quiet",
     ]);
-    assert!(!base.status.success(), "the baseline now meshes {name}: update this test");
+    assert!(
+        !base.status.success(),
+        "the baseline now meshes {name}: update this test"
+    );
     let dir = tempfile::tempdir().unwrap();
     let (one, two) = (dir.path().join("one.msh"), dir.path().join("two.msh"));
     let r = mesh_regular(&model, &one, "1");

@@ -5,7 +5,7 @@
 //! collapses and splits toward valence 4, quads kept within the angle window).
 //!
 //! Where the baseline cannot mesh a face (a curve far shorter than the size
-//! beside a hole, boundary points that meet in (u, v): 2 of the 50 industrial
+//! beside a hole, boundary points that meet in (u, v): 3 of the 50 industrial
 //! corpus parts), the input is the default method's mesh of the model with its
 //! sliver curves collapsed ([`input_fallback`]), regularized the same way.
 
