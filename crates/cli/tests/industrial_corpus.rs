@@ -130,3 +130,59 @@ fn the_unstructured_method_meshes_a_face_cut_open_by_a_slit() {
     assert_eq!(s["open_edges"], 0, "{s}");
     assert_eq!(s["non_manifold_edges"], 0, "{s}");
 }
+
+/// `quadrille mesh MODEL --method regular --threads N` into `out`.
+fn mesh_regular(model: &Path, out: &Path, threads: &str) -> std::process::Output {
+    quadrille(&[
+        "mesh",
+        model.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--method",
+        "regular",
+        "--threads",
+        threads,
+        "--quiet",
+    ])
+}
+
+#[test]
+fn regular_method_meshes_a_part_its_baseline_cannot() {
+    // the blind flange's bolt-hole face has a curve 0.0125 long beside a hole,
+    // where the baseline's triangle split leaves quads inverted at any curve
+    // refinement ("face 8 could not be meshed: 10 quads stay inverted"); the
+    // regular method regularizes the default method's mesh there instead
+    let name = "blind_flange_1in_150.step";
+    let model = industrial(name);
+    let base_dir = tempfile::tempdir().unwrap();
+    let base = quadrille(&[
+        "mesh",
+        model.to_str().unwrap(),
+        "-o",
+        base_dir.path().join("b.msh").to_str().unwrap(),
+        "--method",
+        "baseline",
+        "--threads",
+        "1",
+        "--quiet",
+    ]);
+    assert!(
+        !base.status.success(),
+        "the baseline now meshes {name}: update this test"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let (one, two) = (dir.path().join("one.msh"), dir.path().join("two.msh"));
+    let r = mesh_regular(&model, &one, "1");
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let s: serde_json::Value = serde_json::from_str(&stats_json(&one, &model)).unwrap();
+    assert!(s["quads"].as_u64().unwrap() > 500, "{s}");
+    assert_eq!(s["triangles"], 0);
+    assert_eq!(s["inverted_quads_outside_sharp"], 0, "{s}");
+    assert_eq!(s["inverted_quads_element_geometry_outside_sharp"], 0, "{s}");
+    assert_eq!(s["open_edges"], 0, "{s}");
+    assert!(s["irregular_percent"].as_f64().unwrap() <= 5.0, "{s}");
+    // the same mesh on two threads
+    let r = mesh_regular(&model, &two, "2");
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert!(std::fs::read(&one).unwrap() == std::fs::read(&two).unwrap());
+}

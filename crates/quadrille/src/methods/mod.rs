@@ -158,7 +158,10 @@ pub fn mesh_model_with(
     out.1.times.estimate = estimate_time;
     out.1.estimated_quads = estimated;
     out.1.times.total = started.elapsed();
-    out.1.slivers = slivers.iter().map(|c| (c.curve, c.length)).collect();
+    // (the regular method collapses slivers itself when its baseline fails)
+    if collapsed.is_some() {
+        out.1.slivers = slivers.iter().map(|c| (c.curve, c.length)).collect();
+    }
     Ok(out)
 }
 

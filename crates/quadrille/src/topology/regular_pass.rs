@@ -264,7 +264,7 @@ fn attempt(
         ..Default::default()
     };
     let mut fq = fq0.clone();
-    let (_, _, invalid) = topological_phase(face, &mut fq, &ropts, a.order, 0);
+    let (_, _, invalid, _) = topological_phase(face, &mut fq, &ropts, a.order, 0, 0);
     if invalid > 0 && polish_invalid(&mut fq, face, ropts.window) > 0 {
         return None;
     }

@@ -116,7 +116,17 @@ pub struct Regularizer<'a> {
     pub(super) pair_failed: Vec<u64>,
     /// Epoch at which [`Regularizer::improve_at`] last found nothing at a quad.
     quad_failed: Vec<u64>,
+    /// Work done so far, in counted units: [`GEOMETRIC_WORK`] per operation
+    /// applied with repositioning, 1 per topological trial of a search.
+    pub work: u64,
+    /// Stop searching once [`Regularizer::work`] reaches this (0: no bound).
+    /// Counted, never timed, so the result does not depend on the machine.
+    pub work_cap: u64,
 }
+
+/// Work units of one operation applied with repositioning and its validity
+/// check ([`Regularizer::work`]); a topological trial counts 1.
+pub const GEOMETRIC_WORK: u64 = 10;
 
 /// Score change of an operation sequence: (irregular vertices, Σ|valence −
 /// ideal|, quads away from [`Regularizer::target_quads`]), compared
@@ -185,7 +195,15 @@ impl<'a> Regularizer<'a> {
             stamp: Vec::new(),
             pair_failed: Vec::new(),
             quad_failed: Vec::new(),
+            work: 0,
+            work_cap: 0,
         }
+    }
+
+    /// True once [`Regularizer::work`] has reached a non-zero
+    /// [`Regularizer::work_cap`]: no further search starts.
+    pub fn exhausted(&self) -> bool {
+        self.work_cap > 0 && self.work >= self.work_cap
     }
 
     pub(super) fn update_quad_dir(&mut self) {
@@ -295,6 +313,7 @@ impl<'a> Regularizer<'a> {
     pub fn try_sequence(&mut self, ops: &[Op]) -> bool {
         let cp = self.fq.checkpoint();
         for &op in ops {
+            self.work += GEOMETRIC_WORK;
             let Some(region) = apply(self.fq, self.face, op) else {
                 self.fq.rollback(cp);
                 return false;
@@ -325,7 +344,7 @@ impl<'a> Regularizer<'a> {
 
     /// Tries to lower the score around quad `q`; returns whether something was accepted.
     pub fn improve_at(&mut self, q: u32) -> bool {
-        if !self.fq.quad_alive[q as usize] || !self.has_irregular(q) {
+        if self.exhausted() || !self.fq.quad_alive[q as usize] || !self.has_irregular(q) {
             return false;
         }
         let cands = candidates_at(self.fq, q);
@@ -430,6 +449,7 @@ impl<'a> Regularizer<'a> {
                 continue;
             }
             *budget -= 1;
+            self.work += 1;
             let cp = self.fq.checkpoint();
             if apply_topology(self.fq, op).is_some() {
                 let mut changed: Vec<u32> = eff
@@ -456,12 +476,15 @@ impl<'a> Regularizer<'a> {
     pub fn run(&mut self, max_sweeps: usize) {
         for _ in 0..max_sweeps {
             self.sweep(max_sweeps);
-            if self.fq.irregular_count() == 0 || !self.compositions {
+            if self.fq.irregular_count() == 0 || !self.compositions || self.exhausted() {
                 break;
             }
             let mut moved = false;
             if self.translation_steps > 0 {
                 for v in visiting_order(self.fq.verts.len() as u32, self.order) {
+                    if self.exhausted() {
+                        break;
+                    }
                     if self.translate_at(v) {
                         moved = true;
                     }
@@ -469,6 +492,9 @@ impl<'a> Regularizer<'a> {
             }
             if !moved && self.pair_radius > 0 {
                 for v in visiting_order(self.fq.verts.len() as u32, self.order) {
+                    if self.exhausted() {
+                        break;
+                    }
                     if self.cancel_pair_at(v) {
                         moved = true;
                     }
@@ -486,11 +512,14 @@ impl<'a> Regularizer<'a> {
             let mut changed = false;
             let n = self.fq.quads.len() as u32;
             for q in visiting_order(n, self.order) {
+                if self.exhausted() {
+                    break;
+                }
                 if (q as usize) < self.fq.quads.len() && self.visit(q) {
                     changed = true;
                 }
             }
-            if !changed || self.fq.irregular_count() == 0 {
+            if !changed || self.fq.irregular_count() == 0 || self.exhausted() {
                 break;
             }
         }
@@ -545,6 +574,7 @@ impl<'a> Regularizer<'a> {
 
     /// Applies one operation with repositioning, without deciding (journaled).
     pub(super) fn apply_repaired(&mut self, op: Op) -> bool {
+        self.work += GEOMETRIC_WORK;
         match apply(self.fq, self.face, op) {
             Some(region) => {
                 repair_rounds(

@@ -173,6 +173,13 @@ pub struct RegularizeOptions {
     pub wide_orders: usize,
     /// Only faces with at least this many interior irregular vertices get it.
     pub wide_min_irregular: usize,
+    /// Work budget of one face, per quad of its input: the visiting orders
+    /// (and the wide pair search) of a face share `work_per_quad × input
+    /// quads` units of [`driver::Regularizer::work`]; a search stops when the
+    /// face's budget is spent, no further order starts, and the face keeps
+    /// its best result so far. Counted, never timed: the output does not
+    /// depend on the machine or the thread count (0: no bound).
+    pub work_per_quad: u64,
     /// Run Algorithm 2 after the topological phase.
     pub redistribute: bool,
     /// Worker threads (`None`: rayon's global pool). The output does not depend on it.
@@ -210,11 +217,15 @@ impl Default for RegularizeOptions {
             wide_pair_radius: 4,
             wide_orders: 8,
             wide_min_irregular: 1,
+            work_per_quad: WORK_PER_QUAD,
             redistribute: true,
             threads: None,
         }
     }
 }
+
+/// Default [`RegularizeOptions::work_per_quad`].
+pub const WORK_PER_QUAD: u64 = 6_000;
 
 /// The quad count a face should approach during regularization.
 ///
@@ -323,6 +334,10 @@ pub struct FaceReport {
     pub invalid: (usize, usize),
     /// Operations accepted and rejected.
     pub ops: OpCounts,
+    /// Work done by the topological searches of every visiting order
+    /// ([`driver::Regularizer::work`]), at most about
+    /// [`RegularizeOptions::work_per_quad`] × input quads (0 on a grid).
+    pub work: u64,
     /// Tightest angle window reached by Algorithm 2 (the base window if it did not run).
     pub window: AngleWindow,
     /// True when the result was discarded and the face's input quads kept,
@@ -372,6 +387,7 @@ pub fn regularize_face(
                 irregular: (before.2, fq.irregular_count()),
                 invalid: (invalid_before, invalid_after),
                 ops: OpCounts::default(),
+                work: 0,
                 window,
                 reverted: false,
                 strict: opts.strict_validity,
@@ -405,7 +421,22 @@ pub fn regularize_face(
         }
     };
     let index_floor = index_sum(fq).abs();
-    let (invalid_before, ops, invalid_mid) = topological_phase(face, fq, opts, 0, target);
+    // the face's work budget, shared by every order (0: none)
+    let budget = opts.work_per_quad.saturating_mul(fq.num_quads() as u64);
+    let mut spent = 0u64;
+    let left = |spent: u64| -> Option<u64> {
+        if budget == 0 {
+            Some(0)
+        } else if spent < budget {
+            Some(budget - spent)
+        } else {
+            None
+        }
+    };
+    let (invalid_before, ops, invalid_mid, work) =
+        topological_phase(face, fq, opts, 0, target, budget);
+    spent += work;
+    let mut orders_run = 1usize;
     let (mut ops, mut invalid_mid) = (ops, invalid_mid);
     let mut best = key(fq, invalid_mid);
     let mut last_gain = 0usize;
@@ -432,14 +463,21 @@ pub fn regularize_face(
             if opts.order_patience > 0 && order as usize - last_gain > opts.order_patience {
                 break;
             }
+            // the face's work budget is spent
+            let Some(cap) = left(spent) else {
+                break;
+            };
             let mut other = input.clone();
-            let (_, ops2, invalid2) = topological_phase(
+            let (_, ops2, invalid2, work) = topological_phase(
                 face,
                 &mut other,
                 opts,
                 order,
                 if order % 2 == 1 { 0 } else { target },
+                cap,
             );
+            spent += work;
+            orders_run += 1;
             let k = key(&other, invalid2);
             if k < best {
                 last_gain = order as usize;
@@ -466,14 +504,20 @@ pub fn regularize_face(
                 ..opts.clone()
             };
             for order in 0..orders.min(opts.wide_orders) as u32 {
+                let Some(cap) = left(spent) else {
+                    break;
+                };
                 let mut other = input.clone();
-                let (_, ops2, invalid2) = topological_phase(
+                let (_, ops2, invalid2, work) = topological_phase(
                     face,
                     &mut other,
                     &wide,
                     order,
                     if order % 2 == 1 { 0 } else { target },
+                    cap,
                 );
+                spent += work;
+                orders_run += 1;
                 let k = key(&other, invalid2);
                 if k < best {
                     *fq = other;
@@ -490,6 +534,12 @@ pub fn regularize_face(
         opts.window
     };
     let invalid_after = reposition::polish_invalid(fq, face, opts.window);
+    tracing::debug!(
+        "regularize face {}: {} quads in, {} orders, work {spent} of {budget}",
+        fid.0 + 1,
+        before.0,
+        orders_run
+    );
     FaceReport {
         face: fid,
         quads: (before.0, fq.num_quads()),
@@ -497,6 +547,7 @@ pub fn regularize_face(
         irregular: (before.2, fq.irregular_count()),
         invalid: (invalid_before, invalid_after),
         ops,
+        work: spent,
         window,
         reverted: false,
         strict: opts.strict_validity,
@@ -612,15 +663,17 @@ fn interior_irregular(fq: &FaceQuads) -> usize {
 
 /// Initial repair and the operation loop of one face ([`driver::Regularizer::run`]),
 /// visiting quads and vertices in `order` ([`driver::Regularizer::order`]),
-/// steering the quad count toward `target` (0: off). Returns the
-/// invalid quads before, the operation counts and the invalid quads after.
+/// steering the quad count toward `target` (0: off), stopping searches once
+/// `work_cap` units of work are done (0: no bound). Returns the invalid
+/// quads before, the operation counts, the invalid quads after and the work done.
 pub(crate) fn topological_phase(
     face: &Face,
     fq: &mut FaceQuads,
     opts: &RegularizeOptions,
     order: u32,
     target: usize,
-) -> (usize, OpCounts, usize) {
+    work_cap: u64,
+) -> (usize, OpCounts, usize, u64) {
     let mut r = driver::Regularizer::new(face, fq);
     r.compositions = opts.compositions;
     r.max_ops = opts.max_sequence;
@@ -633,10 +686,11 @@ pub(crate) fn topological_phase(
     r.pair_budget = opts.pair_budget;
     r.order = order;
     r.target_quads = target;
+    r.work_cap = work_cap;
     let invalid_before = r.invalid_count();
     r.initial_repair();
     r.run(opts.max_sweeps);
-    (invalid_before, r.counts, r.invalid_count())
+    (invalid_before, r.counts, r.invalid_count(), r.work)
 }
 
 #[cfg(test)]

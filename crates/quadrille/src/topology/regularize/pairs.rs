@@ -208,6 +208,7 @@ impl Regularizer<'_> {
                 return;
             }
             *budget -= 1;
+            self.work += 1;
             let cp = self.fq.checkpoint();
             if apply_topology(self.fq, op).is_some() {
                 let mut next: Vec<u32> = changed
@@ -300,6 +301,7 @@ impl Regularizer<'_> {
                     {
                         continue;
                     }
+                    self.work += 1;
                     let cp2 = self.fq.checkpoint();
                     if apply_topology(self.fq, op).is_some() {
                         let mut group: Vec<u32> = eff

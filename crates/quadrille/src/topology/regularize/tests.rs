@@ -750,6 +750,46 @@ fn regularized_split_patch(opts: RegularizeOptions) -> (FaceQuads, FaceReport) {
 }
 
 #[test]
+fn a_face_stops_at_its_work_budget_and_keeps_a_valid_result() {
+    let orders = |work_per_quad: u64| RegularizeOptions {
+        sweep_orders: 8,
+        wide_above: f64::INFINITY,
+        work_per_quad,
+        ..Default::default()
+    };
+    let quads = split_patch(8).num_quads() as u64;
+    let (free, free_rep) = regularized_split_patch(orders(0));
+    // unbounded, the 8 orders spend more than 20 units per input quad
+    assert!(
+        free_rep.work > 20 * quads,
+        "{} for {quads} quads",
+        free_rep.work
+    );
+    let (capped, rep) = regularized_split_patch(orders(20));
+    // the cap stops the searches (a search in progress finishes, so the
+    // first order may run a little past it; no further order starts)
+    assert!(
+        rep.work * 4 < free_rep.work,
+        "{} vs {}",
+        rep.work,
+        free_rep.work
+    );
+    assert!(rep.work >= 20 * quads, "{}", rep.work);
+    // valid (checked by regularized_split_patch) and still better than its input
+    let start = split_patch(8).irregular_count();
+    assert!(
+        capped.irregular_count() < start,
+        "{start} → {}",
+        capped.irregular_count()
+    );
+    assert!(free.irregular_count() < start);
+    // counted work, no clock: the same budget gives the same mesh
+    let (again, rep2) = regularized_split_patch(orders(20));
+    assert_eq!(rep2.work, rep.work);
+    assert_eq!(again.quads, capped.quads);
+}
+
+#[test]
 fn the_wider_pair_search_only_ever_lowers_the_irregular_count() {
     let run = |wide_above: f64| {
         let (fq, rep) = regularized_split_patch(RegularizeOptions {
