@@ -98,6 +98,27 @@ fn plane_point(uv: [f64; 2], origin: [f64; 2], scale: [f64; 2]) -> Point2<f64> {
     )
 }
 
+/// The smallest ratio of the two [`metric_scale`] factors a face may have.
+/// Below it the triangulation plane is a strip thinner than `f64` resolves
+/// against its length, and `spade`'s point location walked without end
+/// (the fuzzer's mutated torus, issue 32: a major radius of 9.2e18 against a
+/// minor radius of 5, a ratio of 5e-19). A real face stays far above it (a
+/// cylinder of radius 1 µm and length 1 km has 1e-9).
+const MIN_METRIC_RATIO: f64 = 1e-12;
+
+/// Why `face` cannot be triangulated in its (u, v) plane, when its two
+/// [`metric_scale`] factors differ by more than `1 / MIN_METRIC_RATIO`.
+pub fn degenerate_metric(face: &Face) -> Option<String> {
+    let scale = metric_scale(face);
+    let ratio = scale[0].min(scale[1]);
+    (ratio < MIN_METRIC_RATIO).then(|| {
+        format!(
+            "its (u, v) metric is degenerate: one direction is {:.1e} times longer than the other",
+            1.0 / ratio
+        )
+    })
+}
+
 /// Mean lengths of ∂S/∂u and ∂S/∂v over the face's uv box: the scaling that
 /// makes (u, v) roughly isometric.
 fn metric_scale(face: &Face) -> [f64; 2] {
@@ -149,6 +170,9 @@ impl<'a> FaceTriangulation<'a> {
         target: f64,
     ) -> Result<Self, FaceFailure> {
         let face = &model.faces[fid.idx()];
+        if let Some(why) = degenerate_metric(face) {
+            return Err(FaceFailure::Fatal(why));
+        }
         let scale = metric_scale(face);
         let mut nodes: Vec<LocalNode> = Vec::new();
         let mut pos: Vec<Vec3> = Vec::new();
