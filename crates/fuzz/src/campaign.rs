@@ -97,8 +97,9 @@ impl Seeds {
 
 /// The worker's side: runs cases `from..to`, printing `@case K` before each,
 /// `@ok K` after an accepted one and `@panic K message` after a caught panic,
-/// then `@done`; `@stop K` when a CAD read timed out (its thread still holds
-/// OCCT's reader lock, so the driver starts a new worker after case K).
+/// then `@done`; `@stop K` when the process reads no more CAD files after case
+/// K (a read timed out or faulted inside OCCT: `occt::cad_reads_refused`), so
+/// the driver starts a new worker after it.
 pub fn work(target: Target, seeds: &Seeds, seed: u64, from: u64, to: u64, scratch: &Path) {
     limit_memory(WORKER_MEMORY);
     std::panic::set_hook(Box::new(|_| {}));
@@ -111,15 +112,7 @@ pub fn work(target: Target, seeds: &Seeds, seed: u64, from: u64, to: u64, scratc
             Ok(Ok(_)) => {
                 let _ = writeln!(out.lock(), "@ok {case}");
             }
-            Ok(Err(why)) => {
-                if why.contains("did not finish reading") {
-                    // the reader thread still runs and holds OCCT's lock:
-                    // later cases would only wait for it, so this worker ends
-                    let _ = writeln!(out.lock(), "@stop {case}");
-                    let _ = out.lock().flush();
-                    return;
-                }
-            }
+            Ok(Err(_)) => {}
             Err(payload) => {
                 let msg = payload
                     .downcast_ref::<String>()
@@ -128,6 +121,14 @@ pub fn work(target: Target, seeds: &Seeds, seed: u64, from: u64, to: u64, scratc
                     .unwrap_or_else(|| "a panic".into());
                 let _ = writeln!(out.lock(), "@panic {case} {}", msg.replace('\n', " "));
             }
+        }
+        if occt::cad_reads_refused().is_some() {
+            // a CAD read timed out (its thread still holds OCCT's lock) or
+            // faulted inside OCCT (whose state is no longer trusted): later
+            // cases would only be refused, so this worker ends
+            let _ = writeln!(out.lock(), "@stop {case}");
+            let _ = out.lock().flush();
+            return;
         }
     }
     let _ = writeln!(out.lock(), "@done");

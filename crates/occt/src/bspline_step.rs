@@ -298,13 +298,10 @@ pub fn write_bspline_step(
         })
         .collect();
 
-    if let Some(earlier) = crate::STUCK_READ.lock().ok().and_then(|g| g.clone()) {
+    if let Some(why) = crate::cad_reads_refused() {
         return Err(StepWriteError::Occt {
             path: owned(),
-            detail: format!(
-                "OpenCASCADE is still busy with {}, whose reading did not finish",
-                earlier.display()
-            ),
+            detail: why,
         });
     }
     let tmp = temporary_beside(path);

@@ -114,6 +114,9 @@ extern "C" {
     /// OCCT's; one such scope at a time in the process).
     pub fn occt_signals_begin() -> *mut std::ffi::c_void;
     pub fn occt_signals_end(scope: *mut std::ffi::c_void);
+    /// Faults inside OCCT caught in this process so far (each one leaves
+    /// OCCT's frames by a jump that skips their destructors and unlocks).
+    pub fn occt_faults_caught() -> std::ffi::c_ulong;
     pub fn occt_write(
         m: *const OcctModel,
         path: *const c_char,

@@ -292,12 +292,8 @@ fn open_with<T: Send + 'static>(
     }
     let cpath = CString::new(path.as_os_str().as_bytes())
         .map_err(|_| unreadable("the path holds a NUL byte".into()))?;
-    if let Some(earlier) = STUCK_READ.lock().ok().and_then(|g| g.clone()) {
-        return Err(unreadable(format!(
-            "OpenCASCADE is still busy with {}, whose reading did not finish: \
-             restart the program to read more CAD files",
-            earlier.display()
-        )));
+    if let Some(why) = cad_reads_refused() {
+        return Err(unreadable(why));
     }
     let limit = read_time_limit(meta.len());
     let timed_out = unreadable(format!(
@@ -337,20 +333,103 @@ fn open_with<T: Send + 'static>(
             ))),
         }
     };
-    match read_with_deadline(read, limit) {
+    let faults_before = faults_caught();
+    let answer = match read_with_deadline(read, limit) {
         Ok(answer) => answer,
         Err(NoAnswer::TimedOut) => {
             if let Ok(mut g) = STUCK_READ.lock() {
                 *g = Some(path.to_path_buf());
             }
-            Err(timed_out)
+            return Err(timed_out);
         }
         Err(NoAnswer::Lost(why)) => Err(ImportError::Unreadable {
             path: owned(),
             format: format.name(),
             detail: why.into(),
         }),
+    };
+    if faults_caught() == faults_before {
+        return answer;
     }
+    // OCCT faulted on this file (perhaps recovering by itself): the jump out
+    // of the fault skipped OCCT's destructors and unlocks, so neither the
+    // shape nor OCCT's state after it can be trusted
+    if let Ok(mut g) = FAULTED_READ.lock() {
+        g.get_or_insert_with(|| path.to_path_buf());
+    }
+    const NOTE: &str = "a memory fault inside OpenCASCADE was caught while reading it, \
+                        so this process reads no more CAD files (restart it to read more)";
+    Err(match answer {
+        Ok(_) => unreadable(format!("OpenCASCADE recovered from a fault on it; {NOTE}")),
+        Err(e) => e.with_note(NOTE),
+    })
+}
+
+impl ImportError {
+    /// The same error with `note` appended to its detail.
+    fn with_note(self, note: &str) -> ImportError {
+        let add = |detail: String| format!("{detail}; {note}");
+        match self {
+            ImportError::Io { path, detail } => ImportError::Io {
+                path,
+                detail: add(detail),
+            },
+            ImportError::Unreadable {
+                path,
+                format,
+                detail,
+            } => ImportError::Unreadable {
+                path,
+                format,
+                detail: add(detail),
+            },
+            ImportError::NoFace { path, detail } => ImportError::NoFace {
+                path,
+                detail: add(detail),
+            },
+            ImportError::Invalid { path, detail } => ImportError::Invalid {
+                path,
+                detail: add(detail),
+            },
+            other => other,
+        }
+    }
+}
+
+/// Faults inside OCCT caught in this process so far.
+fn faults_caught() -> u64 {
+    // SAFETY: reads an atomic counter.
+    unsafe { ffi::occt_faults_caught() as u64 }
+}
+
+/// Why this process reads and writes no more CAD files, or `None` when it
+/// still does. Two things end OCCT's use in a process: a read that timed out
+/// (its thread still runs inside OCCT and holds its lock), and a fault inside
+/// OCCT caught during a read or write (the jump out of the fault skips OCCT's
+/// destructors and unlocks: later reads in the same process crashed at
+/// random, in `free` or on a null pointer, so the fuzzer found). A program
+/// that reads many untrusted files should start a new process when this
+/// answers `Some`.
+pub fn cad_reads_refused() -> Option<String> {
+    if let Some(earlier) = STUCK_READ.lock().ok().and_then(|g| g.clone()) {
+        return Some(format!(
+            "OpenCASCADE is still busy with {}, whose reading did not finish: \
+             restart the program to read more CAD files",
+            earlier.display()
+        ));
+    }
+    let faulted = FAULTED_READ.lock().ok().and_then(|g| g.clone());
+    if faulted.is_some() || faults_caught() > 0 {
+        let which = faulted.map_or_else(
+            || "an earlier CAD file".to_string(),
+            |p| p.display().to_string(),
+        );
+        return Some(format!(
+            "OpenCASCADE faulted while reading {which}, which may have damaged its state: \
+             restart the program to read more CAD files"
+        ));
+    }
+    None
 }
 
 /// Why the reader thread gave no answer.
@@ -364,6 +443,10 @@ enum NoAnswer {
 /// The file whose reading timed out: its thread still runs and holds OCCT's
 /// reader lock, so later reads are refused at once rather than waiting.
 static STUCK_READ: std::sync::Mutex<Option<std::path::PathBuf>> = std::sync::Mutex::new(None);
+
+/// The first file whose reading caught a fault inside OCCT: later reads are
+/// refused ([`cad_reads_refused`]).
+static FAULTED_READ: std::sync::Mutex<Option<std::path::PathBuf>> = std::sync::Mutex::new(None);
 
 /// Seconds OCCT may take to read a file of `len` bytes before the file counts
 /// as damaged: 5 s plus 20 s per MB (a damaged IGES or BREP file can send

@@ -69,6 +69,7 @@
 #include <cstring>
 #include <memory>
 #include <exception>
+#include <atomic>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -174,6 +175,32 @@ static int guarded(char* err, size_t errlen, F body) {
   return ERR_EXCEPTION;
 }
 
+// Faults inside OCCT caught since the process started (every signal that
+// reached OCCT's handlers through `counting_handler`, including those OCCT's
+// own catch points recovered from inside a reader). A caught fault leaves
+// OCCT's frames by a jump that skips their destructors and unlocks, so after
+// one the process's OCCT and heap state can no longer be trusted: the Rust
+// side refuses later reads (`occt::load`).
+static std::atomic<unsigned long> g_faults_caught{0};
+// OCCT's handler of each fault signal while a SignalsAsExceptions lives
+// (written under g_read_mutex before the counting handler is installed).
+static struct sigaction g_occt_actions[32];
+
+// Counts the fault, then hands it to OCCT's handler, which jumps to the
+// nearest OCC_CATCH_SIGNALS (this frame holds nothing to destroy).
+static void counting_handler(int sig, siginfo_t* info, void* ctx) {
+  g_faults_caught.fetch_add(1, std::memory_order_relaxed);
+  const struct sigaction& a = g_occt_actions[sig];
+  if (a.sa_flags & SA_SIGINFO) {
+    a.sa_sigaction(sig, info, ctx);
+  } else if (a.sa_handler != SIG_DFL && a.sa_handler != SIG_IGN) {
+    a.sa_handler(sig);
+  } else {
+    signal(sig, SIG_DFL);
+    raise(sig);
+  }
+}
+
 // While alive: OCCT's signal handlers, which turn an access violation (or
 // another fault) inside OCCT into a jump to the nearest OCC_CATCH_SIGNALS,
 // where it is thrown as a Standard_Failure. The fault handlers run on an
@@ -196,10 +223,13 @@ class SignalsAsExceptions {
     // SA_NODEFER: the handler leaves by a jump, and OCCT's own catch points
     // inside the readers go on after it; without it the fault signal would
     // stay blocked and the next fault would kill the process
+    // Each fault goes through counting_handler on its way to OCCT's handler
     for (int s : {SIGSEGV, SIGBUS, SIGFPE, SIGILL}) {
       struct sigaction a;
       if (sigaction(s, nullptr, &a) == 0) {
-        a.sa_flags |= SA_ONSTACK | SA_NODEFER;
+        g_occt_actions[s] = a;
+        a.sa_sigaction = counting_handler;
+        a.sa_flags |= SA_SIGINFO | SA_ONSTACK | SA_NODEFER;
         sigaction(s, &a, nullptr);
       }
     }
@@ -382,6 +412,9 @@ void occt_model_free(OcctModel* m) { delete m; }
 /// (used around a whole import: reading, then the topology queries).
 void* occt_signals_begin() { return new SignalScope(); }
 void occt_signals_end(void* scope) { delete static_cast<SignalScope*>(scope); }
+
+/// How many faults inside OCCT were caught in this process so far.
+unsigned long occt_faults_caught() { return g_faults_caught.load(std::memory_order_relaxed); }
 
 /// Writes the model's shape to `path`. kind: 0 STEP (AP214, as is), 1 IGES
 /// (B-rep mode, so edges stay shared), 2 BREP.

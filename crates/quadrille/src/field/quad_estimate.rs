@@ -35,7 +35,7 @@ use crate::curves::curve_mesh::{
 };
 use crate::field::crossfield::{FaceMesh, FaceTopology};
 use crate::field::size_map::{build_size_map, typical_curvature, FaceBackground, SizeMapOptions};
-use crate::triangulate::face_triangulation::FaceTriangulation;
+use crate::triangulate::face_triangulation::{degenerate_metric, FaceTriangulation};
 
 /// Background size of the estimate: `max(h, default size)` divided by this
 /// (triangles of twice that). 2: triangle edges about the quad size at the
@@ -141,6 +141,16 @@ pub fn size_integral(
 ) -> Result<SizeIntegral, MeshError> {
     if !(h.is_finite() && h > 0.0) {
         return Err(MeshError::InvalidSize(h));
+    }
+    // a face no plane triangulation can hold: refused before any work (the
+    // fuzzer's torus with a major radius of 9.2e18 ran for hours here)
+    for (f, face) in model.faces.iter().enumerate() {
+        if let Some(reason) = degenerate_metric(face) {
+            return Err(MeshError::Face {
+                face: FaceId(f as u32),
+                reason,
+            });
+        }
     }
     let h_bg = h.max(default_size(model)) / ESTIMATE_REFINE;
     let cms = discretize_all(model, &plan_curves(model, h_bg));

@@ -98,6 +98,34 @@ fn plane_point(uv: [f64; 2], origin: [f64; 2], scale: [f64; 2]) -> Point2<f64> {
     )
 }
 
+/// The smallest ratio of the two sides of a face's triangulation plane (its
+/// uv box scaled by [`metric_scale`]: about the ratio of the face's mean
+/// widths, whatever its parametrization). Below it the plane is a strip so
+/// thin that squared distances in it lose the short direction (the ratio
+/// squared nears `f64`'s 1e-16), and `spade`'s nearest-neighbour walk went on
+/// without end: the fuzzer's mutated tori (issue 32), major radius 9.2e18 or
+/// 4.3e9 against a minor radius of 5 (ratios 5e-19 and 1e-9). A real face
+/// stays far above it (a strip 1 µm wide and 1 m long has 1e-6).
+const MIN_METRIC_RATIO: f64 = 1e-6;
+
+/// Why `face` cannot be triangulated in its (u, v) plane, when the plane's
+/// sides differ by more than `1 / MIN_METRIC_RATIO`.
+pub fn degenerate_metric(face: &Face) -> Option<String> {
+    let scale = metric_scale(face);
+    let b = face.uv_bounds;
+    let sides = [
+        (b.umax - b.umin).abs() * scale[0],
+        (b.vmax - b.vmin).abs() * scale[1],
+    ];
+    let ratio = sides[0].min(sides[1]) / sides[0].max(sides[1]);
+    (ratio < MIN_METRIC_RATIO).then(|| {
+        format!(
+            "its (u, v) map is degenerate: the face is {:.1e} times longer one way than the other",
+            1.0 / ratio
+        )
+    })
+}
+
 /// Mean lengths of ∂S/∂u and ∂S/∂v over the face's uv box: the scaling that
 /// makes (u, v) roughly isometric.
 fn metric_scale(face: &Face) -> [f64; 2] {
@@ -149,6 +177,9 @@ impl<'a> FaceTriangulation<'a> {
         target: f64,
     ) -> Result<Self, FaceFailure> {
         let face = &model.faces[fid.idx()];
+        if let Some(why) = degenerate_metric(face) {
+            return Err(FaceFailure::Fatal(why));
+        }
         let scale = metric_scale(face);
         let mut nodes: Vec<LocalNode> = Vec::new();
         let mut pos: Vec<Vec3> = Vec::new();
