@@ -230,11 +230,16 @@ impl Campaign {
             let _ = tx.send(Event::Eof);
         });
         let hang = Duration::from_secs(self.target.hang_seconds());
+        let poll = hang.min(Duration::from_secs(1));
+        let pid = child.id();
         let mut current: Option<u64> = None;
         let mut done = false;
+        // the clock of the worker's last line: wall time and its CPU time
+        let mut since = (Instant::now(), cpu_seconds(pid));
         loop {
-            match rx.recv_timeout(hang) {
+            match rx.recv_timeout(poll) {
                 Ok(Event::Line(l)) => {
+                    since = (Instant::now(), cpu_seconds(pid));
                     if let Some(k) = l.strip_prefix("@case ") {
                         current = k.trim().parse().ok();
                         sum.cases += 1;
@@ -252,11 +257,28 @@ impl Campaign {
                     }
                 }
                 Ok(Event::Eof) => break,
-                Err(_) => {
+                Err(mpsc::RecvTimeoutError::Disconnected) => break,
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    let wall = since.0.elapsed();
+                    let cpu = match (since.1, cpu_seconds(pid)) {
+                        (Some(a), Some(b)) => Some(b - a),
+                        _ => None,
+                    };
+                    if !is_hang(hang, wall, cpu) {
+                        continue;
+                    }
                     let _ = child.kill();
                     let _ = child.wait();
                     let case = current.unwrap_or(from);
-                    let detail = format!("no answer in {} s", hang.as_secs());
+                    let detail = match cpu {
+                        Some(c) => format!(
+                            "no answer after {c:.1} s of CPU time ({:.1} s wall; limit {} s of CPU, {} s wall)",
+                            wall.as_secs_f64(),
+                            hang.as_secs(),
+                            WALL_FACTOR * hang.as_secs()
+                        ),
+                        None => format!("no answer in {} s", hang.as_secs()),
+                    };
                     self.record(seeds, case, DefectKind::Hang, detail, sum)?;
                     return Ok(case + 1);
                 }
@@ -324,5 +346,71 @@ fn describe(status: std::process::ExitStatus) -> String {
         (_, Some(sig)) => format!("killed by signal {sig}"),
         (Some(c), _) => format!("exit status {c}"),
         _ => "ended".into(),
+    }
+}
+
+/// A case that waits without computing (a deadlock, a blocked read) is a
+/// hang after this many times the CPU limit in wall time.
+const WALL_FACTOR: u64 = 10;
+
+/// Whether a worker silent for `wall`, having used `cpu` seconds of CPU in
+/// that time (`None`: not measurable), has hung. The limit `hang` counts the
+/// worker's CPU time, so a worker starved of CPU by a loaded machine (the
+/// fuzzer runs at low priority beside builds) is not called hung; one that
+/// does not compute at all is, after [`WALL_FACTOR`] × `hang` of wall time.
+fn is_hang(hang: Duration, wall: Duration, cpu: Option<f64>) -> bool {
+    match cpu {
+        Some(c) => c >= hang.as_secs_f64() || wall >= hang * WALL_FACTOR as u32,
+        None => wall >= hang,
+    }
+}
+
+/// CPU time (user and system, every thread) process `pid` has used, from
+/// `/proc/PID/stat`; `None` where that cannot be read.
+fn cpu_seconds(pid: u32) -> Option<f64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // after "pid (command) ": state is field 3; utime and stime are 14 and 15
+    let fields: Vec<&str> = stat.get(stat.rfind(')')? + 2..)?.split_whitespace().collect();
+    let ticks = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    // SAFETY: sysconf only reads a configuration value
+    let hz = unsafe { libc::sysconf(libc::_SC_CLK_TCK) };
+    (hz > 0).then(|| ticks / hz as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_starved_worker_is_no_hang_but_a_computing_or_idle_one_is() {
+        let hang = Duration::from_secs(10);
+        // 30 s silent on a loaded machine with 2 s of CPU: starved, not hung
+        assert!(!is_hang(hang, Duration::from_secs(30), Some(2.0)));
+        // 10 s of CPU without a line: hung
+        assert!(is_hang(hang, Duration::from_secs(12), Some(10.0)));
+        // 100 s without computing (a deadlock): hung
+        assert!(is_hang(hang, Duration::from_secs(100), Some(0.0)));
+        // no /proc: wall time alone
+        assert!(is_hang(hang, Duration::from_secs(10), None));
+        assert!(!is_hang(hang, Duration::from_secs(9), None));
+    }
+
+    #[test]
+    fn this_process_cpu_time_grows_with_work() {
+        let pid = std::process::id();
+        let before = cpu_seconds(pid).expect("/proc on Linux");
+        // busy until the clock ticks (it counts in 1/100 s), at most 20 s
+        // of wall time on a loaded machine
+        let started = Instant::now();
+        let mut x = 0u64;
+        let mut after = before;
+        while after <= before && started.elapsed() < Duration::from_secs(20) {
+            for _ in 0..1_000_000 {
+                x = x.wrapping_mul(6364136223846793005).wrapping_add(1);
+            }
+            after = cpu_seconds(pid).expect("/proc on Linux");
+        }
+        std::hint::black_box(x);
+        assert!(after > before, "{before} → {after}");
     }
 }
