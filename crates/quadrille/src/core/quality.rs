@@ -6,7 +6,7 @@ use geometry::vec3::{self, Vec3};
 use geometry::Face;
 use mesh::quality::quad_sicn_both_judges;
 
-use crate::core::patch::{LocalNode, NodeRef};
+use crate::core::patch::{LocalNode, NodeRef, QuadPatch};
 
 /// Oriented unit normal of the face at node `k` of quad `q`: the CAD normal at
 /// the node's (u, v); at a pole (a node on a degenerate curve) or another
@@ -45,6 +45,18 @@ pub fn quad_quality(face: &Face, nodes: &[LocalNode], pos: &[Vec3], q: &[u32; 4]
 
 /// [`quad_quality`] with some corner normals already known: `known[k]` is
 /// used for corner `k` when set (an optimizer moving one node keeps the
+/// Worst and average SICN (CAD normals) of `p`'s quads.
+pub fn patch_quality(face: &Face, p: &QuadPatch) -> (f64, f64) {
+    let mut worst = f64::INFINITY;
+    let mut sum = 0.0;
+    for q in &p.quads {
+        let s = quad_quality(face, &p.nodes, &p.pos, q);
+        worst = worst.min(s);
+        sum += s;
+    }
+    (worst, sum / p.quads.len().max(1) as f64)
+}
+
 /// others' normals instead of evaluating the CAD again).
 pub fn quad_quality_with(
     face: &Face,

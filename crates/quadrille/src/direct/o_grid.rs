@@ -7,7 +7,7 @@
 use geometry::vec3::{self, Vec3};
 
 use crate::core::patch::{LocalNode, QuadPatch};
-use crate::core::quality::quad_quality;
+use crate::core::quality::patch_quality;
 use crate::direct::pattern_face::{
     harmonic_uv, needs_reversal, place_interior, smooth_and_check, uv_centroid, Ring,
 };
@@ -54,8 +54,8 @@ pub(crate) fn mesh_disk_o_grid(face: &geometry::Face, ring: &Ring) -> Result<Qua
     let Ok(f) = mesh_o_grid(face, ring, fitted) else {
         return round_mesh;
     };
-    let fa = average_sicn(face, &f);
-    let ra = round_mesh.as_ref().map_or(f64::NEG_INFINITY, |r| average_sicn(face, r));
+    let fa = patch_quality(face, &f).1;
+    let ra = round_mesh.as_ref().map_or(f64::NEG_INFINITY, |r| patch_quality(face, r).1);
     tracing::debug!(
         "O-grid of {nb} boundary edges: fitted {fitted:?}, {} quads, SICN {fa:.3}; round {round:?}, SICN {ra:.3}",
         f.quads.len()
@@ -70,16 +70,6 @@ pub(crate) fn mesh_disk_o_grid(face: &geometry::Face, ring: &Ring) -> Result<Qua
 /// Average SICN a fitted O-grid must reach to be kept (about what the
 /// frontal mesher gives a face the round O-grid fails on).
 const FITTED_MIN_AVERAGE_SICN: f64 = 0.85;
-
-/// The mean SICN (CAD normals) of a patch's quads.
-fn average_sicn(face: &geometry::Face, p: &QuadPatch) -> f64 {
-    let sum: f64 = p
-        .quads
-        .iter()
-        .map(|q| quad_quality(face, &p.nodes, &p.pos, q))
-        .sum();
-    sum / p.quads.len().max(1) as f64
-}
 
 /// The shape of an O-grid on a ring of `nb` boundary nodes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -353,7 +343,7 @@ mod tests {
                 n.node == crate::core::patch::NodeRef::Interior && **v != 4
             });
             assert_eq!(irregular.count(), 4);
-            average_sicn(face, &p)
+            patch_quality(face, &p).1
         };
         let (fit, round) = (average(fitted), average(round_layout(nb)));
         assert!(fit > round + 0.02, "fitted {fit:.3}, round {round:.3}");

@@ -321,16 +321,15 @@ fn mesh_part(
 ) -> Result<(), String> {
     let popts = PairingOptions { closing_edge_unsplittable: closing, ..opts.clone() };
     let facing = Facing::of(&loops.outer.points);
-    let minimums_of = |paired: &PairedCycle| -> Vec<usize> {
-        (0..paired.starts.len())
+    // a pairing's quads with the network's interval minimums, refused when folded
+    let lay_out = |paired: &PairedCycle| {
+        let minimums: Vec<usize> = (0..paired.starts.len())
             .map(|s| least.get(&segment_key(paired, s, weld)).copied().unwrap_or(0))
-            .collect()
+            .collect();
+        quadrangulate_with_minimums(paired, h, &minimums).and_then(|q| unfolded(q, &facing))
     };
     let matched = pair_cycle(loops, &popts).map_err(|e| e.to_string());
-    let matched_laid = matched
-        .as_ref()
-        .ok()
-        .map(|(paired, _)| quadrangulate_with_minimums(paired, h, &minimums_of(paired)).and_then(|q| unfolded(q, &facing)));
+    let matched_laid = matched.as_ref().ok().map(|(paired, _)| lay_out(paired));
     let matched_ok = matches!(matched_laid, Some(Ok(_)));
     // A cycle with holes whose matched pairing fails or folds: an annulus
     // gets the ring layout (`curvenet::ring`), else the holes are split off
@@ -339,8 +338,7 @@ fn mesh_part(
     let mut ring = None;
     if !loops.holes.is_empty() && !matched_ok {
         ring = pair_ring(loops, &popts).and_then(|r| r.ok()).and_then(|(paired, report)| {
-            let q = quadrangulate_with_minimums(&paired, h, &minimums_of(&paired)).and_then(|q| unfolded(q, &facing));
-            match q {
+            match lay_out(&paired) {
                 Ok(q) => Some((paired, report, q)),
                 Err(e) => {
                     summary.notes.push(format!("annulus: the ring layout failed ({e})"));

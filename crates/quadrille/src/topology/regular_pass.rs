@@ -32,13 +32,13 @@
 //! Measured on the 26 CAD models: see BENCHMARKS.md, "The regular method's
 //! operations after the cavities".
 
+pub use crate::core::quality::patch_quality;
 use geometry::{CornerId, Face, FaceId};
 use mesh::NodeClass;
 
 use crate::core::face_quads::{FaceQuads, QVertex};
 use crate::core::patch::QuadPatch;
 use crate::core::patch::{LocalNode, NodeRef};
-use crate::core::quality::quad_quality;
 use crate::smoothing::{lift_poor_quads, optimize, OptimizeOptions, POOR_SICN};
 use crate::topology::regularize::reposition::polish_invalid;
 use crate::topology::regularize::{
@@ -132,18 +132,6 @@ pub struct RegularPassReport {
     pub before: (f64, f64),
     /// Worst and average SICN of the kept result (zero when none was kept).
     pub after: (f64, f64),
-}
-
-/// Worst and average SICN (CAD normals) of `p`'s quads.
-pub fn patch_quality(face: &Face, p: &QuadPatch) -> (f64, f64) {
-    let mut worst = f64::INFINITY;
-    let mut sum = 0.0;
-    for q in &p.quads {
-        let s = quad_quality(face, &p.nodes, &p.pos, q);
-        worst = worst.min(s);
-        sum += s;
-    }
-    (worst, sum / p.quads.len().max(1) as f64)
 }
 
 /// The [`FaceQuads`] of patch `p` of face `fid`: boundary nodes (corners,
