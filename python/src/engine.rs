@@ -267,6 +267,7 @@ impl MeshRequest {
             regularize_progress: progress,
             quads_per_turn: self.quads_per_turn,
             max_quads: self.max_quads,
+            ..MeshOptions::default()
         };
         Ok((opts, method))
     }

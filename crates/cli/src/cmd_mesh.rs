@@ -90,6 +90,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         regularize_progress: regularize_bar.callback_after(&bar),
         quads_per_turn: args.quads_per_turn,
         max_quads: args.max_quads,
+        ..MeshOptions::default()
     };
     let t1 = Instant::now();
     let method = match args.method {

@@ -29,7 +29,7 @@ fn check_model(name: &str) -> (usize, usize) {
     let cms = discretize_all(&m, &plan_curves(&m, h));
     let mut by_pattern = 0;
     for f in 0..m.faces.len() {
-        let Ok((patch, pattern)) = mesh_face_pattern(&m, FaceId(f as u32), &cms) else {
+        let Ok((patch, pattern)) = mesh_face_pattern(&m, FaceId(f as u32), &cms, true) else {
             continue;
         };
         by_pattern += 1;
@@ -119,7 +119,7 @@ fn a_plate_with_one_round_hole_is_a_holed_grid() {
     let plate = (0..m.faces.len())
         .find(|&f| m.faces[f].loops.len() == 2)
         .expect("the plate face");
-    let (patch, pattern) = mesh_face_pattern(&m, FaceId(plate as u32), &cms).expect("a pattern");
+    let (patch, pattern) = mesh_face_pattern(&m, FaceId(plate as u32), &cms, true).expect("a pattern");
     assert_eq!(pattern, HOLED_GRID);
     // the curve planning takes the plate's opposite sides as chords
     let outer: Vec<usize> = m.faces[plate]

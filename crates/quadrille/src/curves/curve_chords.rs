@@ -19,10 +19,18 @@ pub const CHORD_TOLERANCE: f64 = 0.5;
 /// The curves of each 4-sided face taken as opposite pairs: faces with one
 /// loop of exactly four uses, none of them a degenerate curve, and faces
 /// with such a loop around a hole bounded by one closed curve (the
-/// [`crate::direct::holed_face`] grid needs equal opposite sides too).
+/// [`crate::direct::holed_face`] grid needs equal opposite sides too); and
+/// the two loops of an annulus of one curve each ([`annulus_loops`]: the
+/// ring grid of `direct::ring_face` needs equal counts on both).
 pub fn opposite_pairs(model: &Model) -> Vec<[usize; 2]> {
     let mut pairs = Vec::new();
     for f in &model.faces {
+        if let Some(loops) = annulus_loops(model, f) {
+            if let [[a], [b]] = [loops[0].as_slice(), loops[1].as_slice()] {
+                pairs.push([*a, *b]);
+            }
+            continue;
+        }
         let outer = match f.loops.as_slice() {
             [lp] => lp,
             [a, b] if a.uses.len() == 4 && b.uses.len() == 1 => a,
@@ -195,6 +203,31 @@ pub fn convex_sides(model: &Model, face: &Face) -> Option<Vec<Vec<usize>>> {
     )
 }
 
+/// The curves of each loop of an annulus meshed as a ring grid
+/// (`direct::ring_face`): a face with two loops, every junction of either
+/// flat (smooth loops: a circle, or a circle split into arcs), no
+/// degenerate curve, on a surface that is not periodic (a periodic band
+/// has a seam and is a 4-sided grid instead). `None` for any other face.
+pub fn annulus_loops(model: &Model, face: &Face) -> Option<[Vec<usize>; 2]> {
+    let [l0, l1] = face.loops.as_slice() else {
+        return None;
+    };
+    if face.surface.periods().iter().any(Option::is_some) {
+        return None;
+    }
+    let curves = |lp: &Loop| -> Option<Vec<usize>> {
+        for (k, u) in lp.uses.iter().enumerate() {
+            if model.curves[u.curve.idx()].degenerate
+                || ideal_corner_valence(use_start_angle(model, face, lp, k)?) != 2
+            {
+                return None;
+            }
+        }
+        Some(lp.uses.iter().map(|u| u.curve.idx()).collect())
+    };
+    Some([curves(l0)?, curves(l1)?])
+}
+
 /// The four sides of a face with exactly four convex corners and only flat
 /// other junctions ([`convex_sides`]).
 pub fn four_sides(model: &Model, face: &Face) -> Option<[Vec<usize>; 4]> {
@@ -216,10 +249,16 @@ pub fn balance_composite_sides(
     counts: &mut [usize],
     members: &impl Fn(usize) -> Vec<usize>,
 ) {
+    // an annulus whose loops are one curve and several arcs is balanced
+    // like two opposite sides (its other two "sides" empty)
     let sided: Vec<[Vec<usize>; 4]> = model
         .faces
         .iter()
-        .filter_map(|f| four_sides(model, f))
+        .filter_map(|f| {
+            four_sides(model, f).or_else(|| {
+                annulus_loops(model, f).map(|[a, b]| [a, Vec::new(), b, Vec::new()])
+            })
+        })
         .collect();
     for _ in 0..BALANCE_PASSES {
         if !balance_pass(&sided, ideal, counts, members) {
@@ -245,7 +284,11 @@ fn balance_pass(
             let ([single], many) = (sides[a].as_slice(), &sides[b]) else {
                 continue;
             };
-            if many.len() < 2 || many.contains(single) {
+            // a curve of the many in the single's chord: equal totals
+            // would need n = n + the others' counts, and each pass would
+            // raise the chord again
+            let chord = members(*single);
+            if many.len() < 2 || many.iter().any(|c| chord.contains(c)) {
                 continue;
             }
             let sum: usize = many.iter().map(|&c| counts[c]).sum();
@@ -253,7 +296,7 @@ fn balance_pass(
             let agree = (ideal[*single] - ideal_sum).abs()
                 <= CHORD_TOLERANCE * ideal[*single].max(ideal_sum);
             if counts[*single] != sum && agree {
-                for c in members(*single) {
+                for c in chord {
                     counts[c] = sum;
                 }
                 changed = true;

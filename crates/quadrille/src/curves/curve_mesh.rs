@@ -24,6 +24,9 @@ use geometry::{CurveId, Model};
 use crate::curves::curve_chords::{
     balance_composite_sides, balance_for_patterns, chord_classes, chord_counts,
 };
+use crate::curves::count_balance::{
+    balance_annuli, balance_band_seams, balance_seam_grids, square_band_seams,
+};
 
 /// Largest turning angle of the tangent along one coarse segment (radians).
 /// Keeps small circles from being a 1- or 2-segment polygon in (u, v).
@@ -427,118 +430,6 @@ pub fn plan_final_curves(model: &Model, h: f64, sizes: &[Option<Vec<[f64; 2]>>])
     plan_curves_with(model, h, sizes, &reaches)
 }
 
-/// (u, v) samples per direction for the mean widths of [`balance_seam_grids`].
-const WIDTH_SAMPLES: usize = 16;
-
-/// A face bounded by nothing but two seams of its own (a full torus: the
-/// loop is seam A, seam B, A again, B again, and no other face uses A or B)
-/// is meshed as a grid whose two counts are free. Measured on the seams
-/// alone they follow the size map along two particular lines, which need
-/// not be typical of the face (on a torus, the size map bends around the
-/// cross field's singularities). Here the product of the two ideal counts
-/// is kept and their ratio set to the ratio of the face's mean widths along
-/// u and along v, so that the grid's cells are square on average.
-fn balance_seam_grids(model: &Model, ideal: &mut [f64]) {
-    let curve_faces = model.curve_faces();
-    for (fi, face) in model.faces.iter().enumerate() {
-        let [lp] = face.loops.as_slice() else {
-            continue;
-        };
-        let u = &lp.uses;
-        if u.len() != 4
-            || u[0].curve != u[2].curve
-            || u[1].curve != u[3].curve
-            || u[0].curve == u[1].curve
-            || !u.iter().all(|x| x.seam)
-        {
-            continue;
-        }
-        let (a, b) = (u[0].curve.idx(), u[1].curve.idx());
-        let own = |c: usize| curve_faces[c].as_slice() == [geometry::FaceId(fi as u32)];
-        if !own(a) || !own(b) || !(ideal[a] > 0.0 && ideal[b] > 0.0) {
-            continue;
-        }
-        // mean lengths of the u-lines and of the v-lines across the face
-        let bd = face.uv_bounds;
-        let (mut su, mut sv) = (0.0, 0.0);
-        for i in 0..WIDTH_SAMPLES {
-            for j in 0..WIDTH_SAMPLES {
-                let x = bd.umin + (bd.umax - bd.umin) * (i as f64 + 0.5) / WIDTH_SAMPLES as f64;
-                let y = bd.vmin + (bd.vmax - bd.vmin) * (j as f64 + 0.5) / WIDTH_SAMPLES as f64;
-                let d = face.surface.derivs([x, y]);
-                su += vec3::norm(d.du);
-                sv += vec3::norm(d.dv);
-            }
-        }
-        let n2 = (WIDTH_SAMPLES * WIDTH_SAMPLES) as f64;
-        let width_u = su / n2 * (bd.umax - bd.umin);
-        let width_v = sv / n2 * (bd.vmax - bd.vmin);
-        if !(width_u > 0.0 && width_v > 0.0) {
-            continue;
-        }
-        // a seam along which u is constant runs in v, and counts v-cells
-        let runs_in_v = |k: usize| {
-            let ce = &model.curves[u[k].curve.idx()];
-            let t = 0.5 * (ce.range.0 + ce.range.1);
-            let d = u[k].pcurve.deriv(t);
-            d[1].abs() > d[0].abs()
-        };
-        let (along_v, along_u) = match (runs_in_v(0), runs_in_v(1)) {
-            (true, false) => (a, b),
-            (false, true) => (b, a),
-            _ => continue,
-        };
-        let product = ideal[a] * ideal[b];
-        ideal[along_u] = (product * width_u / width_v).sqrt();
-        ideal[along_v] = (product * width_v / width_u).sqrt();
-    }
-}
-
-/// An open band (a lofted skin, a duct: one loop, curve A, a seam S, curve B,
-/// S again, where A and B bound no other face and S is the band's own) is
-/// meshed as a grid whose seam count is free. The size map's count for S
-/// follows the size map along one line, while A and B are spaced by their
-/// curvature (an airfoil's leading edge), so their cells can be several
-/// times longer across than along. Here S's ideal count is set so that the
-/// grid's cells are as long along S as they are wide along A and B on
-/// average: `|S| / mean(|A| / ideal[A], |B| / ideal[B])`.
-fn balance_band_seams(model: &Model, ideal: &mut [f64], lengths: &[f64]) {
-    let curve_faces = model.curve_faces();
-    for (fi, face) in model.faces.iter().enumerate() {
-        let [lp] = face.loops.as_slice() else {
-            continue;
-        };
-        let u = &lp.uses;
-        if u.len() != 4 {
-            continue;
-        }
-        let own = |c: usize| curve_faces[c].as_slice() == [geometry::FaceId(fi as u32)];
-        for k in 0..2 {
-            let (s, a, b) = (
-                u[k].curve.idx(),
-                u[k + 1].curve.idx(),
-                u[(k + 3) % 4].curve.idx(),
-            );
-            let band = u[k + 2].curve.idx() == s
-                && u[k].seam
-                && u[k + 2].seam
-                && !u[k + 1].seam
-                && !u[(k + 3) % 4].seam
-                && a != b
-                && own(s)
-                && own(a)
-                && own(b);
-            if !band || !(ideal[a] > 0.0 && ideal[b] > 0.0 && lengths[s] > 0.0) {
-                continue;
-            }
-            let spacing = 0.5 * (lengths[a] / ideal[a] + lengths[b] / ideal[b]);
-            if spacing > 0.0 {
-                ideal[s] = lengths[s] / spacing;
-            }
-        }
-    }
-}
-
 /// [`plan_curves_sized`] with `reaches[c]`: the distances from curve `c`'s
 /// start and end its first nodes keep (none where `reaches` is short).
 fn plan_curves_with(
@@ -574,6 +465,7 @@ fn plan_curves_with(
         .collect();
     balance_seam_grids(model, &mut ideal);
     balance_band_seams(model, &mut ideal, &lengths);
+    balance_annuli(model, &mut ideal);
     let chords = chord_classes(model, &ideal);
     let mut counts = chord_counts(&chords, &ideal);
     let mut plan_chords = vec![Vec::new(); model.curves.len()];
@@ -598,6 +490,7 @@ fn plan_curves_with(
         }
     };
     balance_for_patterns(model, &ideal, &mut counts, &members, &min_count);
+    square_band_seams(model, &mut counts, &members, &lengths);
     enforce_minimum_counts(model, &mut counts, &members, &lengths);
     CurvePlan {
         counts,
@@ -750,8 +643,10 @@ mod tests {
         assert_eq!(c, vec![4; 4]);
         let cyl = primitives::cylinder(1.0, 3.0);
         let c = plan_curves(&cyl, 10.0).counts;
-        // closed circles: at least 3, and 4 by turning angle; the seam line: 1
-        assert_eq!(c, vec![4, 4, 1]);
+        // closed circles: at least 3, and 4 by turning angle; the seam line
+        // 1 by the size, then 2 so that the band's cells are square:
+        // round(3 / (2π / 4)) = round(1.91) (`square_band_seams`)
+        assert_eq!(c, vec![4, 4, 2]);
         let s = primitives::sphere(1.0);
         let c = plan_curves(&s, 0.1).counts;
         assert_eq!(c[0], 1);

@@ -19,23 +19,11 @@ use crate::core::patch::QuadPatch;
 use crate::core::valence::ideal_corner_valence;
 use crate::curves::curve_mesh::CurveMesh;
 use crate::direct::pattern_face::{
-    harmonic_uv, loop_ring, needs_reversal, place_interior, smooth_and_check, Ring,
+    harmonic_uv, loop_ring, needs_reversal, place_interior, smooth_and_check, uv_area,
 };
 
 /// Name of the pattern of [`mesh_holed_face`].
 pub const HOLED_GRID: &str = "holed grid";
-
-/// Signed area of a ring in (u, v) (positive: counter-clockwise).
-fn uv_area(ring: &Ring) -> f64 {
-    let n = ring.nodes.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (ring.nodes[i].uv, ring.nodes[(i + 1) % n].uv);
-            a[0] * b[1] - a[1] * b[0]
-        })
-        .sum::<f64>()
-        * 0.5
-}
 
 /// The hole's widths `(mx, my)` in grid cells: `mx + my = half`, split in
 /// the proportion of the outer sides, each at least 1 and leaving at least

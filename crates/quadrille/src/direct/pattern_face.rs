@@ -304,17 +304,23 @@ pub(crate) fn harmonic_uv(quads: &[[u32; 4]], uv: &mut [[f64; 2]], fixed: &[bool
 }
 
 /// Meshes face `fid` with a library pattern against the curve meshes `cms`
-/// (every curve point is a boundary node). Returns the patch and the
-/// pattern's name, or why the face is not meshed that way.
+/// (every curve point is a boundary node); an annulus as a ring grid when
+/// `ring_grids`. Returns the patch and the pattern's name, or why the face
+/// is not meshed that way.
 pub fn mesh_face_pattern(
     model: &Model,
     fid: FaceId,
     cms: &[CurveMesh],
+    ring_grids: bool,
 ) -> Result<(QuadPatch, String), String> {
     if let Some(Ok(patch)) = crate::direct::sphere_face::mesh_full_sphere(model, fid, cms) {
         return Ok((patch, "cube".into()));
     }
     let face = &model.faces[fid.idx()];
+    if ring_grids && crate::curves::curve_chords::annulus_loops(model, face).is_some() {
+        return crate::direct::ring_face::mesh_ring_face(model, fid, cms)
+            .map(|p| (p, crate::direct::ring_face::RING_GRID.into()));
+    }
     if face.loops.len() == 2 {
         return crate::direct::holed_face::mesh_holed_face(model, fid, cms)
             .map(|p| (p, crate::direct::holed_face::HOLED_GRID.into()));
@@ -486,6 +492,18 @@ pub fn smooth_and_check(
     Ok(patch)
 }
 
+/// Signed area of a ring in (u, v) (positive: counter-clockwise).
+pub(crate) fn uv_area(ring: &Ring) -> f64 {
+    let n = ring.nodes.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (ring.nodes[i].uv, ring.nodes[(i + 1) % n].uv);
+            a[0] * b[1] - a[1] * b[0]
+        })
+        .sum::<f64>()
+        * 0.5
+}
+
 /// The mean (u, v) of `nodes` (the start of a harmonic fill inside a ring).
 pub(crate) fn uv_centroid(nodes: &[LocalNode]) -> [f64; 2] {
     let s = nodes
@@ -510,7 +528,7 @@ mod tests {
     fn a_rectangle_is_a_grid() {
         let model = primitives::rectangle(3.0, 1.0);
         let cms = discretize_all(&model, &plan_curves(&model, 0.25));
-        let (patch, name) = mesh_face_pattern(&model, FaceId(0), &cms).expect("a pattern");
+        let (patch, name) = mesh_face_pattern(&model, FaceId(0), &cms, true).expect("a pattern");
         assert_eq!(name, "R1");
         // 3 / 0.25 = 12 by 1 / 0.25 = 4
         assert_eq!(patch.quads.len(), 48);
@@ -536,7 +554,7 @@ mod tests {
         // a reversed face gets its quads turned the other way, still valid
         let mut flipped = model.clone();
         flipped.faces[0].reversed = true;
-        let (back, _) = mesh_face_pattern(&flipped, FaceId(0), &cms).expect("a pattern");
+        let (back, _) = mesh_face_pattern(&flipped, FaceId(0), &cms, true).expect("a pattern");
         assert_eq!(back.quads.len(), 48);
         assert_ne!(back.quads[0], patch.quads[0]);
         assert!(back.quads.iter().all(|q| quad_quality(
@@ -554,7 +572,7 @@ mod tests {
         let mut names = Vec::new();
         for f in 0..model.faces.len() {
             let (patch, name) =
-                mesh_face_pattern(&model, FaceId(f as u32), &cms).expect("a pattern");
+                mesh_face_pattern(&model, FaceId(f as u32), &cms, true).expect("a pattern");
             let v = valences(&patch);
             let interior = |i: usize| patch.nodes[i].node == NodeRef::Interior;
             let irregular = (0..v.len()).filter(|&i| interior(i) && v[i] != 4).count();

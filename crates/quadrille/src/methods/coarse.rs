@@ -164,7 +164,9 @@ pub fn mesh_coarse(
             m
         }
         None => {
-            let (m, r) = super::mesh_model_with(model, mesh_opts, super::MeshMethod::default())?;
+            // without ring grids ([`MeshOptions::ring_grids`])
+            let no_rings = crate::MeshOptions { ring_grids: false, ..mesh_opts.clone() };
+            let (m, r) = super::mesh_model_with(model, &no_rings, super::MeshMethod::default())?;
             times.quasi_structured = started.elapsed().as_secs_f64();
             estimated_quads = Some(r.estimated_quads);
             m

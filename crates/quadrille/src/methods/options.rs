@@ -24,6 +24,12 @@ pub struct MeshOptions {
     /// before anything is meshed, else [`crate::MeshError::TooManyQuads`];
     /// 0 lifts the limit ([`crate::DEFAULT_MAX_QUADS`] by default).
     pub max_quads: u64,
+    /// Annuli between two smooth loops meshed as ring grids
+    /// ([`crate::direct::ring_face`]) by the quasi-structured method. The
+    /// coarse method turns it off for its input: on i03o_m3 its layout
+    /// placement (§5.3) finds no free input path for a layout edge of a ring
+    /// grid in three rounds, and falls back to one block per quad.
+    pub ring_grids: bool,
 }
 
 /// Default of [`MeshOptions::quads_per_turn`]: five quads across a 90°
@@ -47,6 +53,7 @@ impl Default for MeshOptions {
             regularize_progress: None,
             quads_per_turn: DEFAULT_QUADS_PER_TURN,
             max_quads: crate::methods::guard::DEFAULT_MAX_QUADS,
+            ring_grids: true,
         }
     }
 }
@@ -63,6 +70,7 @@ impl std::fmt::Debug for MeshOptions {
             )
             .field("quads_per_turn", &self.quads_per_turn)
             .field("max_quads", &self.max_quads)
+            .field("ring_grids", &self.ring_grids)
             .finish()
     }
 }

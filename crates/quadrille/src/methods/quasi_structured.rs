@@ -143,7 +143,7 @@ pub(crate) fn mesh_quasi_structured(
             let (model, fid, face) = (ctx.model, ctx.fid, ctx.face);
             if stages.patterns {
                 let r = timed(&mut ft.patterns, "patterns", || {
-                    mesh_face_pattern(model, fid, ctx.cms)
+                    mesh_face_pattern(model, fid, ctx.cms, opts.ring_grids)
                 });
                 match r {
                     Ok((p, name)) => return Ok(FaceOutcome::new(p, MadeBy::Pattern(name))),
@@ -204,7 +204,7 @@ pub(crate) fn mesh_quasi_structured(
                         // the face is given up
                         Err(failure) if !stages.patterns => {
                             match timed(&mut ft.patterns, "patterns", || {
-                                mesh_face_pattern(model, fid, ctx.cms)
+                                mesh_face_pattern(model, fid, ctx.cms, opts.ring_grids)
                             }) {
                                 Ok((p, name)) => {
                                     tracing::debug!(
