@@ -64,7 +64,8 @@ pub struct Regularizer<'a> {
     pub face: &'a Face,
     /// The quads being edited.
     pub fq: &'a mut FaceQuads,
-    /// Invalid flag per quad id (base window), kept in step with accepted edits.
+    /// Invalid flag per quad id (base window, or inverted by either judge:
+    /// `quad_bad`), kept in step with accepted edits.
     invalid: Vec<bool>,
     /// What happened so far.
     pub counts: OpCounts,
@@ -117,16 +118,50 @@ pub struct Regularizer<'a> {
     /// Epoch at which [`Regularizer::improve_at`] last found nothing at a quad.
     quad_failed: Vec<u64>,
     /// Work done so far, in counted units: [`GEOMETRIC_WORK`] per operation
-    /// applied with repositioning, 1 per topological trial of a search.
+    /// applied with repositioning, [`TRIAL_WORK`] per topological trial of a
+    /// search, [`EVALUATION_WORK`] per candidate operation whose valence
+    /// effect is evaluated (where most of the time of the searches goes).
     pub work: u64,
+    /// What [`Regularizer::work`] counted, by kind.
+    pub tally: WorkTally,
     /// Stop searching once [`Regularizer::work`] reaches this (0: no bound).
     /// Counted, never timed, so the result does not depend on the machine.
     pub work_cap: u64,
 }
 
 /// Work units of one operation applied with repositioning and its validity
-/// check ([`Regularizer::work`]); a topological trial counts 1.
-pub const GEOMETRIC_WORK: u64 = 10;
+/// check ([`Regularizer::work`]).
+pub const GEOMETRIC_WORK: u64 = 300;
+
+/// Work units of one topological trial of a search ([`Regularizer::work`]).
+pub const TRIAL_WORK: u64 = 1;
+
+/// Work units of one evaluation of a candidate operation's valence effect
+/// ([`Regularizer::work`]).
+pub const EVALUATION_WORK: u64 = 1;
+
+/// The events [`Regularizer::work`] counts, by kind (for the logs and the
+/// calibration of [`super::RegularizeOptions::work_per_quad`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WorkTally {
+    /// Operations applied with repositioning and a validity check.
+    pub geometric: u64,
+    /// Topological trials of the searches (applied and rolled back).
+    pub trials: u64,
+    /// Valence effects of candidate operations evaluated.
+    pub evaluations: u64,
+}
+
+impl WorkTally {
+    /// The sum of two tallies.
+    pub fn plus(self, o: WorkTally) -> WorkTally {
+        WorkTally {
+            geometric: self.geometric + o.geometric,
+            trials: self.trials + o.trials,
+            evaluations: self.evaluations + o.evaluations,
+        }
+    }
+}
 
 /// Score change of an operation sequence: (irregular vertices, Σ|valence −
 /// ideal|, quads away from [`Regularizer::target_quads`]), compared
@@ -161,6 +196,14 @@ pub fn visiting_order(n: u32, order: u32) -> Vec<u32> {
     ids
 }
 
+/// The flag [`Regularizer`] keeps per quad: invalid for the base window
+/// ([`quad_valid`]) or inverted by either judge of the final check
+/// ([`super::validity::quad_inverted`]; the projected check alone let edits
+/// fold a corner of a large quad on a curved face against the surface there).
+fn quad_bad(fq: &FaceQuads, face: &Face, q: u32) -> bool {
+    !quad_valid(fq, face, q, AngleWindow::BASE) || super::validity::quad_inverted(fq, face, q)
+}
+
 pub(super) fn better(a: Score) -> bool {
     a < (0, 0, 0)
 }
@@ -169,7 +212,7 @@ impl<'a> Regularizer<'a> {
     /// Prepares the state (computes the invalid flags of every quad).
     pub fn new(face: &'a Face, fq: &'a mut FaceQuads) -> Self {
         let invalid = (0..fq.quads.len() as u32)
-            .map(|q| fq.quad_alive[q as usize] && !quad_valid(fq, face, q, AngleWindow::BASE))
+            .map(|q| fq.quad_alive[q as usize] && quad_bad(fq, face, q))
             .collect();
         Regularizer {
             face,
@@ -196,6 +239,7 @@ impl<'a> Regularizer<'a> {
             pair_failed: Vec::new(),
             quad_failed: Vec::new(),
             work: 0,
+            tally: WorkTally::default(),
             work_cap: 0,
         }
     }
@@ -215,6 +259,26 @@ impl<'a> Regularizer<'a> {
         } else {
             -1
         };
+    }
+
+    /// The valence effect of `op` ([`super::ops::effect_valences`]), counted
+    /// as [`EVALUATION_WORK`].
+    pub(super) fn evaluate(&mut self, op: Op) -> Option<super::ops::Effect> {
+        self.work += EVALUATION_WORK;
+        self.tally.evaluations += 1;
+        effect(self.fq, op)
+    }
+
+    /// One topological trial of a search, counted as [`TRIAL_WORK`].
+    pub(super) fn count_trial(&mut self) {
+        self.work += TRIAL_WORK;
+        self.tally.trials += 1;
+    }
+
+    /// One operation applied with repositioning, counted as [`GEOMETRIC_WORK`].
+    fn count_geometric(&mut self) {
+        self.work += GEOMETRIC_WORK;
+        self.tally.geometric += 1;
     }
 
     /// Score change of one operation ([`Score`]).
@@ -285,7 +349,7 @@ impl<'a> Regularizer<'a> {
         check.retain(|&q| self.fq.quad_alive[q as usize]);
         let flags: Vec<(u32, bool)> = check
             .iter()
-            .map(|&q| (q, !quad_valid(self.fq, self.face, q, AngleWindow::BASE)))
+            .map(|&q| (q, quad_bad(self.fq, self.face, q)))
             .collect();
         let after = flags.iter().filter(|f| f.1).count();
         if after > before || (self.strict && after > 0) {
@@ -313,7 +377,7 @@ impl<'a> Regularizer<'a> {
     pub fn try_sequence(&mut self, ops: &[Op]) -> bool {
         let cp = self.fq.checkpoint();
         for &op in ops {
-            self.work += GEOMETRIC_WORK;
+            self.count_geometric();
             let Some(region) = apply(self.fq, self.face, op) else {
                 self.fq.rollback(cp);
                 return false;
@@ -351,7 +415,7 @@ impl<'a> Regularizer<'a> {
         self.update_quad_dir();
         let mut single: Vec<(Score, usize, Op)> = Vec::new();
         for (i, &op) in cands.iter().enumerate() {
-            let Some(eff) = effect(self.fq, op) else {
+            let Some(eff) = self.evaluate(op) else {
                 continue;
             };
             let d = self.delta(&eff);
@@ -424,7 +488,7 @@ impl<'a> Regularizer<'a> {
                 .collect()
         };
         for op in cands {
-            let Some(eff) = effect(self.fq, op) else {
+            let Some(eff) = self.evaluate(op) else {
                 continue;
             };
             if !path.is_empty()
@@ -445,11 +509,11 @@ impl<'a> Regularizer<'a> {
                 }
                 continue;
             }
-            if path.len() + 1 >= len || d.0 > 1 || *budget == 0 {
+            if path.len() + 1 >= len || d.0 > 1 || *budget == 0 || self.exhausted() {
                 continue;
             }
             *budget -= 1;
-            self.work += 1;
+            self.count_trial();
             let cp = self.fq.checkpoint();
             if apply_topology(self.fq, op).is_some() {
                 let mut changed: Vec<u32> = eff
@@ -574,7 +638,7 @@ impl<'a> Regularizer<'a> {
 
     /// Applies one operation with repositioning, without deciding (journaled).
     pub(super) fn apply_repaired(&mut self, op: Op) -> bool {
-        self.work += GEOMETRIC_WORK;
+        self.count_geometric();
         match apply(self.fq, self.face, op) {
             Some(region) => {
                 repair_rounds(

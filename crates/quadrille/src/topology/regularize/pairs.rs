@@ -7,7 +7,7 @@
 //! the path between them.
 
 use super::driver::{better, Regularizer, Score};
-use super::ops::{apply_topology, candidates_at, effect_valences as effect, score_delta, Op};
+use super::ops::{apply_topology, candidates_at, score_delta, Op};
 
 /// A sequence found by the pair search: (score change, length) and the operations.
 type Found = ((Score, usize), Vec<Op>);
@@ -169,7 +169,7 @@ impl Regularizer<'_> {
         cands.dedup();
         let mut expand: Vec<(Score, Op, Vec<u32>)> = Vec::new();
         for op in cands {
-            let Some(eff) = effect(self.fq, op) else {
+            let Some(eff) = self.evaluate(op) else {
                 continue;
             };
             let touches = eff
@@ -204,11 +204,11 @@ impl Regularizer<'_> {
         }
         expand.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.cmp(&b.1)));
         for (d, op, ch) in expand.into_iter().take(self.pair_beam) {
-            if *budget == 0 || found.len() >= 8 {
+            if *budget == 0 || found.len() >= 8 || self.exhausted() {
                 return;
             }
             *budget -= 1;
-            self.work += 1;
+            self.count_trial();
             let cp = self.fq.checkpoint();
             if apply_topology(self.fq, op).is_some() {
                 let mut next: Vec<u32> = changed
@@ -281,6 +281,9 @@ impl Regularizer<'_> {
             return false;
         }
         for _ in 0..self.translation_steps {
+            if self.exhausted() {
+                break;
+            }
             // neutral swaps that move the group closer to another irregular vertex
             let mut best: Option<(usize, Op, Vec<u32>)> = None;
             for q in self.fq.quads_around(&moving) {
@@ -288,7 +291,7 @@ impl Regularizer<'_> {
                     if !matches!(op, Op::Swap { .. }) {
                         continue;
                     }
-                    let Some(eff) = effect(self.fq, op) else {
+                    let Some(eff) = self.evaluate(op) else {
                         continue;
                     };
                     let d = score_delta(self.fq, &eff);
@@ -301,7 +304,7 @@ impl Regularizer<'_> {
                     {
                         continue;
                     }
-                    self.work += 1;
+                    self.count_trial();
                     let cp2 = self.fq.checkpoint();
                     if apply_topology(self.fq, op).is_some() {
                         let mut group: Vec<u32> = eff

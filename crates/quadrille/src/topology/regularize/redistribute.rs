@@ -15,7 +15,7 @@ use geometry::Face;
 use crate::core::face_quads::FaceQuads;
 
 use super::reposition::weighted_average;
-use super::validity::{quad_violation, worst_movable_vertex, AngleWindow};
+use super::validity::{fan_inverted, quad_violation, worst_movable_vertex, AngleWindow};
 
 /// Rounds of repositioning per window before giving up on it.
 const ROUNDS_PER_WINDOW: usize = 4;
@@ -35,6 +35,7 @@ fn guarded_move(fq: &mut FaceQuads, face: &Face, v: u32, w: AngleWindow) -> bool
         return false;
     };
     let before = fan_violation(fq, face, v, w);
+    let inverted = fan_inverted(fq, face, v);
     let start = fq.verts[v as usize].uv;
     for t in [1.0, 0.5, 0.25] {
         let uv = [
@@ -46,7 +47,10 @@ fn guarded_move(fq: &mut FaceQuads, face: &Face, v: u32, w: AngleWindow) -> bool
             return false;
         }
         let after = fan_violation(fq, face, v, w);
-        if after.is_finite() && (after < before || (after == 0.0 && before == 0.0)) {
+        if after.is_finite()
+            && (after < before || (after == 0.0 && before == 0.0))
+            && fan_inverted(fq, face, v) <= inverted
+        {
             return true;
         }
         fq.rollback(cp);

@@ -17,7 +17,7 @@ use geometry::Face;
 
 use crate::core::face_quads::FaceQuads;
 
-use super::validity::{quad_angles, quad_valid, worst_movable_vertex, AngleWindow};
+use super::validity::{fan_inverted, quad_angles, quad_valid, worst_movable_vertex, AngleWindow};
 
 /// Rounds of the local repair loop (the authors' code uses 20).
 pub const REPAIR_ITERATIONS: usize = 20;
@@ -213,12 +213,17 @@ pub fn polish_invalid(fq: &mut FaceQuads, face: &Face, w: AngleWindow) -> usize 
             }
             let here = fq.verts[v as usize].uv;
             let mut best = (worst_at(fq, v), here);
+            let inverted = fan_inverted(fq, face, v);
             for (a, b) in crate::smoothing::kernels::COMPASS {
                 let uv = [here[0] + step[k] * a, here[1] + step[k] * b];
                 if !fq.move_vertex(face, v, uv) {
                     continue;
                 }
                 let m = worst_at(fq, v);
+                // no step may invert a quad by either judge of the final check
+                if m > best.0 + 1e-9 && fan_inverted(fq, face, v) > inverted {
+                    continue;
+                }
                 if m > best.0 + 1e-9 {
                     best = (m, uv);
                 }

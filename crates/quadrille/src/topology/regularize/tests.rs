@@ -1265,3 +1265,131 @@ fn polishing_pulls_a_vertex_back_across_a_thin_wedge() {
     assert_eq!(polish_invalid(&mut ok, face, w), 0);
     assert_eq!(ok.verts, orig.verts);
 }
+
+#[test]
+fn a_low_work_budget_counts_evaluations_and_gives_the_same_valid_mesh_on_any_thread_count() {
+    let model = primitives::cylinder(1.0, 2.0);
+    let input = crate::fixtures::grids::mesh_baseline(
+        &model,
+        &crate::MeshOptions {
+            size: crate::Size::Absolute(0.3),
+            threads: Some(1),
+            progress: None,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let s0 = mesh::stats::MeshStats::compute(&input, Some(&model));
+    let run = |work_per_quad: u64, threads: usize| {
+        let mut mesh = input.clone();
+        let rep = regularize_mesh(
+            &model,
+            &mut mesh,
+            &RegularizeOptions {
+                work_per_quad,
+                threads: Some(threads),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        (mesh, rep)
+    };
+    let (free, free_rep) = run(0, 2);
+    let (capped, rep) = run(200, 2);
+    let (again, rep1) = run(200, 1);
+    // counted work, no clock: 1 and 2 threads give the same mesh and report
+    assert_eq!(again.quads, capped.quads);
+    assert_eq!(again.nodes, capped.nodes);
+    assert_eq!(rep1.faces, rep.faces);
+    let mut stopped = 0;
+    for (f, g) in rep.faces.iter().zip(&free_rep.faces) {
+        assert_eq!(f.face, g.face);
+        if g.work == 0 {
+            continue; // a structured grid: no search
+        }
+        // the evaluations of candidate operations are counted: even the
+        // unbounded run does more than one unit per trial and operation
+        assert!(g.work > 200 * f.quads.0 as u64, "{g:?}");
+        // a search in progress finishes its current level, no further order starts
+        assert!(f.work < g.work, "{f:?} vs {g:?}");
+        assert!(f.work >= 200 * f.quads.0 as u64, "{f:?}");
+        stopped += 1;
+        // the capped face is no worse than its input
+        assert!(f.irregular.1 <= f.irregular.0, "{f:?}");
+        assert!(!f.reverted);
+    }
+    assert!(stopped >= 1, "{rep:?}");
+    // valid by both judges, watertight, like the unbounded run
+    for m in [&capped, &free] {
+        let s = mesh::stats::MeshStats::compute(m, Some(&model));
+        assert_eq!(s.inverted_quads, 0);
+        assert_eq!(s.inverted_quads_element_geometry, 0);
+        assert_eq!(s.open_edges, s0.open_edges);
+        assert_eq!(s.euler_characteristic, s0.euler_characteristic);
+    }
+    let s_capped = mesh::stats::MeshStats::compute(&capped, Some(&model));
+    assert!(s_capped.irregular_nodes <= s0.irregular_nodes);
+}
+
+/// One quad on the side of the unit cylinder spanning `2 × half_deg` degrees
+/// around the angle π, between heights 0.5 and 1, its corners face-interior
+/// vertices (the judge takes the CAD normal at each), counter-clockwise about
+/// the face's oriented normal.
+fn wide_cylinder_quad(half_deg: f64) -> (geometry::Model, usize, FaceQuads) {
+    use crate::core::face_quads::QVertex;
+    let model = primitives::cylinder(1.0, 2.0);
+    // the side: the face whose normal at a point is horizontal
+    let side = (0..model.faces.len())
+        .find(|&f| {
+            let fc = &model.faces[f];
+            let b = &fc.uv_bounds;
+            let mid = [0.5 * (b.umin + b.umax), 0.5 * (b.vmin + b.vmax)];
+            fc.normal(mid).is_some_and(|n| n[2].abs() < 1e-9)
+        })
+        .unwrap();
+    let face = &model.faces[side];
+    let (a0, a1) = (
+        std::f64::consts::PI - half_deg.to_radians(),
+        std::f64::consts::PI + half_deg.to_radians(),
+    );
+    let uv = [[a0, 0.5], [a1, 0.5], [a1, 1.0], [a0, 1.0]];
+    let verts = uv
+        .iter()
+        .map(|&p| {
+            QVertex::interior(
+                p,
+                face.surface.eval(p),
+                mesh::NodeClass::Face(FaceId(side as u32), Some(p)),
+            )
+        })
+        .collect::<Vec<_>>();
+    let mut fq = FaceQuads::new(verts.clone(), vec![[0, 1, 2, 3]]).unwrap();
+    if !quad_angles(&fq, face, 0).unwrap().1 {
+        fq = FaceQuads::new(verts, vec![[0, 3, 2, 1]]).unwrap();
+    }
+    (model, side, fq)
+}
+
+#[test]
+fn a_quad_that_passes_the_projected_check_but_folds_against_the_cad_normals_counts_as_invalid() {
+    // 160° of the cylinder: projected on the tangent plane at its centre it is
+    // a rectangle, and its corners' normals are within 90° of the quad's
+    let (model, side, fq) = wide_cylinder_quad(80.0);
+    let face = &model.faces[side];
+    assert!(quad_valid(&fq, face, 0, AngleWindow::BASE));
+    assert!(!validity::quad_inverted(&fq, face, 0));
+    let mut a = fq.clone();
+    assert_eq!(Regularizer::new(face, &mut a).invalid_count(), 0);
+    // 200°: still a rectangle in the projection (the projected check passes),
+    // but at each corner the quad faces away from the CAD normal: the final
+    // check (`quad_sicn_both_judges`) calls it inverted, and so must every
+    // acceptance test of the regularizer (pan_head_screw_m4x10's face 2 came
+    // out of regularization with more inverted quads than its input)
+    let (model, side, fq) = wide_cylinder_quad(100.0);
+    let face = &model.faces[side];
+    assert!(quad_valid(&fq, face, 0, AngleWindow::BASE));
+    assert!(validity::quad_inverted(&fq, face, 0));
+    assert_eq!(validity::inverted_count(&fq, face), 1);
+    let mut b = fq.clone();
+    assert_eq!(Regularizer::new(face, &mut b).invalid_count(), 1);
+}

@@ -124,26 +124,40 @@ pub fn worst_movable_vertex(fq: &FaceQuads, face: &Face, q: u32, w: AngleWindow)
 
 /// Number of live quads of `fq` with a corner SICN < 0 against the oriented
 /// CAD normals at their corners ([`Face::corner_normal`], limit normals at
-/// poles): what the mesh statistics count as inverted. The projected check
-/// of [`quad_valid`] uses one normal per quad, so on a curved face a large
-/// quad can pass it while a corner folds against the surface there.
+/// poles), or by the element geometry alone ([`quad_inverted`]): what the
+/// mesh statistics count as inverted. The projected check of [`quad_valid`]
+/// uses one normal per quad, so on a curved face a large quad can pass it
+/// while a corner folds against the surface there.
 pub fn inverted_count(fq: &FaceQuads, face: &Face) -> usize {
     fq.live_quads()
-        .filter(|&q| {
-            let p = fq.quad_xyz(q);
-            let c = fq.quad_uv_centre(q);
-            let own =
-                vec3::normalize(cross(sub(p[2], p[0]), sub(p[3], p[1]))).unwrap_or([0.0, 0.0, 1.0]);
-            let n = fq.quads[q as usize].map(|v| {
-                let x = &fq.verts[v as usize];
-                let at = match (x.pole, &x.class) {
-                    (Some(seg), _) => geometry::CornerUv::Pole(seg),
-                    (None, mesh::NodeClass::Face(..)) => geometry::CornerUv::Point(x.uv),
-                    (None, _) => geometry::CornerUv::Curve(x.uv),
-                };
-                face.corner_normal(at, c).unwrap_or(own)
-            });
-            mesh::quality::quad_sicn_both_judges(&p, &n) < 0.0
-        })
+        .filter(|&q| quad_inverted(fq, face, q))
+        .count()
+}
+
+/// True when quad `q` is inverted by either judge of the final check
+/// ([`mesh::quality::quad_sicn_both_judges`]: a corner SICN < 0 with the CAD
+/// normals at its corners, or with the element's own normals).
+pub fn quad_inverted(fq: &FaceQuads, face: &Face, q: u32) -> bool {
+    let p = fq.quad_xyz(q);
+    let c = fq.quad_uv_centre(q);
+    let own = vec3::normalize(cross(sub(p[2], p[0]), sub(p[3], p[1]))).unwrap_or([0.0, 0.0, 1.0]);
+    let n = fq.quads[q as usize].map(|v| {
+        let x = &fq.verts[v as usize];
+        let at = match (x.pole, &x.class) {
+            (Some(seg), _) => geometry::CornerUv::Pole(seg),
+            (None, mesh::NodeClass::Face(..)) => geometry::CornerUv::Point(x.uv),
+            (None, _) => geometry::CornerUv::Curve(x.uv),
+        };
+        face.corner_normal(at, c).unwrap_or(own)
+    });
+    mesh::quality::quad_sicn_both_judges(&p, &n) < 0.0
+}
+
+/// Quads of `v`'s fan inverted by either judge ([`quad_inverted`]).
+pub fn fan_inverted(fq: &FaceQuads, face: &Face, v: u32) -> usize {
+    fq.verts[v as usize]
+        .fan
+        .iter()
+        .filter(|&&q| quad_inverted(fq, face, q))
         .count()
 }
