@@ -74,6 +74,13 @@ pub struct SizeMapOptions {
     /// (a fillet of radius r at most `2πr / n`), unless the user gave the
     /// face a size. `None`: no curvature bound.
     pub quads_per_turn: Option<f64>,
+    /// Largest turn of the surface normal (radians) one quad may span on a
+    /// curved face where [`SizeMapOptions::min_size`] would allow more: a face
+    /// of typical curvature `κ` with `turn / κ` below the floor lowers the
+    /// floor to `turn / κ` on its vertices, graded like the sizes (a fillet
+    /// of radius r narrower than the floor gets quads of about `turn · r`
+    /// across and along it). `None`: the floor is `min_size` everywhere.
+    pub floor_turn: Option<f64>,
 }
 
 impl Default for SizeMapOptions {
@@ -85,6 +92,7 @@ impl Default for SizeMapOptions {
             max_size: None,
             entity_sizes: Vec::new(),
             quads_per_turn: None,
+            floor_turn: None,
         }
     }
 }
@@ -546,6 +554,7 @@ fn check_options(model: &Model, opts: &SizeMapOptions) -> Result<(), SizeMapErro
         ("minimum size", opts.min_size),
         ("maximum size", opts.max_size),
         ("quads per turn", opts.quads_per_turn),
+        ("floor turn", opts.floor_turn),
     ] {
         if let Some(v) = v.filter(|&v| !positive(v)) {
             return Err(SizeMapError::InvalidOption(format!(
@@ -576,6 +585,38 @@ fn check_options(model: &Model, opts: &SizeMapOptions) -> Result<(), SizeMapErro
         }
     }
     Ok(())
+}
+
+/// The lowered floor of every graph vertex ([`SizeMapOptions::floor_turn`]):
+/// `turn / κ` on the vertices of each face whose typical curvature `κ` puts
+/// that below the floor `lo`, graded over the graph (+∞ elsewhere); `None`
+/// when no face lowers it.
+fn turn_floors(
+    graph: &BackgroundGraph,
+    faces: &[FaceBackground<'_>],
+    lo: f64,
+    opts: &SizeMapOptions,
+) -> Option<Vec<f64>> {
+    let turn = opts.floor_turn?;
+    let mut floors = vec![f64::INFINITY; graph.len()];
+    let mut lowered = false;
+    for (i, f) in faces.iter().enumerate() {
+        let Some(k) = f.curvature.filter(|k| k.is_finite() && *k > 0.0) else {
+            continue;
+        };
+        let s = turn / k;
+        if s < lo {
+            lowered = true;
+            for &g in &graph.face_vertices[i] {
+                floors[g as usize] = floors[g as usize].min(s);
+            }
+        }
+    }
+    if !lowered {
+        return None;
+    }
+    grade(graph, &mut floors, opts.gradient);
+    Some(floors)
 }
 
 /// Builds the size map of `model` over `faces` (see the module
@@ -663,11 +704,14 @@ pub fn build_size_map(
     );
     let lo = opts.min_size.unwrap_or(0.0);
     let hi = opts.max_size.unwrap_or(f64::INFINITY);
+    let floors = turn_floors(&graph, faces, lo, opts);
     let size: Vec<f64> = conformal
         .iter()
         .zip(&feature)
-        .map(|(&a, &b)| {
+        .enumerate()
+        .map(|(v, (&a, &b))| {
             let s = a.min(b);
+            let lo = floors.as_ref().map_or(lo, |f| f[v].min(lo));
             // a vertex no face gave a finite size to keeps the global one
             (if s.is_finite() { s } else { h }).clamp(lo, hi)
         })

@@ -80,15 +80,36 @@ fn size_map_floor(model: &Model, h: f64) -> f64 {
     (SIZE_MAP_MIN * h).min(COARSE_FLOOR * default_size(model))
 }
 
+/// The largest turn of the normal one quad spans on a curved face narrower
+/// than the size map's floor, for the methods with topology stages
+/// ([`SizeMapOptions::floor_turn`]): 45°, two quads across a 90° fillet.
+/// A quad bent over 45° has CAD-normal SICN at most cos 22.5° = 0.92 even
+/// when square; one row across a 90° fillet (cos 45° = 0.71 at best) whose
+/// quads are also stretched along it by the floor was the gears' and the
+/// hole grid's loss (root fillets of radius 0.2 at a floor of 0.66: quads
+/// 0.157 × 0.625, SICN 0.42 on average; BENCHMARKS.md, "narrow fillets").
+pub const NARROW_FILLET_TURN: f64 = std::f64::consts::FRAC_PI_4;
+
 /// The size map's options for target size `h`: bounded so that faces,
 /// curves and the baseline fallback agree (also what the size guard
-/// estimates the quad count from).
-pub(crate) fn size_map_options(model: &Model, h: f64, opts: &MeshOptions) -> SizeMapOptions {
+/// estimates the quad count from). With topology `stages` on, narrow
+/// curved faces lower the floor ([`NARROW_FILLET_TURN`]); the plain
+/// unstructured method keeps it.
+pub(crate) fn size_map_options(
+    model: &Model,
+    h: f64,
+    opts: &MeshOptions,
+    stages: Stages,
+) -> SizeMapOptions {
+    let quads_per_turn = (opts.quads_per_turn.is_finite() && opts.quads_per_turn > 0.0)
+        .then_some(opts.quads_per_turn);
     SizeMapOptions {
         min_size: Some(size_map_floor(model, h)),
         max_size: Some(SIZE_MAP_MAX * h),
-        quads_per_turn: (opts.quads_per_turn.is_finite() && opts.quads_per_turn > 0.0)
-            .then_some(opts.quads_per_turn),
+        quads_per_turn,
+        // without a curvature bound the floor is never reached on a fillet
+        floor_turn: (stages != Stages::NONE && quads_per_turn.is_some())
+            .then_some(NARROW_FILLET_TURN),
         ..Default::default()
     }
 }
@@ -120,7 +141,7 @@ pub(crate) fn mesh_quasi_structured(
         )));
     }
     let mut times = StageTimes::default();
-    let sizing = size_map_options(model, h, opts);
+    let sizing = size_map_options(model, h, opts, stages);
     let field_options = FieldOptions {
         size: Size::Absolute(h),
         sizing,

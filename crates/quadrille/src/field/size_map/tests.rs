@@ -432,3 +432,60 @@ fn typical_curvature_of_a_sphere_and_a_plane() {
     );
     assert_eq!(k, Some(0.0));
 }
+
+/// A curved face whose curvature size falls below the floor lowers the floor
+/// to `floor_turn / κ` ([`SizeMapOptions::floor_turn`]): a cylinder of
+/// radius 0.5 (κ = 2) with 16 quads per turn asks for 0.196, which a floor
+/// of 0.8 raised to 0.8 (a quad spanning 92° of turn); with a floor turn of
+/// 45° its vertices get π/4 / 2 = 0.393 (a quad per 45°). The caps' vertices
+/// keep at least the lowered floor, graded from the cylinder (Eq. 10), and
+/// where the floor is already below `turn / κ` nothing changes.
+#[test]
+fn a_narrow_curved_face_lowers_the_floor_to_its_turn() {
+    let model = primitives::cylinder(0.5, 3.0);
+    let turn = std::f64::consts::FRAC_PI_4;
+    let map = |min_size: f64, floor_turn: Option<f64>| {
+        fields(
+            &model,
+            1.0,
+            SizeMapOptions {
+                small_features: false,
+                quads_per_turn: Some(16.0),
+                min_size: Some(min_size),
+                floor_turn,
+                ..Default::default()
+            },
+        )
+        .size_map
+        .expect("size map")
+    };
+    let side = |m: &SizeMap| -> (f64, f64) {
+        m.graph.face_vertices[0]
+            .iter()
+            .map(|&g| m.size[g as usize])
+            .fold((f64::INFINITY, 0.0f64), |(a, b), s| (a.min(s), b.max(s)))
+    };
+    let floor = turn / 2.0;
+    let (lo, hi) = side(&map(0.8, None));
+    assert!(lo >= 0.8 && hi <= 0.8 + 1e-12, "clamped: {lo} .. {hi}");
+    let lowered = map(0.8, Some(turn));
+    let (lo, hi) = side(&lowered);
+    assert!(
+        (lo - floor).abs() < 1e-12 && (hi - floor).abs() < 1e-12,
+        "lowered: {lo} .. {hi}, want {floor}"
+    );
+    for (v, p) in lowered.graph.positions.iter().enumerate() {
+        let s = lowered.size[v];
+        assert!(s >= floor - 1e-12 && s <= 0.8 + 1e-12, "{p:?}: {s}");
+        for &w in &lowered.graph.neighbours[v] {
+            let d = vec3::dist(*p, lowered.graph.positions[w as usize]);
+            // the lowered floor is graded: a cap vertex next to a
+            // cylinder vertex is at most the gradient above it
+            if lowered.size[v] <= floor + 1e-12 {
+                assert!(lowered.size[w as usize] <= floor + DEFAULT_GRADIENT * d + 1e-9);
+            }
+        }
+    }
+    // a floor already below the turn's size: the same map with or without
+    assert_eq!(map(0.3, Some(turn)).size, map(0.3, None).size);
+}
