@@ -211,6 +211,7 @@ pub fn run(args: &FieldArgs) -> Result<()> {
         entity_sizes: args.entity_sizes.clone(),
         quads_per_turn: (args.quads_per_turn != 0.0).then_some(args.quads_per_turn),
         floor_turn: None,
+        floor_narrow: false,
     };
     let opts = FieldOptions {
         size,

@@ -1,6 +1,7 @@
 //! Narrow fillets (issue 32 item 2): a fillet narrower than the size map's
-//! floor gets quads of about a 45° turn across and along it
-//! (`SizeMapOptions::floor_turn`), not one stretched row.
+//! floor lowers the floor to the length of its 90° arc
+//! (`SizeMapOptions::floor_turn`), so its two quads across are about 1 : 2,
+//! not stretched along it to the floor.
 //!
 //! The part is the corpus's spur gear (`data/industrial/spur_gear_m1_z20.step`,
 //! module 1, 20 teeth, 5 thick): 40 root-fillet faces, cylinders of radius
@@ -15,7 +16,7 @@ use mesh::stats::quad_sicn_values;
 use quadrille::{mesh_model, MeshOptions};
 
 #[test]
-fn root_fillets_of_a_spur_gear_get_square_quads_of_45_degrees() {
+fn root_fillets_of_a_spur_gear_get_quads_as_long_as_the_fillet_is_wide() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../data/industrial/spur_gear_m1_z20.step");
     let model = occt::load(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -42,20 +43,21 @@ fn root_fillets_of_a_spur_gear_get_square_quads_of_45_degrees() {
         .filter(|&q| fillets.contains(&mesh.quad_face[q]))
         .map(|q| sicn[q])
         .collect();
-    // 45° of turn per quad: at most 90° / 45° = 2 rows across, and as many
-    // quads along the 5-long face as 5 / (0.2 · π/4) ≈ 32, so at least
-    // 40 faces × 2 × 24 (the grading of the neighbours may take a few)
+    // two quads across (the arcs' smallest count), and along the 5-long
+    // face quads of about the 90° arc, π · 0.2 / 2 = 0.314: 16 ideally, at
+    // least 12 after rounding the chords (the old floor gave 8)
     assert!(
-        on_fillets.len() >= 40 * 2 * 24,
+        on_fillets.len() >= 40 * 2 * 12,
         "{} quads on the root fillets",
         on_fillets.len()
     );
-    // a square quad bent over 45° has SICN cos 22.5° = 0.924 at its corners
-    // (each corner normal 22.5° off the quad's plane); 0.85 allows quads up
-    // to about 1.4 : 1 (2 · 1.4 / (1 + 1.4²) = 0.93 of it). One row across
-    // would give at most cos 45° = 0.71, the old 4 : 1 quads 0.42.
+    // a quad bent over 45° has SICN at most cos 22.5° = 0.924 at its corners
+    // (each corner normal 22.5° off the quad's plane); 2 : 1 multiplies that
+    // by 2 · 2 / (1 + 4) = 0.8, 2.5 : 1 by 0.69 (0.64). The old 4 : 1 quads
+    // gave 0.47 · 0.924 = 0.43 at best.
     let avg = on_fillets.iter().sum::<f64>() / on_fillets.len() as f64;
-    assert!(avg >= 0.85, "average SICN on the root fillets {avg}");
+    assert!(avg >= 0.6, "average SICN on the root fillets {avg}");
+    // the whole gear: 0.738 with the old floor, Gmsh quadqs 0.88
     let whole = sicn.iter().sum::<f64>() / sicn.len() as f64;
-    assert!(whole >= 0.8, "average SICN of the gear {whole}");
+    assert!(whole >= 0.85, "average SICN of the gear {whole}");
 }

@@ -74,14 +74,27 @@ pub struct SizeMapOptions {
     /// (a fillet of radius r at most `2πr / n`), unless the user gave the
     /// face a size. `None`: no curvature bound.
     pub quads_per_turn: Option<f64>,
-    /// Largest turn of the surface normal (radians) one quad may span on a
-    /// curved face where [`SizeMapOptions::min_size`] would allow more: a face
-    /// of typical curvature `κ` with `turn / κ` below the floor lowers the
-    /// floor to `turn / κ` on its vertices, graded like the sizes (a fillet
-    /// of radius r narrower than the floor gets quads of about `turn · r`
-    /// across and along it). `None`: the floor is `min_size` everywhere.
+    /// Turn of the surface normal (radians) whose arc length bounds the
+    /// floor on curved faces: a face of typical curvature `κ` with
+    /// `turn / κ` below [`SizeMapOptions::min_size`] lowers the floor to
+    /// `turn / κ` on its vertices, graded like the sizes (with 90°, a 90°
+    /// fillet of radius r narrower than the floor gets quads about as long
+    /// along it, `π r / 2`, as the fillet is wide, instead of the floor).
+    /// `None`: the floor is `min_size` everywhere.
     pub floor_turn: Option<f64>,
+    /// A strip-like face narrower than [`SizeMapOptions::min_size`] (width
+    /// `w = 2 A / P` from its area and boundary length, at least
+    /// [`NARROW_ELONGATION`] times as long) lowers the floor on its vertices
+    /// to `w`, graded like the sizes: its two quads across (the curves'
+    /// smallest count) are 1 : 2, not stretched along it to the floor.
+    pub floor_narrow: bool,
 }
+
+/// How many times longer than wide a face must be for
+/// [`SizeMapOptions::floor_narrow`]: length `P / 2 − w` at least this times
+/// the width `w` (a compact face narrower than the floor is a small face,
+/// which the curves' minimum counts already resolve).
+pub const NARROW_ELONGATION: f64 = 3.0;
 
 impl Default for SizeMapOptions {
     fn default() -> Self {
@@ -93,6 +106,7 @@ impl Default for SizeMapOptions {
             entity_sizes: Vec::new(),
             quads_per_turn: None,
             floor_turn: None,
+            floor_narrow: false,
         }
     }
 }
@@ -587,24 +601,32 @@ fn check_options(model: &Model, opts: &SizeMapOptions) -> Result<(), SizeMapErro
     Ok(())
 }
 
-/// The lowered floor of every graph vertex ([`SizeMapOptions::floor_turn`]):
-/// `turn / κ` on the vertices of each face whose typical curvature `κ` puts
-/// that below the floor `lo`, graded over the graph (+∞ elsewhere); `None`
-/// when no face lowers it.
+/// The lowered floor of every graph vertex ([`SizeMapOptions::floor_turn`],
+/// [`SizeMapOptions::floor_narrow`]): `turn / κ` or the width `w`, the
+/// smaller, on the vertices of each face where that is below the floor `lo`,
+/// graded over the graph (+∞ elsewhere); `None` when no face lowers it.
 fn turn_floors(
     graph: &BackgroundGraph,
     faces: &[FaceBackground<'_>],
     lo: f64,
     opts: &SizeMapOptions,
 ) -> Option<Vec<f64>> {
-    let turn = opts.floor_turn?;
+    if opts.floor_turn.is_none() && !opts.floor_narrow {
+        return None;
+    }
     let mut floors = vec![f64::INFINITY; graph.len()];
     let mut lowered = false;
     for (i, f) in faces.iter().enumerate() {
-        let Some(k) = f.curvature.filter(|k| k.is_finite() && *k > 0.0) else {
-            continue;
+        let by_turn = match (opts.floor_turn, f.curvature) {
+            (Some(turn), Some(k)) if k.is_finite() && k > 0.0 => turn / k,
+            _ => f64::INFINITY,
         };
-        let s = turn / k;
+        let by_width = if opts.floor_narrow {
+            narrow_width(f.topo).unwrap_or(f64::INFINITY)
+        } else {
+            f64::INFINITY
+        };
+        let s = by_turn.min(by_width);
         if s < lo {
             lowered = true;
             for &g in &graph.face_vertices[i] {
@@ -617,6 +639,27 @@ fn turn_floors(
     }
     grade(graph, &mut floors, opts.gradient);
     Some(floors)
+}
+
+/// The width `2 A / P` of a face's background triangulation (area `A`,
+/// boundary length `P`) when the face is at least [`NARROW_ELONGATION`]
+/// times as long as that, else `None`.
+fn narrow_width(topo: &FaceTopology) -> Option<f64> {
+    use crate::field::crossfield::topology::NONE;
+    let area: f64 = topo.areas.iter().sum();
+    let perimeter: f64 = topo
+        .edges
+        .iter()
+        .zip(&topo.edge_tris)
+        .filter(|(_, t)| t[1] == NONE)
+        .map(|(e, _)| vec3::dist(topo.positions[e[0] as usize], topo.positions[e[1] as usize]))
+        .sum();
+    if !(area > 0.0 && perimeter > 0.0) {
+        return None;
+    }
+    let width = 2.0 * area / perimeter;
+    let length = 0.5 * perimeter - width;
+    (length >= NARROW_ELONGATION * width).then_some(width)
 }
 
 /// Builds the size map of `model` over `faces` (see the module

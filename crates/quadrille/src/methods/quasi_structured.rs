@@ -80,21 +80,25 @@ fn size_map_floor(model: &Model, h: f64) -> f64 {
     (SIZE_MAP_MIN * h).min(COARSE_FLOOR * default_size(model))
 }
 
-/// The largest turn of the normal one quad spans on a curved face narrower
-/// than the size map's floor, for the methods with topology stages
-/// ([`SizeMapOptions::floor_turn`]): 45°, two quads across a 90° fillet.
-/// A quad bent over 45° has CAD-normal SICN at most cos 22.5° = 0.92 even
-/// when square; one row across a 90° fillet (cos 45° = 0.71 at best) whose
-/// quads are also stretched along it by the floor was the gears' and the
-/// hole grid's loss (root fillets of radius 0.2 at a floor of 0.66: quads
-/// 0.157 × 0.625, SICN 0.42 on average; BENCHMARKS.md, "narrow fillets").
-pub const NARROW_FILLET_TURN: f64 = std::f64::consts::FRAC_PI_4;
+/// The turn of the normal whose arc length bounds the size map's floor on
+/// narrow curved faces, for the methods with topology stages
+/// ([`SizeMapOptions::floor_turn`]; such faces and other strips narrower
+/// than the floor also lower it to their width, `floor_narrow`): 90°. A 90°
+/// fillet of radius r then gets quads about `π r / 2` long along it and two
+/// across (the curves' smallest count, 45° of turn each: CAD-normal SICN at
+/// most cos 22.5° = 0.92 times 0.8 for 2 : 1). Before, the floor stretched
+/// them along it: the spur gear's root fillets (r = 0.2, floor 0.66) had
+/// 0.157 × 0.625 quads, average SICN 0.42. 45° (square quads) gave the
+/// fillets 0.91 but 2–5 times the quads and time on flanges, screws and
+/// bearings, and thin transitions on the gear flanks (BENCHMARKS.md,
+/// "narrow fillets").
+pub const NARROW_FILLET_TURN: f64 = std::f64::consts::FRAC_PI_2;
 
 /// The size map's options for target size `h`: bounded so that faces,
 /// curves and the baseline fallback agree (also what the size guard
 /// estimates the quad count from). With topology `stages` on, narrow
-/// curved faces lower the floor ([`NARROW_FILLET_TURN`]); the plain
-/// unstructured method keeps it.
+/// curved faces and narrow strips lower the floor ([`NARROW_FILLET_TURN`]);
+/// the plain unstructured method keeps it.
 pub(crate) fn size_map_options(
     model: &Model,
     h: f64,
@@ -110,6 +114,7 @@ pub(crate) fn size_map_options(
         // without a curvature bound the floor is never reached on a fillet
         floor_turn: (stages != Stages::NONE && quads_per_turn.is_some())
             .then_some(NARROW_FILLET_TURN),
+        floor_narrow: stages != Stages::NONE,
         ..Default::default()
     }
 }
