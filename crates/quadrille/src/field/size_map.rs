@@ -84,11 +84,19 @@ pub struct SizeMapOptions {
     pub floor_turn: Option<f64>,
     /// A strip-like face narrower than [`SizeMapOptions::min_size`] (width
     /// `w = 2 A / P` from its area and boundary length, at least
-    /// [`NARROW_ELONGATION`] times as long) lowers the floor on its vertices
-    /// to `w`, graded like the sizes: its two quads across (the curves'
-    /// smallest count) are 1 : 2, not stretched along it to the floor.
+    /// [`NARROW_ELONGATION`] times as long, and at least
+    /// [`NARROW_MIN_FRACTION`] of the floor wide) lowers the floor on its
+    /// vertices to `w`, graded like the sizes: its two quads across (the
+    /// curves' smallest count) are 1 : 2, not stretched along it to the floor.
     pub floor_narrow: bool,
 }
+
+/// A strip narrower than this fraction of the floor is left at the floor by
+/// [`SizeMapOptions::floor_narrow`]: such faces are slivers or crescents
+/// tapering to nothing (the chamfer crescents of a hex nut), whose widths
+/// dragged the floor down to a tenth and the nut from 2,856 to 170,728
+/// quads; two quads across them would be thin anyway.
+pub const NARROW_MIN_FRACTION: f64 = 0.25;
 
 /// How many times longer than wide a face must be for
 /// [`SizeMapOptions::floor_narrow`]: length `P / 2 − w` at least this times
@@ -622,7 +630,9 @@ fn turn_floors(
             _ => f64::INFINITY,
         };
         let by_width = if opts.floor_narrow {
-            narrow_width(f.topo).unwrap_or(f64::INFINITY)
+            narrow_width(f.topo)
+                .filter(|&w| w >= NARROW_MIN_FRACTION * lo)
+                .unwrap_or(f64::INFINITY)
         } else {
             f64::INFINITY
         };

@@ -494,16 +494,17 @@ fn a_narrow_curved_face_lowers_the_floor_to_its_turn() {
 /// ([`SizeMapOptions::floor_narrow`]): the 10 × 0.1 rectangle has width
 /// 2 A / P = 2 · 1 / 20.2 = 0.099, and a floor of 0.3 held every size at
 /// 0.3 or above (three times the strip's width along it); with the option,
-/// every size lies between the width and the small-feature size 0.1.
+/// every size lies between the width and the small-feature size 0.1. Under
+/// a floor of 0.5 the strip is below a quarter of it: a sliver, left alone.
 #[test]
 fn a_narrow_strip_lowers_the_floor_to_its_width() {
     let model = primitives::rectangle(10.0, 0.1);
-    let sizes = |floor_narrow: bool| {
+    let sizes = |min_size: f64, floor_narrow: bool| {
         fields(
             &model,
             1.0,
             SizeMapOptions {
-                min_size: Some(0.3),
+                min_size: Some(min_size),
                 floor_narrow,
                 ..Default::default()
             },
@@ -512,9 +513,12 @@ fn a_narrow_strip_lowers_the_floor_to_its_width() {
         .expect("size map")
         .size
     };
-    assert!(sizes(false).iter().all(|&s| s >= 0.3));
+    assert!(sizes(0.3, false).iter().all(|&s| s >= 0.3));
     let width = 2.0 * 1.0 / 20.2;
-    for s in sizes(true) {
+    for s in sizes(0.3, true) {
         assert!(s >= width - 1e-3 && s <= 0.1 + 1e-9, "size {s}, width {width}");
     }
+    // a strip below a quarter of the floor is a sliver: left at the floor
+    assert!(width < NARROW_MIN_FRACTION * 0.5);
+    assert!(sizes(0.5, true).iter().all(|&s| s >= 0.5));
 }
