@@ -210,6 +210,8 @@ pub fn run(args: &FieldArgs) -> Result<()> {
         max_size: args.max_size,
         entity_sizes: args.entity_sizes.clone(),
         quads_per_turn: (args.quads_per_turn != 0.0).then_some(args.quads_per_turn),
+        floor_turn: None,
+        floor_narrow: false,
     };
     let opts = FieldOptions {
         size,

@@ -74,7 +74,35 @@ pub struct SizeMapOptions {
     /// (a fillet of radius r at most `2πr / n`), unless the user gave the
     /// face a size. `None`: no curvature bound.
     pub quads_per_turn: Option<f64>,
+    /// Turn of the surface normal (radians) whose arc length bounds the
+    /// floor on curved faces: a face of typical curvature `κ` with
+    /// `turn / κ` below [`SizeMapOptions::min_size`] lowers the floor to
+    /// `turn / κ` on its vertices, graded like the sizes (with 90°, a 90°
+    /// fillet of radius r narrower than the floor gets quads about as long
+    /// along it, `π r / 2`, as the fillet is wide, instead of the floor).
+    /// `None`: the floor is `min_size` everywhere.
+    pub floor_turn: Option<f64>,
+    /// A strip-like face narrower than [`SizeMapOptions::min_size`] (width
+    /// `w = 2 A / P` from its area and boundary length, at least
+    /// [`NARROW_ELONGATION`] times as long, and at least
+    /// [`NARROW_MIN_FRACTION`] of the floor wide) lowers the floor on its
+    /// vertices to `w`, graded like the sizes: its two quads across (the
+    /// curves' smallest count) are 1 : 2, not stretched along it to the floor.
+    pub floor_narrow: bool,
 }
+
+/// A strip narrower than this fraction of the floor is left at the floor by
+/// [`SizeMapOptions::floor_narrow`]: such faces are slivers or crescents
+/// tapering to nothing (the chamfer crescents of a hex nut), whose widths
+/// dragged the floor down to a tenth and the nut from 2,856 to 170,728
+/// quads; two quads across them would be thin anyway.
+pub const NARROW_MIN_FRACTION: f64 = 0.25;
+
+/// How many times longer than wide a face must be for
+/// [`SizeMapOptions::floor_narrow`]: length `P / 2 − w` at least this times
+/// the width `w` (a compact face narrower than the floor is a small face,
+/// which the curves' minimum counts already resolve).
+pub const NARROW_ELONGATION: f64 = 3.0;
 
 impl Default for SizeMapOptions {
     fn default() -> Self {
@@ -85,6 +113,8 @@ impl Default for SizeMapOptions {
             max_size: None,
             entity_sizes: Vec::new(),
             quads_per_turn: None,
+            floor_turn: None,
+            floor_narrow: false,
         }
     }
 }
@@ -546,6 +576,7 @@ fn check_options(model: &Model, opts: &SizeMapOptions) -> Result<(), SizeMapErro
         ("minimum size", opts.min_size),
         ("maximum size", opts.max_size),
         ("quads per turn", opts.quads_per_turn),
+        ("floor turn", opts.floor_turn),
     ] {
         if let Some(v) = v.filter(|&v| !positive(v)) {
             return Err(SizeMapError::InvalidOption(format!(
@@ -576,6 +607,69 @@ fn check_options(model: &Model, opts: &SizeMapOptions) -> Result<(), SizeMapErro
         }
     }
     Ok(())
+}
+
+/// The lowered floor of every graph vertex ([`SizeMapOptions::floor_turn`],
+/// [`SizeMapOptions::floor_narrow`]): `turn / κ` or the width `w`, the
+/// smaller, on the vertices of each face where that is below the floor `lo`,
+/// graded over the graph (+∞ elsewhere); `None` when no face lowers it.
+fn turn_floors(
+    graph: &BackgroundGraph,
+    faces: &[FaceBackground<'_>],
+    lo: f64,
+    opts: &SizeMapOptions,
+) -> Option<Vec<f64>> {
+    if opts.floor_turn.is_none() && !opts.floor_narrow {
+        return None;
+    }
+    let mut floors = vec![f64::INFINITY; graph.len()];
+    let mut lowered = false;
+    for (i, f) in faces.iter().enumerate() {
+        let by_turn = match (opts.floor_turn, f.curvature) {
+            (Some(turn), Some(k)) if k.is_finite() && k > 0.0 => turn / k,
+            _ => f64::INFINITY,
+        };
+        let by_width = if opts.floor_narrow {
+            narrow_width(f.topo)
+                .filter(|&w| w >= NARROW_MIN_FRACTION * lo)
+                .unwrap_or(f64::INFINITY)
+        } else {
+            f64::INFINITY
+        };
+        let s = by_turn.min(by_width);
+        if s < lo {
+            lowered = true;
+            for &g in &graph.face_vertices[i] {
+                floors[g as usize] = floors[g as usize].min(s);
+            }
+        }
+    }
+    if !lowered {
+        return None;
+    }
+    grade(graph, &mut floors, opts.gradient);
+    Some(floors)
+}
+
+/// The width `2 A / P` of a face's background triangulation (area `A`,
+/// boundary length `P`) when the face is at least [`NARROW_ELONGATION`]
+/// times as long as that, else `None`.
+fn narrow_width(topo: &FaceTopology) -> Option<f64> {
+    use crate::field::crossfield::topology::NONE;
+    let area: f64 = topo.areas.iter().sum();
+    let perimeter: f64 = topo
+        .edges
+        .iter()
+        .zip(&topo.edge_tris)
+        .filter(|(_, t)| t[1] == NONE)
+        .map(|(e, _)| vec3::dist(topo.positions[e[0] as usize], topo.positions[e[1] as usize]))
+        .sum();
+    if !(area > 0.0 && perimeter > 0.0) {
+        return None;
+    }
+    let width = 2.0 * area / perimeter;
+    let length = 0.5 * perimeter - width;
+    (length >= NARROW_ELONGATION * width).then_some(width)
 }
 
 /// Builds the size map of `model` over `faces` (see the module
@@ -663,11 +757,14 @@ pub fn build_size_map(
     );
     let lo = opts.min_size.unwrap_or(0.0);
     let hi = opts.max_size.unwrap_or(f64::INFINITY);
+    let floors = turn_floors(&graph, faces, lo, opts);
     let size: Vec<f64> = conformal
         .iter()
         .zip(&feature)
-        .map(|(&a, &b)| {
+        .enumerate()
+        .map(|(v, (&a, &b))| {
             let s = a.min(b);
+            let lo = floors.as_ref().map_or(lo, |f| f[v].min(lo));
             // a vertex no face gave a finite size to keeps the global one
             (if s.is_finite() { s } else { h }).clamp(lo, hi)
         })

@@ -24,7 +24,7 @@ use crate::core::error::{MeshError, TooManyQuads};
 use crate::core::options::default_size;
 use crate::field::quad_estimate::size_integral;
 use crate::field::size_map::SizeMapOptions;
-use crate::methods::options::MeshOptions;
+use crate::methods::options::{MeshOptions, Stages};
 use crate::methods::quasi_structured::size_map_options;
 use crate::methods::MeshMethod;
 
@@ -72,11 +72,13 @@ fn sizing(model: &Model, h: f64, opts: &MeshOptions, method: &MeshMethod) -> (Si
         ..Default::default()
     };
     match method {
-        MeshMethod::QuasiStructured(s) if *s == crate::methods::options::Stages::NONE => {
-            (size_map_options(model, h, opts), K_UNSTRUCTURED)
+        MeshMethod::QuasiStructured(s) if *s == Stages::NONE => {
+            (size_map_options(model, h, opts, *s), K_UNSTRUCTURED)
         }
-        MeshMethod::QuasiStructured(_) => (size_map_options(model, h, opts), K_QUASI_STRUCTURED),
-        MeshMethod::Unstructured => (size_map_options(model, h, opts), K_UNSTRUCTURED),
+        MeshMethod::QuasiStructured(s) => {
+            (size_map_options(model, h, opts, *s), K_QUASI_STRUCTURED)
+        }
+        MeshMethod::Unstructured => (size_map_options(model, h, opts, Stages::NONE), K_UNSTRUCTURED),
         MeshMethod::Baseline => (uniform, K_BASELINE),
         MeshMethod::Regular(_) => (uniform, K_REGULAR),
     }

@@ -80,15 +80,44 @@ fn size_map_floor(model: &Model, h: f64) -> f64 {
     (SIZE_MAP_MIN * h).min(COARSE_FLOOR * default_size(model))
 }
 
+/// The turn of the normal whose arc length bounds the size map's floor on
+/// narrow curved faces, for the methods with topology stages
+/// ([`SizeMapOptions::floor_turn`]): 90°. A 90° fillet of radius r
+/// then gets quads about `π r / 2` long along it and two across (the
+/// curves' smallest count, 45° of turn each: CAD-normal SICN at most
+/// cos 22.5° = 0.92 times 0.8 for 2 : 1). Before, the floor stretched them
+/// along it: the spur gear's root fillets (r = 0.2, floor 0.66) had
+/// 0.157 × 0.625 quads, average SICN 0.42. 45° (square quads) gave the
+/// fillets 0.91 but 2–5 times the quads and time on flanges, screws and
+/// bearings, and thin transitions on the gear flanks (BENCHMARKS.md,
+/// "narrow fillets").
+pub const NARROW_FILLET_TURN: f64 = std::f64::consts::FRAC_PI_2;
+
 /// The size map's options for target size `h`: bounded so that faces,
 /// curves and the baseline fallback agree (also what the size guard
-/// estimates the quad count from).
-pub(crate) fn size_map_options(model: &Model, h: f64, opts: &MeshOptions) -> SizeMapOptions {
+/// estimates the quad count from). With topology `stages` on, narrow
+/// curved faces lower the floor ([`NARROW_FILLET_TURN`]); the plain
+/// unstructured method keeps it.
+pub(crate) fn size_map_options(
+    model: &Model,
+    h: f64,
+    opts: &MeshOptions,
+    stages: Stages,
+) -> SizeMapOptions {
+    let quads_per_turn = (opts.quads_per_turn.is_finite() && opts.quads_per_turn > 0.0)
+        .then_some(opts.quads_per_turn);
     SizeMapOptions {
         min_size: Some(size_map_floor(model, h)),
         max_size: Some(SIZE_MAP_MAX * h),
-        quads_per_turn: (opts.quads_per_turn.is_finite() && opts.quads_per_turn > 0.0)
-            .then_some(opts.quads_per_turn),
+        quads_per_turn,
+        // without a curvature bound the floor is never reached on a fillet
+        floor_turn: (stages != Stages::NONE && quads_per_turn.is_some())
+            .then_some(NARROW_FILLET_TURN),
+        // off: on the corpus it lifts the helical gear, the sprocket and the
+        // spur gear above Gmsh's average SICN but leaves domed_cap_nut_m6
+        // 0.05 points more irregular than Gmsh (BENCHMARKS.md, "narrow
+        // fillets")
+        floor_narrow: false,
         ..Default::default()
     }
 }
@@ -120,7 +149,7 @@ pub(crate) fn mesh_quasi_structured(
         )));
     }
     let mut times = StageTimes::default();
-    let sizing = size_map_options(model, h, opts);
+    let sizing = size_map_options(model, h, opts, stages);
     let field_options = FieldOptions {
         size: Size::Absolute(h),
         sizing,

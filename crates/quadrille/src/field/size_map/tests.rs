@@ -432,3 +432,93 @@ fn typical_curvature_of_a_sphere_and_a_plane() {
     );
     assert_eq!(k, Some(0.0));
 }
+
+/// A curved face whose curvature size falls below the floor lowers the floor
+/// to `floor_turn / κ` ([`SizeMapOptions::floor_turn`]): a cylinder of
+/// radius 0.5 (κ = 2) with 16 quads per turn asks for 0.196, which a floor
+/// of 1 raised to 1 (a quad spanning 115° of turn); with a floor turn of
+/// 90° its vertices get π/2 / 2 = 0.785. The caps' vertices keep at least
+/// the lowered floor, graded from the cylinder (Eq. 10), and where the floor
+/// is already below `turn / κ` nothing changes.
+#[test]
+fn a_narrow_curved_face_lowers_the_floor_to_its_turn() {
+    let model = primitives::cylinder(0.5, 3.0);
+    let turn = std::f64::consts::FRAC_PI_2;
+    let map = |min_size: f64, floor_turn: Option<f64>| {
+        fields(
+            &model,
+            1.0,
+            SizeMapOptions {
+                small_features: false,
+                quads_per_turn: Some(16.0),
+                min_size: Some(min_size),
+                floor_turn,
+                ..Default::default()
+            },
+        )
+        .size_map
+        .expect("size map")
+    };
+    let side = |m: &SizeMap| -> (f64, f64) {
+        m.graph.face_vertices[0]
+            .iter()
+            .map(|&g| m.size[g as usize])
+            .fold((f64::INFINITY, 0.0f64), |(a, b), s| (a.min(s), b.max(s)))
+    };
+    let floor = turn / 2.0;
+    let (lo, hi) = side(&map(1.0, None));
+    assert!(lo >= 1.0 && hi <= 1.0 + 1e-12, "clamped: {lo} .. {hi}");
+    let lowered = map(1.0, Some(turn));
+    let (lo, hi) = side(&lowered);
+    assert!(
+        (lo - floor).abs() < 1e-12 && (hi - floor).abs() < 1e-12,
+        "lowered: {lo} .. {hi}, want {floor}"
+    );
+    for (v, p) in lowered.graph.positions.iter().enumerate() {
+        let s = lowered.size[v];
+        assert!(s >= floor - 1e-12 && s <= 1.0 + 1e-12, "{p:?}: {s}");
+        // the lowered floor is graded: a cap vertex next to a cylinder
+        // vertex is at most the gradient above it
+        if s <= floor + 1e-12 {
+            for &w in &lowered.graph.neighbours[v] {
+                let d = vec3::dist(*p, lowered.graph.positions[w as usize]);
+                assert!(lowered.size[w as usize] <= floor + DEFAULT_GRADIENT * d + 1e-9);
+            }
+        }
+    }
+    // a floor already below the turn's size: the same map with or without
+    assert_eq!(map(0.5, Some(turn)).size, map(0.5, None).size);
+}
+
+/// A strip narrower than the floor lowers it to its width
+/// ([`SizeMapOptions::floor_narrow`]): the 10 × 0.1 rectangle has width
+/// 2 A / P = 2 · 1 / 20.2 = 0.099, and a floor of 0.3 held every size at
+/// 0.3 or above (three times the strip's width along it); with the option,
+/// every size lies between the width and the small-feature size 0.1. Under
+/// a floor of 0.5 the strip is below a quarter of it: a sliver, left alone.
+#[test]
+fn a_narrow_strip_lowers_the_floor_to_its_width() {
+    let model = primitives::rectangle(10.0, 0.1);
+    let sizes = |min_size: f64, floor_narrow: bool| {
+        fields(
+            &model,
+            1.0,
+            SizeMapOptions {
+                min_size: Some(min_size),
+                floor_narrow,
+                ..Default::default()
+            },
+        )
+        .size_map
+        .expect("size map")
+        .size
+    };
+    assert!(sizes(0.3, false).iter().all(|&s| s >= 0.3));
+    let width = 2.0 * 1.0 / 20.2;
+    for s in sizes(0.3, true) {
+        assert!(s >= width - 1e-3 && s <= 0.1 + 1e-9, "size {s}, width {width}");
+    }
+    // a strip below a quarter of the floor is a sliver: left at the floor
+    assert!(width < NARROW_MIN_FRACTION * 0.5);
+    assert!(sizes(0.5, true).iter().all(|&s| s >= 0.5));
+}
