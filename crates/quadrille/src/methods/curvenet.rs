@@ -232,6 +232,9 @@ pub fn mesh_curve_network(
     Ok((mesh, report))
 }
 
+/// The error of a part with several holes that no split meshes.
+const NO_SPLIT: &str = "no split by two connectors could be meshed";
+
 /// Cuts nested deeper than this are not tried: the part gets the midpoint layout.
 const MAX_CUT_DEPTH: usize = 8;
 
@@ -346,11 +349,20 @@ fn mesh_part(
         if split_holes(loops, h, opts, least, weld, rings, depth, leaves, summary) {
             return Ok(());
         }
-        let why = summary.notes.last().filter(|n| n.starts_with("holes: the two-connector split failed"));
+        let why = summary
+            .notes
+            .last()
+            .and_then(|n| n.strip_prefix("holes: the two-connector split failed ("))
+            .and_then(|n| n.strip_suffix(')'));
+        // A half that failed the same way passes its own line up: one
+        // short line naming the hole count where the splitting stopped.
+        if let Some(inner) = why.filter(|w| w.contains(NO_SPLIT)) {
+            return Err(inner.to_string());
+        }
         return Err(format!(
-            "{} holes: no split by two connectors could be meshed ({}); the matched pairing of several holes is not tried (it folds)",
+            "{NO_SPLIT} with {} holes left ({}); the matched pairing of several holes is not tried",
             loops.holes.len(),
-            why.map_or("no connectors clear of the loops", |n| n.as_str())
+            why.unwrap_or("no connectors clear of the loops")
         ));
     }
     let matched = pair_cycle(loops, &popts).map_err(|e| e.to_string());
@@ -967,6 +979,22 @@ mod tests {
         assert!(summary.notes[0].starts_with("holes: split in two by two connectors (1 and 0"), "{:?}", summary.notes);
         assert!(summary.connectors >= 3, "{:?}", summary.notes);
         assert!(summary.parts >= 2, "{}", summary.parts);
+    }
+
+    /// Two holes close together in the 2 × 2 square (0.3 apart, 0.25 from
+    /// the sides): no half of any split meshes, and the cycle is refused
+    /// with one short line naming where the splitting stopped (no nested
+    /// repeats), with no matched pairing tried.
+    #[test]
+    fn two_holes_that_no_split_meshes_are_refused_with_one_short_line() {
+        let loops = fixtures::square_with_round_holes(&[([-0.45, 0.0], 0.3), ([0.45, 0.0], 0.3)]);
+        let weld = Welder::new(1e-9);
+        let Err(message) = mesh_cycle(&loops, 0.1, &PairingOptions::default(), &weld, true) else {
+            panic!("the two close holes were meshed");
+        };
+        assert!(message.starts_with("no split by two connectors could be meshed with 2 holes left ("), "{message}");
+        assert_eq!(message.matches(NO_SPLIT).count(), 1, "{message}");
+        assert!(!message.contains('\n'));
     }
 
     /// Without rings (`mesh_cycle(.., rings = false)`, the network stage's
