@@ -77,7 +77,7 @@ fn load_wire_network(args: &CurvesArgs, no_face: anyhow::Error) -> Result<CurveN
         .collect();
     let (net, note) =
         network_from_wires(&closed, &wires.open_curves).with_context(|| format!("{name}"))?;
-    if let Some(note) = note {
+    if let Some(note) = note.filter(|_| !args.quiet) {
         eprintln!("{name}: {note}");
     }
     Ok(net.with_file(name.to_string()))
@@ -189,13 +189,17 @@ pub fn run(args: &CurvesArgs) -> Result<()> {
     for s in &report.skipped {
         eprintln!("skipped: {}", s.1);
     }
-    for c in &report.cycles {
-        for n in &c.notes {
-            eprintln!("cycle {}: {n}", c.cycle);
+    // Notes (rings, odd parties, fallbacks, the network stage's) are not
+    // errors: `--quiet` keeps them off stderr; skipped cycles stay listed.
+    if !args.quiet {
+        for c in &report.cycles {
+            for n in &c.notes {
+                eprintln!("cycle {}: {n}", c.cycle);
+            }
         }
-    }
-    for n in &report.network.notes {
-        eprintln!("network: {n}");
+        for n in &report.network.notes {
+            eprintln!("network: {n}");
+        }
     }
     if args.json {
         println!("{}", report_json(&report, mesh.quads.len()));

@@ -183,3 +183,12 @@ pub fn square_with_round_holes(holes: &[([f64; 2], f64)]) -> CycleLoops {
         holes: holes.iter().map(|&(c, r)| circle_loop(c, r, 48, true)).collect(),
     }
 }
+
+/// A 2w × 2 rectangle centred at the origin with round holes (48-gons,
+/// clockwise): `square_with_round_holes` stretched along x.
+pub fn rectangle_with_round_holes(w: f64, holes: &[([f64; 2], f64)]) -> CycleLoops {
+    CycleLoops {
+        outer: polygon(&[[-w, -1.0], [w, -1.0], [w, 1.0], [-w, 1.0]]),
+        holes: holes.iter().map(|&(c, r)| circle_loop(c, r, 48, true)).collect(),
+    }
+}

@@ -179,7 +179,7 @@ pub fn mesh_curve_network(
         net.cycle_loops(cycle)
             .map_err(CurvesError::from)
             .and_then(|loops| {
-                mesh_cycle(&loops, h, &opts.pairing, &weld).map_err(|message| CurvesError::Cycle {
+                mesh_cycle(&loops, h, &opts.pairing, &weld, true).map_err(|message| CurvesError::Cycle {
                     file: file.clone(),
                     cycle,
                     message,
@@ -213,8 +213,12 @@ pub fn mesh_curve_network(
         return Err(CurvesError::NothingMeshed { file, skipped: report.skipped.len() });
     }
     if opts.network {
+        let before = meshed.iter().any(|(_, ls)| ls.iter().any(|l| l.ring)).then(|| meshed.clone());
         report.network =
             super::curvenet_network::network_stage(net, &mut meshed, h, weld.tolerance, opts.threads);
+        if let Some(before) = before {
+            super::curvenet_network::rings_to_splits(net, before, &mut meshed, &mut report, &weld, opts);
+        }
     }
     for (summary, (_, leaves)) in report.cycles.iter_mut().zip(&meshed) {
         summarise_leaves(summary, leaves);
@@ -228,6 +232,9 @@ pub fn mesh_curve_network(
     Ok((mesh, report))
 }
 
+/// The error of a part with several holes that no split meshes.
+const NO_SPLIT: &str = "no split by two connectors could be meshed";
+
 /// Cuts nested deeper than this are not tried: the part gets the midpoint layout.
 const MAX_CUT_DEPTH: usize = 8;
 
@@ -235,13 +242,14 @@ const MAX_CUT_DEPTH: usize = 8;
 /// on both sides (each round can only raise counts).
 const MAX_COUNT_ROUNDS: usize = 6;
 
-/// One leaf of a cycle's meshing: a part's pairing, its quads and which
-/// way they face.
-#[derive(Debug)]
+/// One leaf of a cycle's meshing: a part's pairing, its quads, which
+/// way they face, and whether it is a ring layout (`curvenet::ring`).
+#[derive(Clone, Debug)]
 pub(super) struct Leaf {
     pub(super) paired: PairedCycle,
     pub(super) quads: CycleQuads,
     pub(super) facing: Facing,
+    pub(super) ring: bool,
 }
 
 /// A cycle's summary figures of its (final) leaves: segments, pairs,
@@ -267,18 +275,20 @@ fn summarise_leaves(summary: &mut CycleSummary, leaves: &[Leaf]) {
     summary.quads = leaves.iter().map(|l| l.quads.quads.len()).sum();
 }
 
-/// The quads of one cycle (one piece per part) and its summary.
-fn mesh_cycle(
+/// The quads of one cycle (one piece per part) and its summary; `rings`:
+/// an annulus whose matched pairing folds may get the ring layout.
+pub(super) fn mesh_cycle(
     loops: &CycleLoops,
     h: f64,
     opts: &PairingOptions,
     weld: &Welder,
+    rings: bool,
 ) -> Result<(Vec<Leaf>, CycleSummary), String> {
     let mut least: BTreeMap<[[i64; 3]; 2], usize> = BTreeMap::new();
     for _ in 0..MAX_COUNT_ROUNDS {
         let mut leaves = Vec::new();
         let mut summary = CycleSummary::default();
-        mesh_part(loops, h, opts, false, &least, weld, 0, &mut leaves, &mut summary)?;
+        mesh_part(loops, h, opts, false, &least, weld, rings, 0, &mut leaves, &mut summary)?;
         let mut counts: BTreeMap<[[i64; 3]; 2], Vec<usize>> = BTreeMap::new();
         for leaf in &leaves {
             for (key, n) in unsplittable_counts(leaf, weld) {
@@ -306,7 +316,11 @@ fn mesh_cycle(
 
 /// Pairs and meshes one part (the whole cycle at depth 0), cutting it
 /// where its chord graph falls apart (Fig. 10), else the midpoint layout
-/// where the layout fails. `closing`: the part's closing edge is a cut.
+/// where the layout fails. `closing`: the part's closing edge is a cut;
+/// `rings`: an annulus may get the ring layout. A part with two or more
+/// holes is only split by two connectors: its matched pairing, of many
+/// segments, is slow and gave no valid layout on any corpus face (the
+/// refinement spent minutes on such cycles before refusing them).
 #[allow(clippy::too_many_arguments)]
 fn mesh_part(
     loops: &CycleLoops,
@@ -315,6 +329,7 @@ fn mesh_part(
     closing: bool,
     least: &BTreeMap<[[i64; 3]; 2], usize>,
     weld: &Welder,
+    rings: bool,
     depth: usize,
     leaves: &mut Vec<Leaf>,
     summary: &mut CycleSummary,
@@ -328,6 +343,28 @@ fn mesh_part(
             .collect();
         quadrangulate_with_minimums(paired, h, &minimums).and_then(|q| unfolded(q, &facing))
     };
+    // Hole splits are not counted against `MAX_CUT_DEPTH`: each leaves
+    // fewer holes in both halves, so they end.
+    if loops.holes.len() >= 2 {
+        if split_holes(loops, h, opts, least, weld, rings, depth, leaves, summary) {
+            return Ok(());
+        }
+        let why = summary
+            .notes
+            .last()
+            .and_then(|n| n.strip_prefix("holes: the two-connector split failed ("))
+            .and_then(|n| n.strip_suffix(')'));
+        // A half that failed the same way passes its own line up: one
+        // short line naming the hole count where the splitting stopped.
+        if let Some(inner) = why.filter(|w| w.contains(NO_SPLIT)) {
+            return Err(inner.to_string());
+        }
+        return Err(format!(
+            "{NO_SPLIT} with {} holes left ({}); the matched pairing of several holes is not tried",
+            loops.holes.len(),
+            why.unwrap_or("no connectors clear of the loops")
+        ));
+    }
     let matched = pair_cycle(loops, &popts).map_err(|e| e.to_string());
     let matched_laid = matched.as_ref().ok().map(|(paired, _)| lay_out(paired));
     let matched_ok = matches!(matched_laid, Some(Ok(_)));
@@ -337,40 +374,24 @@ fn mesh_part(
     // layout only when both fail.
     let mut ring = None;
     if !loops.holes.is_empty() && !matched_ok {
-        ring = pair_ring(loops, &popts).and_then(|r| r.ok()).and_then(|(paired, report)| {
-            match lay_out(&paired) {
-                Ok(q) => Some((paired, report, q)),
-                Err(e) => {
-                    summary.notes.push(format!("annulus: the ring layout failed ({e})"));
-                    None
-                }
-            }
-        });
-        if ring.is_none() && depth < MAX_CUT_DEPTH {
-            if let Some(halves) = split_annulus(loops, &opts.unsplittable_edges, &popts) {
-                let mut part_leaves = Vec::new();
-                let mut part_summary = CycleSummary::default();
-                let split = halves.iter().try_for_each(|half| {
-                    let o = PairingOptions { unsplittable_edges: half.connectors.clone(), ..opts.clone() };
-                    mesh_part(&half.loops, h, &o, false, least, weld, depth + 1, &mut part_leaves, &mut part_summary)
-                });
-                match split {
-                    Ok(()) => {
-                        summary.notes.push(format!(
-                            "holes: split in two by two connectors ({} and {} holes left)",
-                            halves[0].loops.holes.len(),
-                            halves[1].loops.holes.len()
-                        ));
-                        absorb(summary, part_summary);
-                        summary.connectors += 2;
-                        leaves.extend(part_leaves);
-                        return Ok(());
+        if rings {
+            ring = pair_ring(loops, &popts).and_then(|r| r.ok()).and_then(|(paired, report)| {
+                match lay_out(&paired) {
+                    Ok(q) => Some((paired, report, q)),
+                    Err(e) => {
+                        summary.notes.push(format!("annulus: the ring layout failed ({e})"));
+                        None
                     }
-                    Err(e) => summary.notes.push(format!("holes: the two-connector split failed ({e})")),
                 }
-            }
+            });
+        }
+        if ring.is_none()
+            && split_holes(loops, h, opts, least, weld, rings, depth, leaves, summary)
+        {
+            return Ok(());
         }
     }
+    let is_ring = ring.is_some();
     let (paired, report, laid) = match ring {
         Some((paired, report, q)) => {
             summary.notes.push(format!(
@@ -400,7 +421,7 @@ fn mesh_part(
             for part in &cut.parts {
                 let kept = edges_in(&part.loops.outer.points, &opts.unsplittable_edges);
                 let o = PairingOptions { unsplittable_edges: kept, ..opts.clone() };
-                mesh_part(&part.loops, h, &o, true, least, weld, depth + 1, leaves, summary)?;
+                mesh_part(&part.loops, h, &o, true, least, weld, rings, depth + 1, leaves, summary)?;
             }
             return Ok(());
         }
@@ -430,8 +451,52 @@ fn mesh_part(
         .layout_quads
         .extend(quads.layout.quads.iter().map(|lq| lq.corners.map(|v| corners[v])));
     summary.interior_valences.extend(quads.interior_vertex_valences.iter().copied());
-    leaves.push(Leaf { paired, quads, facing });
+    leaves.push(Leaf { paired, quads, facing, ring: is_ring });
     Ok(())
+}
+
+/// The part's holes split off by two connectors (`curvenet::split_annulus`)
+/// and both halves meshed: true when done (leaves and summary extended),
+/// false with a note when no split is found or a half fails.
+#[allow(clippy::too_many_arguments)]
+fn split_holes(
+    loops: &CycleLoops,
+    h: f64,
+    opts: &PairingOptions,
+    least: &BTreeMap<[[i64; 3]; 2], usize>,
+    weld: &Welder,
+    rings: bool,
+    depth: usize,
+    leaves: &mut Vec<Leaf>,
+    summary: &mut CycleSummary,
+) -> bool {
+    let popts = PairingOptions { closing_edge_unsplittable: false, ..opts.clone() };
+    let Some(halves) = split_annulus(loops, &opts.unsplittable_edges, &popts) else {
+        return false;
+    };
+    let mut part_leaves = Vec::new();
+    let mut part_summary = CycleSummary::default();
+    let split = halves.iter().try_for_each(|half| {
+        let o = PairingOptions { unsplittable_edges: half.connectors.clone(), ..opts.clone() };
+        mesh_part(&half.loops, h, &o, false, least, weld, rings, depth, &mut part_leaves, &mut part_summary)
+    });
+    match split {
+        Ok(()) => {
+            summary.notes.push(format!(
+                "holes: split in two by two connectors ({} and {} holes left)",
+                halves[0].loops.holes.len(),
+                halves[1].loops.holes.len()
+            ));
+            absorb(summary, part_summary);
+            summary.connectors += 2;
+            leaves.extend(part_leaves);
+            true
+        }
+        Err(e) => {
+            summary.notes.push(format!("holes: the two-connector split failed ({e})"));
+            false
+        }
+    }
 }
 
 /// The edges of `edges` that are edges of the closed polyline (a cut part
@@ -473,7 +538,7 @@ const PLANAR: f64 = 1e-6;
 /// Which way a cycle's quads must face: its Newell normal, and whether the
 /// cycle is planar (then every quad faces it, else none turns more than 120°
 /// away).
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(super) struct Facing {
     normal: Option<Vec3>,
     planar: bool,
@@ -693,7 +758,7 @@ fn corner_candidates(net: &CurveNetwork) -> Vec<Vec3> {
 /// Cells of the weld tolerance's size: points of two parts or cycles that
 /// are one point fall in the same or a neighbouring cell.
 pub(super) struct Welder {
-    tolerance: f64,
+    pub(super) tolerance: f64,
     cell_size: f64,
 }
 
@@ -831,7 +896,7 @@ mod tests {
     /// summary.
     fn check_annulus(loops: &CycleLoops, in_hole: impl Fn(&Vec3) -> bool, loops_length: f64) -> CycleSummary {
         let weld = Welder::new(1e-9);
-        let (leaves, summary) = mesh_cycle(loops, 0.1, &PairingOptions::default(), &weld).unwrap();
+        let (leaves, summary) = mesh_cycle(loops, 0.1, &PairingOptions::default(), &weld, true).unwrap();
         let pieces: Vec<CycleQuads> = leaves.into_iter().map(|l| l.quads).collect();
         let net = json_of(loops);
         let (mesh, _) = assemble(&net, &[(0, pieces)], &weld);
@@ -897,6 +962,67 @@ mod tests {
             assert_eq!(summary.interior_valences, Vec::<usize>::new(), "a ring has no interior vertex");
             assert!(summary.patches >= 4, "{}", summary.patches);
             assert!(summary.notes.iter().any(|n| n.contains("ring layout")), "{:?}", summary.notes);
+        }
+    }
+
+    /// Two round holes in a 4 × 2 rectangle: split by two connectors (the
+    /// first note), then the half that keeps a hole is meshed around it (at
+    /// least one more connector); the mesh is open only on the three loops,
+    /// every quad valid, no node in a hole.
+    #[test]
+    fn a_rectangle_with_two_holes_is_split_and_meshed_around_both() {
+        let holes = [([-1.0, 0.0], 0.3), ([1.0, 0.0], 0.3)];
+        let loops = fixtures::rectangle_with_round_holes(2.0, &holes);
+        let apothem = 0.3 * (std::f64::consts::PI / 48.0).cos();
+        let in_hole = |p: &Vec3| holes.iter().any(|(c, _)| (p[0] - c[0]).hypot(p[1] - c[1]) < apothem - 1e-9);
+        let summary = check_annulus(&loops, in_hole, 12.0 + 2.0 * ngon(48, 0.3));
+        assert!(summary.notes[0].starts_with("holes: split in two by two connectors (1 and 0"), "{:?}", summary.notes);
+        assert!(summary.connectors >= 3, "{:?}", summary.notes);
+        assert!(summary.parts >= 2, "{}", summary.parts);
+    }
+
+    /// Two holes close together in the 2 × 2 square (0.3 apart, 0.25 from
+    /// the sides): no half of any split meshes, and the cycle is refused
+    /// with one short line naming where the splitting stopped (no nested
+    /// repeats), with no matched pairing tried.
+    #[test]
+    fn two_holes_that_no_split_meshes_are_refused_with_one_short_line() {
+        let loops = fixtures::square_with_round_holes(&[([-0.45, 0.0], 0.3), ([0.45, 0.0], 0.3)]);
+        let weld = Welder::new(1e-9);
+        let Err(message) = mesh_cycle(&loops, 0.1, &PairingOptions::default(), &weld, true) else {
+            panic!("the two close holes were meshed");
+        };
+        assert!(message.starts_with("no split by two connectors could be meshed with 2 holes left ("), "{message}");
+        assert_eq!(message.matches(NO_SPLIT).count(), 1, "{message}");
+        assert!(!message.contains('\n'));
+    }
+
+    /// Without rings (`mesh_cycle(.., rings = false)`, the network stage's
+    /// retry) an annulus is split by two connectors instead: no leaf is a
+    /// ring, two connectors, the same checks as the ring's.
+    #[test]
+    fn an_annulus_without_rings_is_split_by_two_connectors() {
+        let loops = fixtures::annulus([0.0, 0.0], 0.4);
+        let weld = Welder::new(1e-9);
+        let (with, _) = mesh_cycle(&loops, 0.1, &PairingOptions::default(), &weld, true).unwrap();
+        assert!(with.iter().all(|l| l.ring) && with.len() == 1);
+        let (leaves, summary) = mesh_cycle(&loops, 0.1, &PairingOptions::default(), &weld, false).unwrap();
+        assert!(leaves.iter().all(|l| !l.ring) && leaves.len() >= 2, "{:?}", summary.notes);
+        assert_eq!(summary.connectors, 2, "{:?}", summary.notes);
+        let pieces: Vec<CycleQuads> = leaves.into_iter().map(|l| l.quads).collect();
+        let (mesh, _) = assemble(&json_of(&loops), &[(0, pieces)], &weld);
+        let uses = edge_uses(&mesh);
+        assert!(uses.values().all(|&n| n <= 2));
+        let open: f64 = uses
+            .iter()
+            .filter(|(_, &n)| n == 1)
+            .map(|(&(a, b), _)| vec3::dist(mesh.nodes[a as usize], mesh.nodes[b as usize]))
+            .sum();
+        let loops_length = ngon(64, 1.0) + ngon(48, 0.4);
+        assert!(open <= loops_length + 1e-9 && open > (1.0 - 3e-3) * loops_length, "{open} vs {loops_length}");
+        for q in &mesh.quads {
+            let p = q.map(|v| mesh.nodes[v as usize]);
+            assert!(mesh::quality::quad_sicn(&p, &[[0.0, 0.0, 1.0]; 4]) > 0.0, "{p:?}");
         }
     }
 

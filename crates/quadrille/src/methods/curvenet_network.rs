@@ -27,7 +27,7 @@ use crate::curvenet::tjunction::{
 };
 use crate::curvenet::{CurveNetwork, PairedCycle};
 
-use super::curvenet::{segment_key, unfolded, Leaf, Welder};
+use super::curvenet::{mesh_cycle, segment_key, unfolded, CurvesOptions, CurvesReport, CycleSummary, Leaf, Welder};
 
 /// What the network stage did.
 #[derive(Clone, Debug, Default)]
@@ -206,6 +206,98 @@ pub(super) fn network_stage(
     }
     report.seconds = started.elapsed().as_secs_f64();
     report
+}
+
+/// Cycles meshed again (without the ring), or run in a pool of `threads`.
+fn in_pool<T: Sync, R: Send>(threads: Option<usize>, items: &[T], job: impl Fn(&T) -> R + Sync + Send) -> Vec<R> {
+    match threads.and_then(|n| rayon::ThreadPoolBuilder::new().num_threads(n.max(1)).build().ok()) {
+        Some(pool) => pool.install(|| map_in_order(items, job)),
+        None => map_in_order(items, job),
+    }
+}
+
+/// A ring (`curvenet::ring`) gives every sector one chord from the outer
+/// loop to the hole, so the outer loop's interval count equals the hole's:
+/// a constraint of the interval program like any chord, but one the shared
+/// curves may not allow (the loops' neighbours ask for different counts).
+/// When the program leaves a mismatch, the ring cycles are meshed again
+/// without the ring (the two-connector split, whose halves have chords
+/// from the outer loop to itself) and the network stage rerun from `before`
+/// (the leaves before the stage); then each ring is put back unless that
+/// raises the mismatch. The outcome with the least mismatch is kept
+/// (`meshed`, the report's cycles and network), the rings when no split
+/// helps.
+pub(super) fn rings_to_splits(
+    net: &CurveNetwork,
+    before: Vec<(usize, Vec<Leaf>)>,
+    meshed: &mut Vec<(usize, Vec<Leaf>)>,
+    report: &mut CurvesReport,
+    weld: &Welder,
+    opts: &CurvesOptions,
+) {
+    let started = Instant::now();
+    let first = report.network.mismatch;
+    if first == 0 {
+        return;
+    }
+    let h = report.h;
+    let rings: Vec<usize> = (0..before.len()).filter(|&k| before[k].1.iter().any(|l| l.ring)).collect();
+    let redo = |&k: &usize| -> Option<(usize, Vec<Leaf>, CycleSummary)> {
+        let t0 = Instant::now();
+        let loops = net.cycle_loops(before[k].0).ok()?;
+        let (leaves, mut summary) = mesh_cycle(&loops, h, &opts.pairing, weld, false).ok()?;
+        summary.cycle = before[k].0;
+        summary.seconds = t0.elapsed().as_secs_f64();
+        Some((k, leaves, summary))
+    };
+    let split: Vec<(usize, Vec<Leaf>, CycleSummary)> = in_pool(opts.threads, &rings, redo).into_iter().flatten().collect();
+    if split.is_empty() {
+        return;
+    }
+    let stage = |use_split: &[bool]| {
+        let mut m = before.clone();
+        for ((k, leaves, _), _) in split.iter().zip(use_split).filter(|(_, &u)| u) {
+            m[*k].1 = leaves.clone();
+        }
+        let r = network_stage(net, &mut m, h, weld.tolerance, opts.threads);
+        (m, r)
+    };
+    let mut chosen = vec![true; split.len()];
+    let (mut best, mut best_report) = stage(&chosen);
+    if best_report.mismatch >= first {
+        report.network.notes.push(format!(
+            "interval mismatch {first}: splitting the {} ring(s) instead does not lower it ({}): rings kept",
+            split.len(),
+            best_report.mismatch
+        ));
+        report.network.seconds += started.elapsed().as_secs_f64();
+        return;
+    }
+    for i in 0..split.len() {
+        chosen[i] = false;
+        let (m, r) = stage(&chosen);
+        if r.mismatch <= best_report.mismatch {
+            (best, best_report) = (m, r);
+        } else {
+            chosen[i] = true;
+        }
+    }
+    *meshed = best;
+    let mut replaced = Vec::new();
+    for ((k, _, mut summary), _) in split.into_iter().zip(&chosen).filter(|(_, &u)| u) {
+        summary.notes.push(
+            "annulus: the ring's equal outer and hole counts left an interval mismatch: two-connector split used"
+                .to_string(),
+        );
+        replaced.push(summary.cycle);
+        report.cycles[k] = summary;
+    }
+    best_report.notes.push(format!(
+        "interval mismatch {first} with rings, {} with cycles {replaced:?} split by two connectors instead",
+        best_report.mismatch
+    ));
+    best_report.seconds = started.elapsed().as_secs_f64() + report.network.seconds;
+    report.network = best_report;
 }
 
 #[cfg(test)]
