@@ -45,6 +45,7 @@ pub use network::{
 };
 
 pub mod cost;
+pub mod midpoint;
 pub mod pairing;
 pub mod polyline;
 pub mod refine;

@@ -165,7 +165,7 @@ pub fn mesh_coarse(
         }
         None => {
             // without ring grids ([`MeshOptions::ring_grids`])
-            let no_rings = crate::MeshOptions { ring_grids: false, ..mesh_opts.clone() };
+            let no_rings = MeshOptions { ring_grids: false, ..mesh_opts.clone() };
             let (m, r) = super::mesh_model_with(model, &no_rings, super::MeshMethod::default())?;
             times.quasi_structured = started.elapsed().as_secs_f64();
             estimated_quads = Some(r.estimated_quads);
