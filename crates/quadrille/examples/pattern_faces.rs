@@ -52,7 +52,7 @@ fn main() {
         let mut why: BTreeMap<String, usize> = BTreeMap::new();
         let mut worst = f64::INFINITY;
         for f in 0..model.faces.len() {
-            match mesh_face_pattern(&model, FaceId(f as u32), &cms) {
+            match mesh_face_pattern(&model, FaceId(f as u32), &cms, true) {
                 Ok((p, n)) => {
                     *used.entry(n).or_default() += 1;
                     let face = &model.faces[f];
