@@ -75,6 +75,18 @@ pub(crate) fn balance_seam_grids(model: &Model, ideal: &mut [f64]) {
     }
 }
 
+/// In a loop of four uses `u`, when uses `k` and `k + 2` are one seam S
+/// run both ways between two other curves A ≠ B (a band: A, S, B, S):
+/// `(S, A, B)` as curve indices.
+fn seam_band(u: &[geometry::CurveUse], k: usize) -> Option<(usize, usize, usize)> {
+    let (s, a, b) = (
+        u[k].curve.idx(),
+        u[k + 1].curve.idx(),
+        u[(k + 3) % 4].curve.idx(),
+    );
+    (u[k + 2].curve.idx() == s && u[k].seam && u[k + 2].seam && a != b).then_some((s, a, b))
+}
+
 /// An open band (a lofted skin, a duct: one loop, curve A, a seam S, curve B,
 /// S again, where A and B bound no other face and S is the band's own) is
 /// meshed as a grid whose seam count is free. The size map's count for S
@@ -95,17 +107,11 @@ pub(crate) fn balance_band_seams(model: &Model, ideal: &mut [f64], lengths: &[f6
         }
         let own = |c: usize| curve_faces[c].as_slice() == [geometry::FaceId(fi as u32)];
         for k in 0..2 {
-            let (s, a, b) = (
-                u[k].curve.idx(),
-                u[k + 1].curve.idx(),
-                u[(k + 3) % 4].curve.idx(),
-            );
-            let band = u[k + 2].curve.idx() == s
-                && u[k].seam
-                && u[k + 2].seam
-                && !u[k + 1].seam
+            let Some((s, a, b)) = seam_band(u, k) else {
+                continue;
+            };
+            let band = !u[k + 1].seam
                 && !u[(k + 3) % 4].seam
-                && a != b
                 && own(s)
                 && own(a)
                 && own(b);
@@ -173,16 +179,10 @@ pub(crate) fn square_band_seams(
             continue;
         }
         for k in 0..2 {
-            let (s, a, b) = (
-                u[k].curve.idx(),
-                u[k + 1].curve.idx(),
-                u[(k + 3) % 4].curve.idx(),
-            );
-            let band = u[k + 2].curve.idx() == s
-                && u[k].seam
-                && u[k + 2].seam
-                && a != b
-                && counts[a] == counts[b]
+            let Some((s, a, b)) = seam_band(u, k) else {
+                continue;
+            };
+            let band = counts[a] == counts[b]
                 && curve_faces[s].as_slice() == [geometry::FaceId(fi as u32)]
                 && members(s) == [s]
                 && !model.curves[a].degenerate

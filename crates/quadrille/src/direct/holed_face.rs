@@ -11,16 +11,12 @@
 //! inside the face, and no cavity removes them, because a cavity never
 //! wraps around a hole (s11o_cube_cyl's top: 2 of them).
 
-use geometry::vec3::Vec3;
 use geometry::{FaceId, Model};
 
-use crate::core::patch::LocalNode;
-use crate::core::patch::QuadPatch;
+use crate::core::patch::{LocalNode, QuadPatch};
 use crate::core::valence::ideal_corner_valence;
 use crate::curves::curve_mesh::CurveMesh;
-use crate::direct::pattern_face::{
-    harmonic_uv, loop_ring, needs_reversal, place_interior, smooth_and_check, uv_area,
-};
+use crate::direct::pattern_face::{harmonic_uv, loop_ring, two_loop_patch, uv_area};
 
 /// Name of the pattern of [`mesh_holed_face`].
 pub const HOLED_GRID: &str = "holed grid";
@@ -229,22 +225,7 @@ pub fn mesh_holed_face(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<
         })
         .collect();
     harmonic_uv(&grid.quads, &mut uv, &fixed);
-    let mut nodes: Vec<LocalNode> = outer.nodes.iter().chain(&hole.nodes).copied().collect();
-    let mut pos: Vec<Vec3> = outer.pos.iter().chain(&hole.pos).copied().collect();
-    place_interior(face, &uv, &fixed, &mut local, &mut nodes, &mut pos)?;
-    let reverse = needs_reversal(face, &grid.quads, &uv);
-    let quads: Vec<[u32; 4]> = grid
-        .quads
-        .iter()
-        .map(|q| {
-            let mut l = q.map(|v| local[v as usize]);
-            if reverse {
-                l.reverse();
-            }
-            l
-        })
-        .collect();
-    smooth_and_check(face, nodes, pos, quads, HOLED_GRID)
+    two_loop_patch(face, outer, hole, &uv, &fixed, &mut local, &grid.quads, HOLED_GRID)
 }
 
 #[cfg(test)]

@@ -459,6 +459,40 @@ pub(crate) fn needs_reversal(face: &geometry::Face, quads: &[[u32; 4]], uv: &[[f
     (area < 0.0) != face.reversed
 }
 
+/// The patch of a grid between two loops (`outer`, then `hole`, are the
+/// first local nodes): the grid's vertices not `fixed` placed at `uv` on the
+/// surface, its `quads` (grid vertex ids, mapped through `local`) turned to
+/// run counter-clockwise about the face normal, smoothed and checked
+/// ([`smooth_and_check`], naming `pattern`). Shared by
+/// [`crate::direct::holed_face`] and [`crate::direct::ring_face`].
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn two_loop_patch(
+    face: &geometry::Face,
+    outer: &Ring,
+    hole: &Ring,
+    uv: &[[f64; 2]],
+    fixed: &[bool],
+    local: &mut [u32],
+    quads: &[[u32; 4]],
+    pattern: &str,
+) -> Result<QuadPatch, String> {
+    let mut nodes: Vec<LocalNode> = outer.nodes.iter().chain(&hole.nodes).copied().collect();
+    let mut pos: Vec<Vec3> = outer.pos.iter().chain(&hole.pos).copied().collect();
+    place_interior(face, uv, fixed, local, &mut nodes, &mut pos)?;
+    let reverse = needs_reversal(face, quads, uv);
+    let quads: Vec<[u32; 4]> = quads
+        .iter()
+        .map(|q| {
+            let mut l = q.map(|v| local[v as usize]);
+            if reverse {
+                l.reverse();
+            }
+            l
+        })
+        .collect();
+    smooth_and_check(face, nodes, pos, quads, pattern)
+}
+
 /// A patch from a pattern's quads (counter-clockwise about the face normal)
 /// on `nodes` at `pos`, smoothed; refused when a quad stays below
 /// [`MIN_PATTERN_SICN`] (the error names `pattern`). Shared by the library

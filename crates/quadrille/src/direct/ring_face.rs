@@ -16,13 +16,11 @@
 use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
-use crate::core::patch::{LocalNode, QuadPatch};
+use crate::core::patch::QuadPatch;
 use crate::curves::curve_chords::annulus_loops;
 use crate::core::valence::ideal_corner_valence;
 use crate::curves::curve_mesh::CurveMesh;
-use crate::direct::pattern_face::{
-    loop_ring, needs_reversal, place_interior, smooth_and_check, uv_area, Ring,
-};
+use crate::direct::pattern_face::{loop_ring, two_loop_patch, uv_area, Ring};
 
 /// Name of the pattern of [`mesh_ring_face`].
 pub const RING_GRID: &str = "ring";
@@ -151,21 +149,7 @@ pub fn mesh_ring_face(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Q
             })
         })
         .collect();
-    let mut nodes: Vec<LocalNode> = outer.nodes.iter().chain(&hole.nodes).copied().collect();
-    let mut pos: Vec<Vec3> = outer.pos.iter().chain(&hole.pos).copied().collect();
-    place_interior(face, &uv, &fixed, &mut local, &mut nodes, &mut pos)?;
-    let reverse = needs_reversal(face, &grid, &uv);
-    let quads: Vec<[u32; 4]> = grid
-        .iter()
-        .map(|q| {
-            let mut l = q.map(|v| local[v as usize]);
-            if reverse {
-                l.reverse();
-            }
-            l
-        })
-        .collect();
-    smooth_and_check(face, nodes, pos, quads, RING_GRID)
+    two_loop_patch(face, outer, hole, &uv, &fixed, &mut local, &grid, RING_GRID)
 }
 
 #[cfg(test)]
