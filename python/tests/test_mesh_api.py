@@ -96,7 +96,9 @@ def test_report():
     r = m.report
     assert r["method"] == "quasi-structured" and r["faces"] == m.model.faces == 42
     assert r["quads"] == len(m) and r["nodes"] == len(m.nodes)
-    assert len(r["patterns"]) == 38 and all(1 <= p["face"] <= 42 for p in r["patterns"])
+    # 38 library patterns and one annulus meshed as a ring grid
+    assert len(r["patterns"]) == 39 and all(1 <= p["face"] <= 42 for p in r["patterns"])
+    assert sum(p["pattern"] == "ring" for p in r["patterns"]) == 1
     assert r["fallback"] == [] and r["regularize"] is None
     t = r["times"]
     assert t["total"] > 0 and t["fields"] > 0 and t["faces"] > 0
