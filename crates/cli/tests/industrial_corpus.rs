@@ -26,6 +26,17 @@ fn manifest_faces(file: &str) -> u64 {
     part["faces"].as_u64().unwrap()
 }
 
+/// `quadrille mesh MODEL [--method METHOD] --threads N --quiet` into `out`
+/// (the default method when `method` is `None`).
+fn mesh_part(model: &Path, out: &Path, method: Option<&str>, threads: &str) -> std::process::Output {
+    let mut args = vec!["mesh", model.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    if let Some(m) = method {
+        args.extend(["--method", m]);
+    }
+    args.extend(["--threads", threads, "--quiet"]);
+    quadrille(&args)
+}
+
 #[test]
 fn small_corpus_parts_mesh_valid_by_both_judges_and_closed() {
     // a thread-simulating screw (13 faces), a cusp prism (2 cusp corners on
@@ -38,15 +49,7 @@ fn small_corpus_parts_mesh_valid_by_both_judges_and_closed() {
         let model = industrial(name);
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("part.msh");
-        let r = quadrille(&[
-            "mesh",
-            model.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--threads",
-            "1",
-            "--quiet",
-        ]);
+        let r = mesh_part(&model, &out, None, "1");
         assert!(
             r.status.success(),
             "{name}: {}",
@@ -64,15 +67,7 @@ fn small_corpus_parts_mesh_valid_by_both_judges_and_closed() {
         assert_eq!(s["non_manifold_edges"], 0, "{name}");
         // two threads write the same bytes
         let two = dir.path().join("part-2.msh");
-        let r = quadrille(&[
-            "mesh",
-            model.to_str().unwrap(),
-            "-o",
-            two.to_str().unwrap(),
-            "--threads",
-            "2",
-            "--quiet",
-        ]);
+        let r = mesh_part(&model, &two, None, "2");
         assert!(r.status.success(), "{name}");
         assert!(
             std::fs::read(&out).unwrap() == std::fs::read(&two).unwrap(),
@@ -88,15 +83,7 @@ fn small_corpus_parts_mesh_valid_by_both_judges_and_closed() {
     let model = industrial("t_cusp_prism.step");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("cusp.msh");
-    let r = quadrille(&[
-        "mesh",
-        model.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--quiet",
-        "--threads",
-        "1",
-    ]);
+    let r = mesh_part(&model, &out, None, "1");
     assert!(r.status.success());
     let s: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
     assert!(!s["sharp_corners"].as_array().unwrap().is_empty(), "{s}");
@@ -114,15 +101,7 @@ fn washers_are_ring_grids_with_no_irregular_vertex() {
         let model = industrial(name);
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("washer.msh");
-        let r = quadrille(&[
-            "mesh",
-            model.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--threads",
-            "1",
-            "--quiet",
-        ]);
+        let r = mesh_part(&model, &out, None, "1");
         assert!(r.status.success(), "{name}: {}", String::from_utf8_lossy(&r.stderr));
         let s: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
         assert!(s["quads"].as_u64().unwrap() > 300, "{name}: {s}");
@@ -144,17 +123,7 @@ fn the_unstructured_method_meshes_a_face_cut_open_by_a_slit() {
     let model = industrial(name);
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("bearing.msh");
-    let r = quadrille(&[
-        "mesh",
-        model.to_str().unwrap(),
-        "--method",
-        "unstructured",
-        "-o",
-        out.to_str().unwrap(),
-        "--threads",
-        "1",
-        "--quiet",
-    ]);
+    let r = mesh_part(&model, &out, Some("unstructured"), "1");
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let s: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
     assert_eq!(s["triangles"], 0, "{s}");
@@ -162,21 +131,6 @@ fn the_unstructured_method_meshes_a_face_cut_open_by_a_slit() {
     assert_eq!(s["inverted_quads_element_geometry_outside_sharp"], 0, "{s}");
     assert_eq!(s["open_edges"], 0, "{s}");
     assert_eq!(s["non_manifold_edges"], 0, "{s}");
-}
-
-/// `quadrille mesh MODEL --method regular --threads N` into `out`.
-fn mesh_regular(model: &Path, out: &Path, threads: &str) -> std::process::Output {
-    quadrille(&[
-        "mesh",
-        model.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--method",
-        "regular",
-        "--threads",
-        threads,
-        "--quiet",
-    ])
 }
 
 #[test]
@@ -190,24 +144,14 @@ fn regular_method_meshes_a_part_its_baseline_cannot() {
     let name = "socket_weld_flange_1in_150.step";
     let model = industrial(name);
     let base_dir = tempfile::tempdir().unwrap();
-    let base = quadrille(&[
-        "mesh",
-        model.to_str().unwrap(),
-        "-o",
-        base_dir.path().join("b.msh").to_str().unwrap(),
-        "--method",
-        "baseline",
-        "--threads",
-        "1",
-        "--quiet",
-    ]);
+    let base = mesh_part(&model, &base_dir.path().join("b.msh"), Some("baseline"), "1");
     assert!(
         !base.status.success(),
         "the baseline now meshes {name}: update this test"
     );
     let dir = tempfile::tempdir().unwrap();
     let (one, two) = (dir.path().join("one.msh"), dir.path().join("two.msh"));
-    let r = mesh_regular(&model, &one, "1");
+    let r = mesh_part(&model, &one, Some("regular"), "1");
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let s: serde_json::Value = serde_json::from_str(&stats_json(&one, &model)).unwrap();
     assert!(s["quads"].as_u64().unwrap() > 500, "{s}");
@@ -217,7 +161,7 @@ fn regular_method_meshes_a_part_its_baseline_cannot() {
     assert_eq!(s["open_edges"], 0, "{s}");
     assert!(s["irregular_percent"].as_f64().unwrap() <= 5.0, "{s}");
     // the same mesh on two threads
-    let r = mesh_regular(&model, &two, "2");
+    let r = mesh_part(&model, &two, Some("regular"), "2");
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     assert!(std::fs::read(&one).unwrap() == std::fs::read(&two).unwrap());
 }

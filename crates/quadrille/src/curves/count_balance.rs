@@ -75,16 +75,33 @@ pub(crate) fn balance_seam_grids(model: &Model, ideal: &mut [f64]) {
     }
 }
 
-/// In a loop of four uses `u`, when uses `k` and `k + 2` are one seam S
-/// run both ways between two other curves A ≠ B (a band: A, S, B, S):
-/// `(S, A, B)` as curve indices.
-fn seam_band(u: &[geometry::CurveUse], k: usize) -> Option<(usize, usize, usize)> {
-    let (s, a, b) = (
-        u[k].curve.idx(),
-        u[k + 1].curve.idx(),
-        u[(k + 3) % 4].curve.idx(),
-    );
-    (u[k + 2].curve.idx() == s && u[k].seam && u[k + 2].seam && a != b).then_some((s, a, b))
+/// Every band of the model: a face whose one loop is four uses A, S, B, S
+/// with S a seam run both ways between two other curves A ≠ B. Yields
+/// `(face index, uses, k, [S, A, B])` with S at uses `k` and `k + 2`
+/// (curve indices); a loop may give two (both pairs of opposite uses).
+fn seam_bands(
+    model: &Model,
+) -> impl Iterator<Item = (usize, &[geometry::CurveUse], usize, [usize; 3])> {
+    model.faces.iter().enumerate().flat_map(|(fi, face)| {
+        let uses: &[geometry::CurveUse] = match face.loops.as_slice() {
+            [lp] if lp.uses.len() == 4 => &lp.uses,
+            _ => &[],
+        };
+        (0..2).filter(|_| !uses.is_empty()).filter_map(move |k| {
+            let u = uses;
+            let (s, a, b) = (
+                u[k].curve.idx(),
+                u[k + 1].curve.idx(),
+                u[(k + 3) % 4].curve.idx(),
+            );
+            (u[k + 2].curve.idx() == s && u[k].seam && u[k + 2].seam && a != b).then_some((
+                fi,
+                u,
+                k,
+                [s, a, b],
+            ))
+        })
+    })
 }
 
 /// An open band (a lofted skin, a duct: one loop, curve A, a seam S, curve B,
@@ -97,31 +114,15 @@ fn seam_band(u: &[geometry::CurveUse], k: usize) -> Option<(usize, usize, usize)
 /// average: `|S| / mean(|A| / ideal[A], |B| / ideal[B])`.
 pub(crate) fn balance_band_seams(model: &Model, ideal: &mut [f64], lengths: &[f64]) {
     let curve_faces = model.curve_faces();
-    for (fi, face) in model.faces.iter().enumerate() {
-        let [lp] = face.loops.as_slice() else {
-            continue;
-        };
-        let u = &lp.uses;
-        if u.len() != 4 {
+    for (fi, u, k, [s, a, b]) in seam_bands(model) {
+        let own = |c: usize| curve_faces[c].as_slice() == [geometry::FaceId(fi as u32)];
+        let band = !u[k + 1].seam && !u[(k + 3) % 4].seam && own(s) && own(a) && own(b);
+        if !band || !(ideal[a] > 0.0 && ideal[b] > 0.0 && lengths[s] > 0.0) {
             continue;
         }
-        let own = |c: usize| curve_faces[c].as_slice() == [geometry::FaceId(fi as u32)];
-        for k in 0..2 {
-            let Some((s, a, b)) = seam_band(u, k) else {
-                continue;
-            };
-            let band = !u[k + 1].seam
-                && !u[(k + 3) % 4].seam
-                && own(s)
-                && own(a)
-                && own(b);
-            if !band || !(ideal[a] > 0.0 && ideal[b] > 0.0 && lengths[s] > 0.0) {
-                continue;
-            }
-            let spacing = 0.5 * (lengths[a] / ideal[a] + lengths[b] / ideal[b]);
-            if spacing > 0.0 {
-                ideal[s] = lengths[s] / spacing;
-            }
+        let spacing = 0.5 * (lengths[a] / ideal[a] + lengths[b] / ideal[b]);
+        if spacing > 0.0 {
+            ideal[s] = lengths[s] / spacing;
         }
     }
 }
@@ -170,36 +171,23 @@ pub(crate) fn square_band_seams(
     lengths: &[f64],
 ) {
     let curve_faces = model.curve_faces();
-    for (fi, face) in model.faces.iter().enumerate() {
-        let [lp] = face.loops.as_slice() else {
-            continue;
-        };
-        let u = &lp.uses;
-        if u.len() != 4 {
+    for (fi, _, _, [s, a, b]) in seam_bands(model) {
+        let band = counts[a] == counts[b]
+            && curve_faces[s].as_slice() == [geometry::FaceId(fi as u32)]
+            && members(s) == [s]
+            && !model.curves[a].degenerate
+            && !model.curves[b].degenerate;
+        if !band || counts[a] == 0 || counts[s] == 0 {
             continue;
         }
-        for k in 0..2 {
-            let Some((s, a, b)) = seam_band(u, k) else {
-                continue;
-            };
-            let band = counts[a] == counts[b]
-                && curve_faces[s].as_slice() == [geometry::FaceId(fi as u32)]
-                && members(s) == [s]
-                && !model.curves[a].degenerate
-                && !model.curves[b].degenerate;
-            if !band || counts[a] == 0 || counts[s] == 0 {
-                continue;
-            }
-            let spacing = 0.5 * (lengths[a] + lengths[b]) / counts[a] as f64;
-            let along = lengths[s] / counts[s] as f64;
-            if !(spacing > 0.0 && along > 0.0) {
-                continue;
-            }
-            let aspect = along / spacing;
-            if aspect > BAND_ASPECT_TOLERANCE || aspect < 1.0 / BAND_ASPECT_TOLERANCE {
-                counts[s] = ((lengths[s] / spacing).round() as usize).max(1);
-            }
+        let spacing = 0.5 * (lengths[a] + lengths[b]) / counts[a] as f64;
+        let along = lengths[s] / counts[s] as f64;
+        if !(spacing > 0.0 && along > 0.0) {
+            continue;
+        }
+        let aspect = along / spacing;
+        if aspect > BAND_ASPECT_TOLERANCE || aspect < 1.0 / BAND_ASPECT_TOLERANCE {
+            counts[s] = ((lengths[s] / spacing).round() as usize).max(1);
         }
     }
 }
-

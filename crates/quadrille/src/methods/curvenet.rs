@@ -803,6 +803,17 @@ mod tests {
     use crate::curvenet::parse_json;
 
     /// Every edge of `mesh` with the number of quads using it.
+    /// Total length of the mesh's open edges (on one quad), after checking
+    /// that no edge is on more than two.
+    fn open_length(mesh: &QuadMesh) -> f64 {
+        let uses = edge_uses(mesh);
+        assert!(uses.values().all(|&n| n <= 2));
+        uses.iter()
+            .filter(|(_, &n)| n == 1)
+            .map(|(&(a, b), _)| vec3::dist(mesh.nodes[a as usize], mesh.nodes[b as usize]))
+            .sum()
+    }
+
     fn edge_uses(mesh: &QuadMesh) -> BTreeMap<(u32, u32), usize> {
         let mut uses = BTreeMap::new();
         for q in &mesh.quads {
@@ -847,13 +858,7 @@ mod tests {
         let pieces: Vec<CycleQuads> = leaves.into_iter().map(|l| l.quads).collect();
         let net = json_of(loops);
         let (mesh, _) = assemble(&net, &[(0, pieces)], &weld);
-        let uses = edge_uses(&mesh);
-        assert!(uses.values().all(|&n| n <= 2));
-        let open_length: f64 = uses
-            .iter()
-            .filter(|(_, &n)| n == 1)
-            .map(|(&(a, b), _)| vec3::dist(mesh.nodes[a as usize], mesh.nodes[b as usize]))
-            .sum();
+        let open_length = open_length(&mesh);
         // The mesh's boundary edges are chords of the loops' polylines: a
         // little shorter on curved loops; a connector left open would add
         // twice its length.
@@ -958,13 +963,7 @@ mod tests {
         assert_eq!(summary.connectors, 2, "{:?}", summary.notes);
         let pieces: Vec<CycleQuads> = leaves.into_iter().map(|l| l.quads).collect();
         let (mesh, _) = assemble(&json_of(&loops), &[(0, pieces)], &weld);
-        let uses = edge_uses(&mesh);
-        assert!(uses.values().all(|&n| n <= 2));
-        let open: f64 = uses
-            .iter()
-            .filter(|(_, &n)| n == 1)
-            .map(|(&(a, b), _)| vec3::dist(mesh.nodes[a as usize], mesh.nodes[b as usize]))
-            .sum();
+        let open = open_length(&mesh);
         let loops_length = ngon(64, 1.0) + ngon(48, 0.4);
         assert!(open <= loops_length + 1e-9 && open > (1.0 - 3e-3) * loops_length, "{open} vs {loops_length}");
         for q in &mesh.quads {

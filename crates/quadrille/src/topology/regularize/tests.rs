@@ -1183,16 +1183,7 @@ fn boundary_angles_at_the_225_degree_threshold_count_as_straight() {
 fn regularize_progress_counts_every_face_once() {
     use std::sync::atomic::{AtomicUsize, Ordering};
     let model = primitives::cylinder(1.0, 2.0);
-    let mut mesh = crate::fixtures::grids::mesh_baseline(
-        &model,
-        &crate::MeshOptions {
-            size: crate::Size::Absolute(0.3),
-            threads: Some(1),
-            progress: None,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let mut mesh = cylinder_baseline(&model);
     let calls = std::sync::Arc::new(AtomicUsize::new(0));
     let last = std::sync::Arc::new(AtomicUsize::new(0));
     let (c, l) = (calls.clone(), last.clone());
@@ -1269,16 +1260,7 @@ fn polishing_pulls_a_vertex_back_across_a_thin_wedge() {
 #[test]
 fn a_low_work_budget_counts_evaluations_and_gives_the_same_valid_mesh_on_any_thread_count() {
     let model = primitives::cylinder(1.0, 2.0);
-    let input = crate::fixtures::grids::mesh_baseline(
-        &model,
-        &crate::MeshOptions {
-            size: crate::Size::Absolute(0.3),
-            threads: Some(1),
-            progress: None,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let input = cylinder_baseline(&model);
     let s0 = mesh::stats::MeshStats::compute(&input, Some(&model));
     let run = |work_per_quad: u64, threads: usize| {
         let mut mesh = input.clone();
@@ -1392,4 +1374,18 @@ fn a_quad_that_passes_the_projected_check_but_folds_against_the_cad_normals_coun
     assert_eq!(validity::inverted_count(&fq, face), 1);
     let mut b = fq.clone();
     assert_eq!(Regularizer::new(face, &mut b).invalid_count(), 1);
+}
+
+/// The baseline mesh of `model` (a test cylinder) at size 0.3 on one thread.
+fn cylinder_baseline(model: &geometry::Model) -> mesh::QuadMesh {
+    crate::fixtures::grids::mesh_baseline(
+        model,
+        &crate::MeshOptions {
+            size: crate::Size::Absolute(0.3),
+            threads: Some(1),
+            progress: None,
+            ..Default::default()
+        },
+    )
+    .unwrap()
 }
