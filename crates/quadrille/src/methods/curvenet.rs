@@ -289,7 +289,8 @@ pub(super) fn mesh_cycle(
     for _ in 0..MAX_COUNT_ROUNDS {
         let mut leaves = Vec::new();
         let mut summary = CycleSummary::default();
-        mesh_part(loops, h, opts, false, &least, weld, rings, 0, &mut leaves, &mut summary)?;
+        let env = PartEnv { h, least: &least, weld, rings };
+        mesh_part(loops, &env, opts, false, 0, &mut leaves, &mut summary)?;
         let mut counts: BTreeMap<[[i64; 3]; 2], Vec<usize>> = BTreeMap::new();
         for leaf in &leaves {
             for (key, n) in unsplittable_counts(leaf, weld) {
@@ -322,19 +323,28 @@ pub(super) fn mesh_cycle(
 /// holes is only split by two connectors: its matched pairing, of many
 /// segments, is slow and gave no valid layout on any corpus face (the
 /// refinement spent minutes on such cycles before refusing them).
+/// What stays fixed while one cycle is cut into parts and meshed: the
+/// quad size `h`, the network's interval minimums per unsplittable segment
+/// (`least`), the weld, and whether annuli may take the ring layout.
+#[derive(Clone, Copy)]
+struct PartEnv<'a> {
+    h: f64,
+    least: &'a BTreeMap<[[i64; 3]; 2], usize>,
+    weld: &'a Welder,
+    rings: bool,
+}
+
 #[allow(clippy::too_many_arguments)]
 fn mesh_part(
     loops: &CycleLoops,
-    h: f64,
+    env: &PartEnv<'_>,
     opts: &PairingOptions,
     closing: bool,
-    least: &BTreeMap<[[i64; 3]; 2], usize>,
-    weld: &Welder,
-    rings: bool,
     depth: usize,
     leaves: &mut Vec<Leaf>,
     summary: &mut CycleSummary,
 ) -> Result<(), String> {
+    let PartEnv { h, least, weld, rings } = *env;
     let popts = PairingOptions { closing_edge_unsplittable: closing, ..opts.clone() };
     let facing = Facing::of(&loops.outer.points);
     // a pairing's quads with the network's interval minimums, refused when folded
@@ -347,7 +357,7 @@ fn mesh_part(
     // Hole splits are not counted against `MAX_CUT_DEPTH`: each leaves
     // fewer holes in both halves, so they end.
     if loops.holes.len() >= 2 {
-        if split_holes(loops, h, opts, least, weld, rings, depth, leaves, summary) {
+        if split_holes(loops, env, opts, depth, leaves, summary) {
             return Ok(());
         }
         let why = summary
@@ -387,7 +397,7 @@ fn mesh_part(
             });
         }
         if ring.is_none()
-            && split_holes(loops, h, opts, least, weld, rings, depth, leaves, summary)
+            && split_holes(loops, env, opts, depth, leaves, summary)
         {
             return Ok(());
         }
@@ -422,7 +432,7 @@ fn mesh_part(
             for part in &cut.parts {
                 let kept = edges_in(&part.loops.outer.points, &opts.unsplittable_edges);
                 let o = PairingOptions { unsplittable_edges: kept, ..opts.clone() };
-                mesh_part(&part.loops, h, &o, true, least, weld, rings, depth + 1, leaves, summary)?;
+                mesh_part(&part.loops, env, &o, true, depth + 1, leaves, summary)?;
             }
             return Ok(());
         }
@@ -459,14 +469,10 @@ fn mesh_part(
 /// The part's holes split off by two connectors (`curvenet::split_annulus`)
 /// and both halves meshed: true when done (leaves and summary extended),
 /// false with a note when no split is found or a half fails.
-#[allow(clippy::too_many_arguments)]
 fn split_holes(
     loops: &CycleLoops,
-    h: f64,
+    env: &PartEnv<'_>,
     opts: &PairingOptions,
-    least: &BTreeMap<[[i64; 3]; 2], usize>,
-    weld: &Welder,
-    rings: bool,
     depth: usize,
     leaves: &mut Vec<Leaf>,
     summary: &mut CycleSummary,
@@ -479,7 +485,7 @@ fn split_holes(
     let mut part_summary = CycleSummary::default();
     let split = halves.iter().try_for_each(|half| {
         let o = PairingOptions { unsplittable_edges: half.connectors.clone(), ..opts.clone() };
-        mesh_part(&half.loops, h, &o, false, least, weld, rings, depth, &mut part_leaves, &mut part_summary)
+        mesh_part(&half.loops, env, &o, false, depth, &mut part_leaves, &mut part_summary)
     });
     match split {
         Ok(()) => {
