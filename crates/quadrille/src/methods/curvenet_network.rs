@@ -27,7 +27,8 @@ use crate::curvenet::tjunction::{
 };
 use crate::curvenet::{CurveNetwork, PairedCycle};
 
-use super::curvenet::{mesh_cycle, segment_key, unfolded, CurvesOptions, CurvesReport, CycleSummary, Leaf, Welder};
+use super::curvenet::{mesh_cycle, segment_key, unfolded, CurvesOptions, CurvesReport, CycleSummary, Leaf};
+use super::curvenet_assemble::Welder;
 
 /// What the network stage did.
 #[derive(Clone, Debug, Default)]

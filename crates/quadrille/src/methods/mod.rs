@@ -24,6 +24,7 @@
 pub(crate) mod baseline;
 pub(crate) mod coarse;
 pub mod curvenet;
+mod curvenet_assemble;
 pub mod curvenet_network;
 pub(crate) mod driver;
 pub(crate) mod guard;
