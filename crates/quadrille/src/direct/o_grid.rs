@@ -9,7 +9,7 @@ use geometry::vec3::{self, Vec3};
 use crate::core::patch::{LocalNode, QuadPatch};
 use crate::core::quality::patch_quality;
 use crate::direct::pattern_face::{
-    harmonic_uv, needs_reversal, place_interior, smooth_and_check, uv_centroid, Ring,
+    harmonic_uv, needs_reversal, place_interior, smooth_and_check_above, uv_centroid, Ring,
 };
 
 /// Name of the disk pattern of [`mesh_disk_o_grid`].
@@ -60,12 +60,41 @@ pub(crate) fn mesh_disk_o_grid(face: &geometry::Face, ring: &Ring) -> Result<Qua
         "O-grid of {nb} boundary edges: fitted {fitted:?}, {} quads, SICN {fa:.3}; round {round:?}, SICN {ra:.3}",
         f.quads.len()
     );
-    if fa >= FITTED_MIN_AVERAGE_SICN && fa > ra {
-        Ok(f)
+    let ringed = if fa >= FITTED_MIN_AVERAGE_SICN && fa > ra { Ok(f) } else { round_mesh };
+    // the fitted middle grid stretched out to the boundary: no ring, so no
+    // interior irregular vertex; its four corners are boundary nodes on one
+    // quad each, where the boundary turns by one edge's angle
+    let plain = OGridLayout { rings: 0, ..fitted };
+    let p = match mesh_o_grid(face, ring, plain) {
+        Ok(p) => p,
+        Err(e) => {
+            tracing::debug!("O-grid of {nb} boundary edges: no plain grid {plain:?}: {e}");
+            return ringed;
+        }
+    };
+    let (pw, pa) = patch_quality(face, &p);
+    let (rw, ra) = ringed.as_ref().map_or((f64::NEG_INFINITY, f64::NEG_INFINITY), |r| patch_quality(face, r));
+    tracing::debug!(
+        "O-grid of {nb} boundary edges: plain grid {} quads, SICN min {pw:.3} avg {pa:.3}; ringed min {rw:.3} avg {ra:.3}",
+        p.quads.len()
+    );
+    if pa >= FITTED_MIN_AVERAGE_SICN && pw >= PLAIN_MIN_SICN && pa >= ra - PLAIN_AVERAGE_SICN_SLACK {
+        Ok(p)
     } else {
-        round_mesh
+        ringed
     }
 }
+
+/// Worst SICN a plain grid ([`mesh_disk_o_grid`]) may have, below
+/// [`crate::direct::pattern_face::MIN_PATTERN_SICN`]: a corner quad's angle
+/// at its boundary node is 180° less the boundary's turn there, one edge's
+/// angle e / R, so its SICN is about sin(e / R): 0.31 for three edges per
+/// radius (Gmsh's quadqs leaves such corners on an obround face too).
+const PLAIN_MIN_SICN: f64 = 0.2;
+
+/// Average SICN a plain grid may give up against the ringed O-grid for its
+/// four fewer irregular interior vertices.
+const PLAIN_AVERAGE_SICN_SLACK: f64 = 0.03;
 
 /// Average SICN a fitted O-grid must reach to be kept (about what the
 /// frontal mesher gives a face the round O-grid fails on).
@@ -260,7 +289,8 @@ fn mesh_o_grid(face: &geometry::Face, ring: &Ring, layout: OGridLayout) -> Resul
     let mut pos = ring_pos;
     let mut local: Vec<u32> = (0..nv as u32).collect();
     place_interior(face, &uv, &fixed, &mut local, &mut nodes, &mut pos)?;
-    smooth_and_check(face, nodes, pos, quads, O_GRID)
+    let floor = if rings == 0 { PLAIN_MIN_SICN } else { crate::direct::pattern_face::MIN_PATTERN_SICN };
+    smooth_and_check_above(face, nodes, pos, quads, O_GRID, floor)
 }
 
 
@@ -347,5 +377,80 @@ mod tests {
         };
         let (fit, round) = (average(fitted), average(round_layout(nb)));
         assert!(fit > round + 0.02, "fitted {fit:.3}, round {round:.3}");
+    }
+
+    /// A planar stadium face in z = 0: straight runs of length `l` along
+    /// y = ±r, joined by half circles of radius `r` about (±l/2, 0), tangent
+    /// to the runs (4 curves, 4 flat corners, one smooth loop).
+    fn stadium_face(l: f64, r: f64) -> geometry::Model {
+        use geometry::model::{CurveEntity, CurveUse};
+        use geometry::primitives::{Circle, Circle2d};
+        use geometry::CurveId;
+        use std::f64::consts::FRAC_PI_2;
+        use std::sync::Arc;
+        let h = l / 2.0;
+        let mut m = primitives::polygon(&[[-h, -r], [h, -r], [h, r], [-h, r]]);
+        // curves 1 and 3 become the half circles, counter-clockwise
+        for (k, cx, from) in [(1usize, h, -FRAC_PI_2), (3, -h, FRAC_PI_2)] {
+            let range = (from, from + std::f64::consts::PI);
+            let start = m.curves[k].start;
+            let end = m.curves[k].end;
+            m.curves[k] = CurveEntity {
+                geom: Some(Arc::new(Circle {
+                    center: [cx, 0.0, 0.0],
+                    xdir: [1.0, 0.0, 0.0],
+                    ydir: [0.0, 1.0, 0.0],
+                    radius: r,
+                    range,
+                })),
+                range,
+                start,
+                end,
+                degenerate: false,
+            };
+            m.faces[0].loops[0].uses[k] = CurveUse {
+                curve: CurveId(k as u32),
+                forward: true,
+                pcurve: Arc::new(Circle2d { center: [cx, 0.0], radius: r }),
+                seam: false,
+            };
+        }
+        m.faces[0].uv_bounds.umin = -h - r;
+        m.faces[0].uv_bounds.umax = h + r;
+        m
+    }
+
+    #[test]
+    fn a_stadium_face_is_one_grid_with_no_irregular_interior_vertex() {
+        // a 25 × 6 obround (shaft_key_d20's top): runs of 19, radius 3,
+        // edges of about 1 (perimeter 38 + 6π = 56.8)
+        let model = stadium_face(19.0, 3.0);
+        let cms = discretize_all(&model, &plan_curves(&model, 1.0));
+        let ring = boundary_ring(&model, FaceId(0), &cms).unwrap();
+        let face = &model.faces[0];
+        let nb = ring.nodes.len();
+        let p = mesh_disk_o_grid(face, &ring).expect("a stadium is meshed");
+        let valences = p.valences();
+        let interior = |want: bool| {
+            valences
+                .iter()
+                .zip(&p.nodes)
+                .filter(|(v, n)| n.node == crate::core::patch::NodeRef::Interior && (**v != 4) == want)
+                .count()
+        };
+        assert_eq!(interior(true), 0, "irregular interior vertices");
+        // one a × b grid, a + b = nb / 2: (a − 1)(b − 1) interior nodes
+        let fitted = fitted_layout(&ring.pos).expect("elongated");
+        assert_eq!(p.quads.len(), fitted.a * fitted.b);
+        assert_eq!(interior(false), (fitted.a - 1) * (fitted.b - 1));
+        assert_eq!(2 * (fitted.a + fitted.b), nb);
+        // the worst quads are the four corners on the half circles: about
+        // sin(e / R) = sin(0.32) = 0.31 before smoothing; the average beats
+        // the ringed O-grid of the same middle grid (4 valence-3 vertices)
+        let (worst, average) = patch_quality(face, &p);
+        let ringed = mesh_o_grid(face, &ring, fitted).unwrap();
+        let (_, ringed_average) = patch_quality(face, &ringed);
+        assert!(worst >= PLAIN_MIN_SICN && worst < 0.35, "worst {worst:.3}");
+        assert!(average > 0.95 && average > ringed_average, "{average:.3} vs {ringed_average:.3}");
     }
 }

@@ -504,6 +504,19 @@ pub fn smooth_and_check(
     quads: Vec<[u32; 4]>,
     pattern: &str,
 ) -> Result<QuadPatch, String> {
+    smooth_and_check_above(face, nodes, pos, quads, pattern, MIN_PATTERN_SICN)
+}
+
+/// [`smooth_and_check`] with a floor of the pattern's own instead of
+/// [`MIN_PATTERN_SICN`].
+pub(crate) fn smooth_and_check_above(
+    face: &geometry::Face,
+    nodes: Vec<LocalNode>,
+    pos: Vec<Vec3>,
+    quads: Vec<[u32; 4]>,
+    pattern: &str,
+    min_sicn: f64,
+) -> Result<QuadPatch, String> {
     let mut patch = QuadPatch {
         quad_tri: (0..quads.len() as u32).collect(),
         nodes,
@@ -520,7 +533,7 @@ pub fn smooth_and_check(
         .iter()
         .map(|q| quad_quality(face, &patch.nodes, &patch.pos, q))
         .fold(f64::INFINITY, f64::min);
-    if !(worst >= MIN_PATTERN_SICN) {
+    if !(worst >= min_sicn) {
         return Err(format!("pattern {pattern} gives a quad of SICN {worst:.3}"));
     }
     Ok(patch)
