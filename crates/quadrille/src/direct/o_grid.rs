@@ -15,6 +15,10 @@ use crate::direct::pattern_face::{
 /// Name of the disk pattern of [`mesh_disk_o_grid`].
 pub const O_GRID: &str = "O";
 
+/// Name of [`mesh_disk_o_grid`]'s plain grid of an elongated disk (no ring,
+/// no irregular interior vertex).
+pub const PLAIN_GRID: &str = "plain";
+
 /// Rings of quads an O-grid puts between its middle grid and the boundary,
 /// per boundary edge: a disk of radius R with N boundary edges of length
 /// e = 2πR / N gets about 0.4 R / e rings (the middle square's corners sit
@@ -34,7 +38,12 @@ const O_GRID_RINGS_PER_EDGE: f64 = 0.4 / std::f64::consts::TAU;
 /// corner fillets) is also meshed with a middle grid shaped like it
 /// ([`fitted_layout`]), which is kept when its average SICN is higher and
 /// at least [`FITTED_MIN_AVERAGE_SICN`].
-pub(crate) fn mesh_disk_o_grid(face: &geometry::Face, ring: &Ring) -> Result<QuadPatch, String> {
+///
+/// Returns the patch and its pattern's name ([`O_GRID`] or [`PLAIN_GRID`]).
+pub(crate) fn mesh_disk_o_grid(
+    face: &geometry::Face,
+    ring: &Ring,
+) -> Result<(QuadPatch, &'static str), String> {
     let nb = ring.nodes.len();
     if nb % 2 != 0 || nb < 8 {
         return Err(format!("a disk of {nb} boundary edges"));
@@ -45,14 +54,14 @@ pub(crate) fn mesh_disk_o_grid(face: &geometry::Face, ring: &Ring) -> Result<Qua
     let round = round_layout(nb);
     let fitted = match fitted_layout(&ring.pos) {
         Some(fitted) if fitted != round => fitted,
-        _ => return mesh_o_grid(face, ring, round),
+        _ => return mesh_o_grid(face, ring, round).map(|p| (p, O_GRID)),
     };
     // the fitted one when it is good on average and better than the round
     // one (which may have failed the check: the face then goes to the
     // frontal mesher, which does about as well as a mediocre O-grid)
     let round_mesh = mesh_o_grid(face, ring, round);
     let Ok(f) = mesh_o_grid(face, ring, fitted) else {
-        return round_mesh;
+        return round_mesh.map(|p| (p, O_GRID));
     };
     let fa = patch_quality(face, &f).1;
     let ra = round_mesh.as_ref().map_or(f64::NEG_INFINITY, |r| patch_quality(face, r).1);
@@ -69,7 +78,7 @@ pub(crate) fn mesh_disk_o_grid(face: &geometry::Face, ring: &Ring) -> Result<Qua
         Ok(p) => p,
         Err(e) => {
             tracing::debug!("O-grid of {nb} boundary edges: no plain grid {plain:?}: {e}");
-            return ringed;
+            return ringed.map(|p| (p, O_GRID));
         }
     };
     let (pw, pa) = patch_quality(face, &p);
@@ -79,9 +88,9 @@ pub(crate) fn mesh_disk_o_grid(face: &geometry::Face, ring: &Ring) -> Result<Qua
         p.quads.len()
     );
     if pa >= FITTED_MIN_AVERAGE_SICN && pw >= PLAIN_MIN_SICN && pa >= ra - PLAIN_AVERAGE_SICN_SLACK {
-        Ok(p)
+        Ok((p, PLAIN_GRID))
     } else {
-        ringed
+        ringed.map(|p| (p, O_GRID))
     }
 }
 
@@ -90,7 +99,7 @@ pub(crate) fn mesh_disk_o_grid(face: &geometry::Face, ring: &Ring) -> Result<Qua
 /// at its boundary node is 180° less the boundary's turn there, one edge's
 /// angle e / R, so its SICN is about sin(e / R): 0.31 for three edges per
 /// radius (Gmsh's quadqs leaves such corners on an obround face too).
-const PLAIN_MIN_SICN: f64 = 0.2;
+pub const PLAIN_MIN_SICN: f64 = 0.2;
 
 /// Average SICN a plain grid may give up against the ringed O-grid for its
 /// four fewer irregular interior vertices.
@@ -429,7 +438,8 @@ mod tests {
         let ring = boundary_ring(&model, FaceId(0), &cms).unwrap();
         let face = &model.faces[0];
         let nb = ring.nodes.len();
-        let p = mesh_disk_o_grid(face, &ring).expect("a stadium is meshed");
+        let (p, name) = mesh_disk_o_grid(face, &ring).expect("a stadium is meshed");
+        assert_eq!(name, PLAIN_GRID);
         let valences = p.valences();
         let interior = |want: bool| {
             valences

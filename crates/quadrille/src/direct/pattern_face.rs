@@ -352,7 +352,7 @@ pub fn mesh_face_pattern(
     if corners.is_empty() {
         // every corner flat: a disk bounded by one smooth loop
         return crate::direct::o_grid::mesh_disk_o_grid(face, &ring)
-            .map(|p| (p, crate::direct::o_grid::O_GRID.into()));
+            .map(|(p, name)| (p, name.into()));
     }
     if corners.len() < 3 {
         return Err(format!("{} convex corners", corners.len()));
