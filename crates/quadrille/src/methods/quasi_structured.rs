@@ -113,11 +113,7 @@ pub(crate) fn size_map_options(
         // without a curvature bound the floor is never reached on a fillet
         floor_turn: (stages != Stages::NONE && quads_per_turn.is_some())
             .then_some(NARROW_FILLET_TURN),
-        // off: on the corpus it lifts the helical gear, the sprocket and the
-        // spur gear above Gmsh's average SICN but leaves domed_cap_nut_m6
-        // 0.05 points more irregular than Gmsh (BENCHMARKS.md, "narrow
-        // fillets")
-        floor_narrow: false,
+        floor_narrow: stages != Stages::NONE,
         ..Default::default()
     }
 }
