@@ -96,8 +96,10 @@ pub const NARROW_FILLET_TURN: f64 = std::f64::consts::FRAC_PI_2;
 /// The size map's options for target size `h`: bounded so that faces,
 /// curves and the baseline fallback agree (also what the size guard
 /// estimates the quad count from). With topology `stages` on, narrow
-/// curved faces lower the floor ([`NARROW_FILLET_TURN`]); the plain
-/// unstructured method keeps it.
+/// curved faces lower the floor ([`NARROW_FILLET_TURN`]) and so do strips
+/// of even width ([`SizeMapOptions::floor_narrow`]: the gears' fillets,
+/// flanks and tooth chamfers; BENCHMARKS.md, "the width rule, enabled");
+/// the plain unstructured method keeps it.
 pub(crate) fn size_map_options(
     model: &Model,
     h: f64,
