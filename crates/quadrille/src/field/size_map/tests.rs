@@ -633,10 +633,39 @@ fn a_tapering_lens_keeps_the_floor() {
         .expect("size map")
     };
     let width = 2.0 * 1.5 / (4.0 * (25.0f64 + 0.0225).sqrt());
-    assert!(width >= NARROW_MIN_FRACTION * 0.4 && width < 0.4);
+    assert!((NARROW_MIN_FRACTION * 0.4..0.4).contains(&width), "{width}");
     let with = map(true);
     let below: f64 = with.feature.iter().copied().fold(f64::INFINITY, f64::min);
     assert!(below < 0.31, "smallest feature size {below}");
     assert!(with.size.iter().all(|&s| s >= 0.4));
+    assert_eq!(with.size, map(false).size);
+}
+
+/// A band around an axis keeps the floor under the width rule: the side of
+/// a cylinder of radius 2 and height 0.3 is long (its circles 4π each) and
+/// evenly 0.3 wide (2 A / P = 2 · 1.2π / 8π = 0.3, above a quarter of the
+/// floor 1), and its circles are 0.3 apart (small-feature sizes 0.3), but
+/// it has two boundary loops: the size map is the same with or without the
+/// rule, every size at the floor or above.
+#[test]
+fn a_band_of_revolution_keeps_the_floor() {
+    let model = primitives::cylinder(2.0, 0.3);
+    let map = |floor_narrow: bool| {
+        fields(
+            &model,
+            2.0,
+            SizeMapOptions {
+                min_size: Some(1.0),
+                floor_narrow,
+                ..Default::default()
+            },
+        )
+        .size_map
+        .expect("size map")
+    };
+    let with = map(true);
+    let below: f64 = with.feature.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(below < 0.31, "smallest feature size {below}");
+    assert!(with.size.iter().all(|&s| s >= 1.0));
     assert_eq!(with.size, map(false).size);
 }
