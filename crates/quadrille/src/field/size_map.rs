@@ -32,6 +32,11 @@ use crate::curves::curve_mesh::CurveMesh;
 use crate::field::crossfield::FaceTopology;
 use crate::field::scaling::scaling_constant;
 
+mod narrow;
+pub use narrow::{
+    boundary_loop_count, width_evenness, NARROW_EVENNESS, NARROW_MIN_FRACTION,
+};
+
 /// Default largest size gradient `g` of Eq. 10: the size grows by at most
 /// 20 % of the distance travelled (spec §5.3; useful range 0.1–0.5).
 pub const DEFAULT_GRADIENT: f64 = 0.2;
@@ -84,25 +89,16 @@ pub struct SizeMapOptions {
     pub floor_turn: Option<f64>,
     /// A strip-like face narrower than [`SizeMapOptions::min_size`] (width
     /// `w = 2 A / P` from its area and boundary length, at least
-    /// [`NARROW_ELONGATION`] times as long, and at least
-    /// [`NARROW_MIN_FRACTION`] of the floor wide) lowers the floor on its
-    /// vertices to `w`, graded like the sizes: its two quads across (the
-    /// curves' smallest count) are 1 : 2, not stretched along it to the floor.
+    /// [`narrow::NARROW_ELONGATION`] times as long, at least
+    /// [`NARROW_MIN_FRACTION`] of the floor wide, of even width along it,
+    /// [`NARROW_EVENNESS`], and with one boundary loop,
+    /// [`boundary_loop_count`]) lowers the floor on its vertices to `w`,
+    /// graded like the sizes: its two quads across (the curves' smallest
+    /// count) are 1 : 2, not stretched along it to the floor. Tapering faces
+    /// (chamfer crescents, vanishing fillets) and bands around an axis keep
+    /// the floor.
     pub floor_narrow: bool,
 }
-
-/// A strip narrower than this fraction of the floor is left at the floor by
-/// [`SizeMapOptions::floor_narrow`]: such faces are slivers or crescents
-/// tapering to nothing (the chamfer crescents of a hex nut), whose widths
-/// dragged the floor down to a tenth and the nut from 2,856 to 170,728
-/// quads; two quads across them would be thin anyway.
-pub const NARROW_MIN_FRACTION: f64 = 0.25;
-
-/// How many times longer than wide a face must be for
-/// [`SizeMapOptions::floor_narrow`]: length `P / 2 − w` at least this times
-/// the width `w` (a compact face narrower than the floor is a small face,
-/// which the curves' minimum counts already resolve).
-pub const NARROW_ELONGATION: f64 = 3.0;
 
 impl Default for SizeMapOptions {
     fn default() -> Self {
@@ -630,8 +626,18 @@ fn turn_floors(
             _ => f64::INFINITY,
         };
         let by_width = if opts.floor_narrow {
-            narrow_width(f.topo)
-                .filter(|&w| w >= NARROW_MIN_FRACTION * lo)
+            narrow::narrow_width(f.topo)
+                .filter(|&w| w >= NARROW_MIN_FRACTION * lo && w < lo.min(by_turn))
+                .filter(|&w| {
+                    let loops = boundary_loop_count(f.topo);
+                    let even = width_evenness(f.topo);
+                    tracing::debug!(
+                        "width rule: face {} width {w:.4} (floor {lo:.4}) loops {loops:?} \
+                         evenness {even:?}",
+                        f.face.idx() + 1
+                    );
+                    loops == Some(1) && even.is_some_and(|e| e >= NARROW_EVENNESS)
+                })
                 .unwrap_or(f64::INFINITY)
         } else {
             f64::INFINITY
@@ -649,27 +655,6 @@ fn turn_floors(
     }
     grade(graph, &mut floors, opts.gradient);
     Some(floors)
-}
-
-/// The width `2 A / P` of a face's background triangulation (area `A`,
-/// boundary length `P`) when the face is at least [`NARROW_ELONGATION`]
-/// times as long as that, else `None`.
-fn narrow_width(topo: &FaceTopology) -> Option<f64> {
-    use crate::field::crossfield::topology::NONE;
-    let area: f64 = topo.areas.iter().sum();
-    let perimeter: f64 = topo
-        .edges
-        .iter()
-        .zip(&topo.edge_tris)
-        .filter(|(_, t)| t[1] == NONE)
-        .map(|(e, _)| vec3::dist(topo.positions[e[0] as usize], topo.positions[e[1] as usize]))
-        .sum();
-    if !(area > 0.0 && perimeter > 0.0) {
-        return None;
-    }
-    let width = 2.0 * area / perimeter;
-    let length = 0.5 * perimeter - width;
-    (length >= NARROW_ELONGATION * width).then_some(width)
 }
 
 /// Builds the size map of `model` over `faces` (see the module

@@ -96,8 +96,10 @@ pub const NARROW_FILLET_TURN: f64 = std::f64::consts::FRAC_PI_2;
 /// The size map's options for target size `h`: bounded so that faces,
 /// curves and the baseline fallback agree (also what the size guard
 /// estimates the quad count from). With topology `stages` on, narrow
-/// curved faces lower the floor ([`NARROW_FILLET_TURN`]); the plain
-/// unstructured method keeps it.
+/// curved faces lower the floor ([`NARROW_FILLET_TURN`]) and so do strips
+/// of even width ([`SizeMapOptions::floor_narrow`]: the gears' fillets,
+/// flanks and tooth chamfers; BENCHMARKS.md, "the width rule, enabled");
+/// the plain unstructured method keeps it.
 pub(crate) fn size_map_options(
     model: &Model,
     h: f64,
@@ -113,11 +115,7 @@ pub(crate) fn size_map_options(
         // without a curvature bound the floor is never reached on a fillet
         floor_turn: (stages != Stages::NONE && quads_per_turn.is_some())
             .then_some(NARROW_FILLET_TURN),
-        // off: on the corpus it lifts the helical gear, the sprocket and the
-        // spur gear above Gmsh's average SICN but leaves domed_cap_nut_m6
-        // 0.05 points more irregular than Gmsh (BENCHMARKS.md, "narrow
-        // fillets")
-        floor_narrow: false,
+        floor_narrow: stages != Stages::NONE,
         ..Default::default()
     }
 }

@@ -522,3 +522,150 @@ fn a_narrow_strip_lowers_the_floor_to_its_width() {
     assert!(width < NARROW_MIN_FRACTION * 0.5);
     assert!(sizes(0.5, true).iter().all(|&s| s >= 0.5));
 }
+
+/// A two-sided face for the width rule: bottom vertices `(x, 0)` for
+/// x = 0..=10 and top vertices `(x, top(x))` for x = `first_top`..=10 (with
+/// `first_top` = 1 the face starts at the point (0, 0)), triangulated
+/// between the two sides.
+fn two_sided(first_top: usize, top: impl Fn(f64) -> f64) -> FaceTopology {
+    use crate::field::crossfield::{FaceMesh, VertexClass};
+    let mut xyz: Vec<Vec3> = (0..=10).map(|x| [x as f64, 0.0, 0.0]).collect();
+    let t0 = xyz.len() as u32;
+    xyz.extend((first_top..=10).map(|x| [x as f64, top(x as f64), 0.0]));
+    // top vertex at x (x ≥ 1 when the face starts at a point: there the top
+    // side starts at the bottom's first vertex)
+    let top_at = |x: usize| -> u32 {
+        if x < first_top {
+            0
+        } else {
+            t0 + (x - first_top) as u32
+        }
+    };
+    let mut triangles = Vec::new();
+    for k in 0..10u32 {
+        let (b0, b1) = (k, k + 1);
+        let (u0, u1) = (top_at(k as usize), top_at(k as usize + 1));
+        triangles.push([b0, b1, u1]);
+        if u0 != b0 {
+            triangles.push([b0, u1, u0]);
+        }
+    }
+    let mesh = FaceMesh {
+        vertex_class: vec![VertexClass::Interior; xyz.len()],
+        xyz,
+        triangles,
+        ..Default::default()
+    };
+    FaceTopology::build(&mesh).expect("topology")
+}
+
+/// The local widths of a 10 × 1 strip sampled every 1: each of the 18
+/// vertices along its sides has the other side 1 away (the way round the
+/// nearer end is at least 3, over twice that), each of its 4 corners has no
+/// point across (every boundary point is at most √2 times farther round
+/// than in space); each stands for boundary length 1. Evenness 1.
+#[test]
+fn a_constant_width_strip_reads_even() {
+    let topo = two_sided(0, |_| 1.0);
+    let mut widths = super::narrow::local_widths(&topo).expect("simple loop");
+    widths.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert_eq!(widths.len(), 22);
+    for (i, &(w, weight)) in widths.iter().enumerate() {
+        let want = if i < 18 { 1.0 } else { f64::INFINITY };
+        assert!(w == want || (w - want).abs() < 1e-12, "{i}: {w}, want {want}");
+        assert!((weight - 1.0).abs() < 1e-12);
+    }
+    assert_eq!(width_evenness(&topo), Some(1.0));
+}
+
+/// A wedge tapering linearly to nothing, the top side y = 0.1 x over the
+/// bottom y = 0 (x from 0 to 10, closed by the side x = 10): the bottom
+/// vertex at x has width 0.1 x / √1.01 (to the top line), the top vertex
+/// 0.1 x (boundary length 1 and √1.01 each), the point and the two far
+/// corners none across. Sorted, the pairs of x = 1, 2, … make 2.005 x of
+/// the total 21.05: the 10 % quantile is the bottom vertex at x = 2 and the
+/// 40 % quantile the one at x = 5, so the evenness is 0.2 / 0.5 = 0.4,
+/// below [`NARROW_EVENNESS`], although the wedge is long and narrow.
+#[test]
+fn a_tapering_wedge_reads_uneven() {
+    let topo = two_sided(1, |x| 0.1 * x);
+    let widths = super::narrow::local_widths(&topo).expect("simple loop");
+    assert_eq!(widths.len(), 21);
+    let slant = 1.01f64.sqrt();
+    let total: f64 = widths.iter().map(|w| w.1).sum();
+    assert!((total - (10.0 + 10.0 * slant + 1.0)).abs() < 1e-9, "{total}");
+    assert_eq!(widths.iter().filter(|w| w.0.is_infinite()).count(), 3);
+    for x in 1..10 {
+        let bottom = 0.1 * x as f64 / slant;
+        assert!(
+            widths.iter().any(|w| (w.0 - bottom).abs() < 1e-12),
+            "bottom {x}"
+        );
+    }
+    let even = width_evenness(&topo).expect("evenness");
+    assert!((even - 0.4).abs() < 1e-12, "{even}");
+    assert!(even < NARROW_EVENNESS);
+    assert!(super::narrow::narrow_width(&topo).is_some());
+}
+
+/// A tapering face keeps the floor under the width rule: the lens between
+/// (0, 0) and (10, 0) through (5, ±0.15) is long and narrow (mean width
+/// 2 A / P = 3 / 20.009 = 0.150, above a quarter of the floor 0.4, so the
+/// rule's other conditions hold) and its small-feature sizes reach 0.3
+/// (its opposite sides are 0.3 apart in the middle), but its width tapers
+/// to nothing at both ends: the size map is the same with or without the
+/// rule, every size at the floor or above. The 10 × 0.1 strip (previous
+/// test) is lowered under the same rule.
+#[test]
+fn a_tapering_lens_keeps_the_floor() {
+    let model = primitives::polygon(&[[0.0, 0.0], [5.0, -0.15], [10.0, 0.0], [5.0, 0.15]]);
+    let map = |floor_narrow: bool| {
+        fields(
+            &model,
+            1.0,
+            SizeMapOptions {
+                min_size: Some(0.4),
+                floor_narrow,
+                ..Default::default()
+            },
+        )
+        .size_map
+        .expect("size map")
+    };
+    let width = 2.0 * 1.5 / (4.0 * (25.0f64 + 0.0225).sqrt());
+    assert!((NARROW_MIN_FRACTION * 0.4..0.4).contains(&width), "{width}");
+    let with = map(true);
+    let below: f64 = with.feature.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(below < 0.31, "smallest feature size {below}");
+    assert!(with.size.iter().all(|&s| s >= 0.4));
+    assert_eq!(with.size, map(false).size);
+}
+
+/// A band around an axis keeps the floor under the width rule: the side of
+/// a cylinder of radius 2 and height 0.3 is long (its circles 4π each) and
+/// evenly 0.3 wide (2 A / P = 2 · 1.2π / 8π = 0.3, above a quarter of the
+/// floor 1), and its circles are 0.3 apart (small-feature sizes 0.3), but
+/// it has two boundary loops: the size map is the same with or without the
+/// rule, every size at the floor or above.
+#[test]
+fn a_band_of_revolution_keeps_the_floor() {
+    let model = primitives::cylinder(2.0, 0.3);
+    let map = |floor_narrow: bool| {
+        fields(
+            &model,
+            2.0,
+            SizeMapOptions {
+                min_size: Some(1.0),
+                floor_narrow,
+                ..Default::default()
+            },
+        )
+        .size_map
+        .expect("size map")
+    };
+    let with = map(true);
+    let below: f64 = with.feature.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(below < 0.31, "smallest feature size {below}");
+    assert!(with.size.iter().all(|&s| s >= 1.0));
+    assert_eq!(with.size, map(false).size);
+}
