@@ -80,6 +80,10 @@ pub struct FaceTriangulation<'a> {
     pub curves: Vec<CurveId>,
     loops: Vec<Vec<u32>>,
     cdt: Cdt,
+    /// The triangulation's handle of each local node (index = node id).
+    handles: Vec<FixedVertexHandle>,
+    /// Nodes `0..boundary_nodes` are the boundary's; later ones are inserted.
+    boundary_nodes: u32,
     inside: Vec<bool>,
     scale: [f64; 2],
     origin: [f64; 2],
@@ -335,6 +339,7 @@ impl<'a> FaceTriangulation<'a> {
                 boundary_mid.insert((a.min(b), a.max(b)), mids[l][k]);
             }
         }
+        let boundary_nodes = nodes.len() as u32;
         let mut ft = FaceTriangulation {
             face,
             nodes,
@@ -343,6 +348,8 @@ impl<'a> FaceTriangulation<'a> {
             curves,
             loops,
             cdt,
+            handles,
+            boundary_nodes,
             inside: Vec::new(),
             scale,
             origin,
@@ -501,7 +508,10 @@ impl<'a> FaceTriangulation<'a> {
     }
 
     fn is_boundary_edge(&self, a: u32, b: u32) -> bool {
-        self.boundary_mid.contains_key(&(a.min(b), a.max(b)))
+        // boundary nodes come first: an edge with an inserted node is interior
+        a < self.boundary_nodes
+            && b < self.boundary_nodes
+            && self.boundary_mid.contains_key(&(a.min(b), a.max(b)))
     }
 
     /// Surface point of a local (u, v).

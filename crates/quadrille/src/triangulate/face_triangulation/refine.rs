@@ -5,7 +5,6 @@
 //! the normal layers beside the boundary
 //! ([`FaceTriangulation::insert_normal_layers`]).
 
-use crate::core::fast_hash::FastSet;
 
 use geometry::vec3::{self, Vec3};
 use spade::handles::FixedVertexHandle;
@@ -60,11 +59,25 @@ impl FaceTriangulation<'_> {
     /// (not on a constraint, not on a vertex) and at least `min_dist` (3D) from
     /// the vertices around it. Returns true when inserted.
     pub fn try_insert(&mut self, uv: [f64; 2], min_dist: f64) -> bool {
+        self.try_insert_near(uv, min_dist, None)
+    }
+
+    /// [`Self::try_insert`] with the local node `near` (when known) as the
+    /// start of the point location: the walk through the triangulation is
+    /// then short instead of starting from the last vertex looked up. The
+    /// point's location is the same; a point on an edge may split it from
+    /// the other side, which renumbers the triangulation's faces.
+    pub fn try_insert_near(&mut self, uv: [f64; 2], min_dist: f64, near: Option<u32>) -> bool {
         if !(uv[0].is_finite() && uv[1].is_finite()) || self.nodes.len() >= self.node_budget() {
             return false;
         }
         let p = self.to_scaled(uv);
-        let near: Vec<FixedVertexHandle> = match self.cdt.locate(p) {
+        let hint = near.and_then(|id| self.handles.get(id as usize).copied());
+        let located = match hint {
+            Some(h) => self.cdt.locate_with_hint(p, h),
+            None => self.cdt.locate(p),
+        };
+        let near: Vec<FixedVertexHandle> = match located {
             PositionInTriangulation::OnFace(f) => {
                 if !self.is_inside(f) {
                     return false;
@@ -116,9 +129,14 @@ impl FaceTriangulation<'_> {
         }
         let id = self.nodes.len() as u32;
         let before = self.cdt.num_all_faces();
-        if self.cdt.insert(Vtx { pos: p, id }).is_err() {
+        let inserted = match hint {
+            Some(h) => self.cdt.insert_with_hint(Vtx { pos: p, id }, h),
+            None => self.cdt.insert(Vtx { pos: p, id }),
+        };
+        let Ok(handle) = inserted else {
             return false;
-        }
+        };
+        self.handles.push(handle);
         self.nodes.push(LocalNode {
             uv,
             node: NodeRef::Interior,
@@ -232,20 +250,28 @@ impl FaceTriangulation<'_> {
     /// has the orientation of the face normal.
     pub fn refine(&mut self) -> Result<(), FaceFailure> {
         // triangles found fine in an earlier round: `assess` depends on the
-        // triangle's nodes alone, so one that survived unchanged stays fine
-        let mut settled: FastSet<[u32; 3]> = FastSet::default();
+        // triangle's nodes alone, so one that survived unchanged stays fine;
+        // kept per face slot of the triangulation with the triangle settled
+        // there (a slot is reused by other triangles as points go in)
+        let mut settled: Vec<Option<[u32; 3]>> = Vec::new();
         for round in 0..MAX_ROUNDS {
-            let mut cands: Vec<(f64, [f64; 2], [f64; 2], f64)> = Vec::new();
-            for t in self.inside_triangles() {
+            // (badness, point, fallback point, min distance, a node of the triangle)
+            let mut cands: Vec<(f64, [f64; 2], [f64; 2], f64, u32)> = Vec::new();
+            settled.resize(self.cdt.num_all_faces(), None);
+            for f in self.cdt.inner_faces() {
+                if !self.is_inside(f.fix()) {
+                    continue;
+                }
+                let v = f.vertices();
+                let t = [v[0].data().id, v[1].data().id, v[2].data().id];
                 let key = rotated_to_least(t);
-                if settled.contains(&key) {
+                let slot = f.fix().index();
+                if settled[slot] == Some(key) {
                     continue;
                 }
                 match self.assess(t) {
-                    Some(c) => cands.push(c),
-                    None => {
-                        settled.insert(key);
-                    }
+                    Some((bad, p, fallback, min_dist)) => cands.push((bad, p, fallback, min_dist, t[0])),
+                    None => settled[slot] = Some(key),
                 }
             }
             if cands.is_empty() {
@@ -262,14 +288,16 @@ impl FaceTriangulation<'_> {
             }
             let mut inserted = 0usize;
             let ncands = cands.len();
-            for (_, p, fallback, min_dist) in cands {
-                if self.try_insert(p, min_dist)
-                    || (fallback != p && self.try_insert(fallback, min_dist))
+            for (_, p, fallback, min_dist, near) in cands {
+                if self.try_insert_near(p, min_dist, Some(near))
+                    || (fallback != p && self.try_insert_near(fallback, min_dist, Some(near)))
                 {
                     inserted += 1;
                 }
             }
-            self.classify();
+            // (no new classification: an inserted point splits inside faces
+            // and its flips stay behind the constraints, so `try_insert` keeps
+            // the inside flags; `inside_flags_stay_valid_while_inserting`)
             // stalled: the remaining defects cannot be fixed by inserting points
             // (they hang on boundary edges); the caller decides what to do
             if inserted == 0 || (round >= STALL_AFTER && inserted * 20 < ncands) {

@@ -237,3 +237,34 @@ fn a_triangle_has_one_key_in_any_rotation_and_keeps_its_orientation() {
     // the other orientation is another triangle
     assert_eq!(rotated_to_least([7, 5, 2]), [2, 7, 5]);
 }
+
+#[test]
+fn every_node_keeps_its_own_triangulation_handle_through_refinement() {
+    // the hinted point location of `try_insert_near` starts from
+    // `handles[id]`: each must be the vertex of node `id`, boundary and
+    // inserted alike, and the refined triangulation must still be inside-flagged
+    let m = primitives::cylinder(1.0, 2.0);
+    let cms = discretize_all(&m, &plan_curves(&m, 0.1));
+    for f in 0..m.faces.len() {
+        let mut ft = FaceTriangulation::new(&m, FaceId(f as u32), &cms, 0.2).unwrap();
+        let boundary = ft.nodes.len();
+        ft.refine().unwrap();
+        assert!(ft.nodes.len() > boundary, "face {f}: refinement inserted nothing");
+        assert_eq!(ft.handles.len(), ft.nodes.len());
+        for (id, &h) in ft.handles.iter().enumerate() {
+            assert_eq!(ft.cdt.vertex(h).data().id as usize, id);
+        }
+        let flags = ft.inside.clone();
+        ft.classify();
+        assert_eq!(flags, ft.inside, "face {f}: inside flags drifted during refinement");
+        // an edge with an inserted node is never a boundary edge
+        for t in ft.triangles() {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if a as usize >= boundary || b as usize >= boundary {
+                    assert!(!ft.is_boundary_edge(a, b));
+                }
+            }
+        }
+    }
+}
