@@ -23,15 +23,31 @@ pub struct SegmentShape {
     pub chord: P3,
     /// The centroid of the samples.
     pub centre: P3,
-    /// n_i: perpendicular to the chord in the best-fit plane of the segment
-    /// and its neighbours, pointing into the surface (left of travel).
+    /// n_i: perpendicular to the chord, pointing into the surface (left of
+    /// travel): n_CAD × chord with the CAD normal at the segment's middle
+    /// sample on a CAD face, else in the best-fit plane of the segment and
+    /// its neighbours.
     pub inward: P3,
+    /// The CAD normals at the segment's first and last points (a cycle on a
+    /// CAD face), else `None`.
+    pub end_normals: Option<[P3; 2]>,
 }
+
+/// The unit normal of a cycle's CAD surface at the closest point to a
+/// point (unscaled coordinates), when the cycle has one.
+pub type NormalAt<'a> = &'a dyn Fn(P3) -> Option<P3>;
 
 /// The shapes of a cyclic list of segments (each an open polyline, the last
 /// point of one the first of the next), scaled by `1 / diameter`;
-/// `cycle_normal` orients the local planes.
-pub fn segment_shapes(segments: &[Vec<P3>], diameter: f64, cycle_normal: P3, n_samples: usize) -> Vec<SegmentShape> {
+/// `cycle_normal` orients the local planes, `normal_at` (a cycle on a CAD
+/// face) gives the surface normals that replace them.
+pub fn segment_shapes(
+    segments: &[Vec<P3>],
+    diameter: f64,
+    cycle_normal: P3,
+    n_samples: usize,
+    normal_at: Option<NormalAt<'_>>,
+) -> Vec<SegmentShape> {
     let k = segments.len();
     let scaled: Vec<Vec<P3>> =
         segments.iter().map(|s| s.iter().map(|p| scale(*p, 1.0 / diameter)).collect()).collect();
@@ -51,10 +67,30 @@ pub fn segment_shapes(segments: &[Vec<P3>], diameter: f64, cycle_normal: P3, n_s
             let local = plane_normal(&pts).filter(|n| dot(*n, n_cyc).abs() > 1e-3).unwrap_or(n_cyc);
             let local = if dot(local, n_cyc) < 0.0 { scale(local, -1.0) } else { local };
             let f_hat = normalized(chord).unwrap_or([1.0, 0.0, 0.0]);
-            let inward = normalized(cross(local, f_hat))
+            // On a CAD face: left of travel in the tangent plane at the
+            // middle sample (a 180° arc of a half-cylinder bridges along
+            // the axis, not across the flat half-disk of its own plane).
+            let cad = normal_at.and_then(|at| {
+                let mid = scale(samples[i][n_samples / 2], diameter);
+                at(mid).and_then(|n| normalized(cross(n, f_hat)))
+            });
+            let inward = cad
+                .or_else(|| normalized(cross(local, f_hat)))
                 .or_else(|| normalized(cross(n_cyc, f_hat)))
                 .unwrap_or([0.0, 1.0, 0.0]);
-            SegmentShape { samples: samples[i].clone(), length: super::polyline::open_length(line), chord, centre, inward }
+            let end_normals = normal_at.and_then(|at| {
+                let first = at(segments[i][0])?;
+                let last = at(*segments[i].last()?)?;
+                Some([first, last])
+            });
+            SegmentShape {
+                samples: samples[i].clone(),
+                length: super::polyline::open_length(line),
+                chord,
+                centre,
+                inward,
+                end_normals,
+            }
         })
         .collect()
 }
@@ -79,7 +115,10 @@ fn plane_normal(pts: &[P3]) -> Option<P3> {
 /// The initial bridge direction of segment `i` of a cyclic list (spec §2.4):
 /// the average of the flow directions of its influential neighbours (taken
 /// as vectors leaving the shared vertex, flipped to the inward side), else
-/// its inward normal.
+/// its inward normal. On a CAD face both directions are taken in the
+/// tangent plane at the shared vertex, so a curve that only bends with the
+/// surface (an arc of a cylinder) continues straight and does not
+/// influence.
 pub fn initial_direction(shapes: &[SegmentShape], i: usize, opts: &PairingOptions) -> P3 {
     let k = shapes.len();
     let me = &shapes[i];
@@ -90,14 +129,19 @@ pub fn initial_direction(shapes: &[SegmentShape], i: usize, opts: &PairingOption
     let last = *me.samples.last().unwrap_or(&first);
     let mut sum = [0.0; 3];
     let mut any = false;
+    // the tangent-plane part of a direction at the first (0) or last (1) point
+    let tangent = |v: P3, end: usize| match me.end_normals {
+        Some(n) => sub(v, scale(n[end], dot(v, n[end]))),
+        None => v,
+    };
     for (m, mine, theirs) in [
-        ((i + k - 1) % k, sub(last, first), {
+        ((i + k - 1) % k, tangent(sub(last, first), 0), {
             let p = &shapes[(i + k - 1) % k];
-            sub(p.samples[0], first)
+            tangent(sub(p.samples[0], first), 0)
         }),
-        ((i + 1) % k, sub(first, last), {
+        ((i + 1) % k, tangent(sub(first, last), 1), {
             let q = &shapes[(i + 1) % k];
-            sub(*q.samples.last().unwrap_or(&last), last)
+            tangent(sub(*q.samples.last().unwrap_or(&last), last), 1)
         }),
     ] {
         let other = &shapes[m];
@@ -292,7 +336,7 @@ mod tests {
     fn rectangle_bridge_directions_point_across() {
         let o = PairingOptions::default();
         let d = 5f64.sqrt();
-        let shapes = segment_shapes(&rectangle_sides(), d, [0.0, 0.0, 1.0], o.samples);
+        let shapes = segment_shapes(&rectangle_sides(), d, [0.0, 0.0, 1.0], o.samples, None);
         let t: Vec<P3> = (0..4).map(|i| initial_direction(&shapes, i, &o)).collect();
         let want = [[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]];
         for i in 0..4 {
@@ -323,7 +367,7 @@ mod tests {
         }).collect();
         // Rotated by 90° about z, scaled by 2, moved: arc length maps evenly.
         let similar: Vec<P3> = arc.iter().rev().map(|p| [-2.0 * p[1] + 1.0, 2.0 * p[0], 5.0]).collect();
-        let shapes = segment_shapes(&[arc, image, bent, similar], 10.0, [0.0, 0.0, 1.0], o.samples);
+        let shapes = segment_shapes(&[arc, image, bent, similar], 10.0, [0.0, 0.0, 1.0], o.samples, None);
         let (sheared, bent, similar) =
             (affine_residual(&shapes[0], &shapes[1]), affine_residual(&shapes[0], &shapes[2]), affine_residual(&shapes[0], &shapes[3]));
         // Samples correspond by arc length, which a shear does not keep even,
@@ -335,7 +379,7 @@ mod tests {
     #[test]
     fn dominant_pairs_share_an_axis_and_neighbours_follow() {
         let o = PairingOptions::default();
-        let shapes = segment_shapes(&rectangle_sides(), 5f64.sqrt(), [0.0, 0.0, 1.0], o.samples);
+        let shapes = segment_shapes(&rectangle_sides(), 5f64.sqrt(), [0.0, 0.0, 1.0], o.samples, None);
         let s = 0.1f64.sin();
         let mut t = vec![[s, 0.1f64.cos(), 0.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.6, 0.8, 0.0]];
         let mate = vec![Some(2), None, Some(0), None];

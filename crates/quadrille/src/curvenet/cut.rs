@@ -92,6 +92,7 @@ fn cut_part(cycle: &PairedCycle, a: usize, b: usize) -> CutPart {
         loops: CycleLoops {
             outer: LoopPolyline { points, fixed },
             holes: Vec::new(),
+            surface: None,
         },
         segments,
         closing_edge_unsplittable: true,

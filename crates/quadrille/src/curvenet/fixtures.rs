@@ -21,7 +21,7 @@ fn polygon(corners: &[[f64; 2]]) -> LoopPolyline {
 
 /// A cycle with no holes.
 fn single(outer: LoopPolyline) -> CycleLoops {
-    CycleLoops { outer, holes: Vec::new() }
+    CycleLoops { outer, holes: Vec::new(), surface: None }
 }
 
 /// Fig. 4: a twisted 4-sided saddle, the boundary of z = h·xy over [−1, 1]²
@@ -97,6 +97,7 @@ pub fn letter_p() -> CycleLoops {
     CycleLoops {
         outer: polygon(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.5], [2.5, 1.5], [2.5, 4.0], [0.0, 4.0]]),
         holes: vec![polygon(&[[1.0, 2.0], [1.0, 3.5], [2.0, 3.5], [2.0, 2.0]])],
+        surface: None,
     }
 }
 
@@ -163,6 +164,7 @@ pub fn annulus(hole_centre: [f64; 2], hole_r: f64) -> CycleLoops {
     CycleLoops {
         outer: circle_loop([0.0, 0.0], 1.0, 64, false),
         holes: vec![circle_loop(hole_centre, hole_r, 48, true)],
+        surface: None,
     }
 }
 
@@ -172,6 +174,7 @@ pub fn square_with_round_hole(hole_centre: [f64; 2], hole_r: f64) -> CycleLoops 
     CycleLoops {
         outer: polygon(&[[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]),
         holes: vec![circle_loop(hole_centre, hole_r, 48, true)],
+        surface: None,
     }
 }
 
@@ -181,6 +184,7 @@ pub fn square_with_round_holes(holes: &[([f64; 2], f64)]) -> CycleLoops {
     CycleLoops {
         outer: polygon(&[[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]),
         holes: holes.iter().map(|&(c, r)| circle_loop(c, r, 48, true)).collect(),
+        surface: None,
     }
 }
 
@@ -190,5 +194,6 @@ pub fn rectangle_with_round_holes(w: f64, holes: &[([f64; 2], f64)]) -> CycleLoo
     CycleLoops {
         outer: polygon(&[[-w, -1.0], [w, -1.0], [w, 1.0], [-w, 1.0]]),
         holes: holes.iter().map(|&(c, r)| circle_loop(c, r, 48, true)).collect(),
+        surface: None,
     }
 }

@@ -8,6 +8,7 @@ use geometry::vec3::{self, Vec3};
 use geometry::{CurveEntity, CurveId, FaceId, Model};
 
 use super::error::CurveNetError;
+use super::surface::CycleSurface;
 use super::network::{turn, CurveNetwork, CycleUse, NetworkCurve, NetworkCycle};
 
 /// CAD curves are sampled at spacings of at most this fraction of the model
@@ -139,6 +140,7 @@ pub fn network_from_model(
         cycles.push(NetworkCycle {
             loops,
             cad_face: Some(id),
+            surface: Some(CycleSurface::new(face.surface.clone(), face.reversed)),
         });
     }
     if cycles.is_empty() {

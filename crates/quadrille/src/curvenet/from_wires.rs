@@ -74,6 +74,7 @@ pub fn network_from_wires(
         cycles.push(NetworkCycle {
             loops: vec![uses],
             cad_face: None,
+            surface: None,
         });
     }
     Ok((CurveNetwork::new(curves, cycles, Vec::new())?, note))

@@ -176,7 +176,7 @@ pub fn parse_json(text: &str, file: Option<&str>) -> Result<CurveNetwork, CurveN
             }
             loops.push(uses);
         }
-        cycles.push(NetworkCycle { loops, cad_face });
+        cycles.push(NetworkCycle { loops, cad_face, surface: None });
     }
     CurveNetwork::new_in(curves, cycles, raw.corners, file_s.clone())
 }
@@ -460,6 +460,7 @@ fn obj_curves(cycles_v: &[Vec<u32>]) -> (Vec<Vec<u32>>, Vec<NetworkCycle>) {
                     forward: true,
                 }]],
                 cad_face: None,
+                surface: None,
             });
             continue;
         }
@@ -511,6 +512,7 @@ fn obj_curves(cycles_v: &[Vec<u32>]) -> (Vec<Vec<u32>>, Vec<NetworkCycle>) {
         cycles.push(NetworkCycle {
             loops: vec![uses],
             cad_face: None,
+            surface: None,
         });
     }
     (curves, cycles)

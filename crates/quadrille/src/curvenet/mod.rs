@@ -32,6 +32,7 @@ pub(crate) mod from_model;
 pub(crate) mod from_wires;
 pub(crate) mod io;
 pub(crate) mod network;
+pub mod surface;
 
 pub use error::{CurveNetError, Origin};
 pub use from_model::{
@@ -39,6 +40,7 @@ pub use from_model::{
 };
 pub use from_wires::{network_from_wires, WireCurveUse};
 pub use io::{parse_json, parse_obj, read_network, to_json, write_network};
+pub use surface::CycleSurface;
 pub use network::{
     CurveNetwork, CycleUse, NetworkCurve, NetworkCycle, INWARD_AREA_FACTOR, JUNCTION_TURN_DEGREES,
     WELD_FACTOR,
@@ -82,6 +84,10 @@ pub struct CycleLoops {
     pub outer: LoopPolyline,
     /// The holes, in input order.
     pub holes: Vec<LoopPolyline>,
+    /// The CAD surface the cycle bounds (a network from CAD faces), else
+    /// `None`: bridge directions, the inversion judge and the patch
+    /// interiors then follow it.
+    pub surface: Option<CycleSurface>,
 }
 
 /// A cycle cut into segments with its segments paired (the output of §1–§4,

@@ -32,7 +32,7 @@ use geometry::{CurveId, FaceId};
 
 use super::check::{self, key, SegmentGrid};
 use super::error::{CurveNetError, Origin};
-use super::{CycleLoops, LoopPolyline};
+use super::{CycleLoops, CycleSurface, LoopPolyline};
 
 /// Points closer than this fraction of the bounding-box diagonal are one point.
 pub const WELD_FACTOR: f64 = 1e-9;
@@ -74,6 +74,9 @@ pub struct NetworkCycle {
     /// The CAD face it bounds, if any: its loops are then oriented by the
     /// face and taken as they are.
     pub cad_face: Option<FaceId>,
+    /// The CAD face's surface, when the network comes from a model
+    /// (`network_from_model`); handed to the cycle's [`CycleLoops`].
+    pub surface: Option<CycleSurface>,
 }
 
 /// A welded curve network: curves, the cycles to surface, the points that must
@@ -372,6 +375,7 @@ impl CurveNetwork {
         Ok(CycleLoops {
             outer,
             holes: out.collect(),
+            surface: cyc.surface.clone(),
         })
     }
 

@@ -298,10 +298,10 @@ pub fn pair_cycle(cycle: &CycleLoops, opts: &PairingOptions) -> Result<(PairedCy
         segmented.iter().enumerate().filter(|(_, s)| s.fallback).map(|(i, s)| (i, s.corners)).collect();
     let mut joined: SegmentedLoop = segmented[0].segmented.clone();
     for hole in &segmented[1..] {
-        joined = join_hole(&joined, &hole.segmented, d, normal, opts);
+        joined = join_hole(&joined, &hole.segmented, d, normal, opts, cycle.surface.as_ref());
     }
     let initial_segments = joined.starts.len();
-    let ctx = Context::new(d, normal, opts);
+    let ctx = Context::new(d, normal, opts, cycle.surface.as_ref());
     let refined = refine_loop(&ctx, joined)
         .ok_or(PairingError::NoEvenMatching { iterations: opts.max_iterations, segments: opts.max_segments })?;
     let best = &refined.result;

@@ -11,7 +11,7 @@ use super::cost::{dominant_update, initial_direction, pair_cost, segment_shapes,
 use super::polyline::{split_index, P3};
 use super::roommates::{match_by_cost, MatchOutcome};
 use super::segment::SegmentedLoop;
-use super::PairingOptions;
+use super::{CycleSurface, PairingOptions};
 
 /// A segmentation with the bridge direction of each segment (`None` until
 /// a new segment gets its initial one).
@@ -68,6 +68,11 @@ pub struct Context<'a> {
     pub normal: P3,
     /// The parameters.
     pub opts: &'a PairingOptions,
+    /// The cycle's CAD surface, when it bounds a CAD face: bridge
+    /// directions are then set in its tangent planes.
+    pub surface: Option<&'a CycleSurface>,
+    /// CAD normals already asked for, by the point's bits.
+    normals: RefCell<HashMap<[u64; 3], Option<P3>>>,
     /// Pair costs already computed, by the two segments' end indices and
     /// bridge directions (a pair's cost depends on nothing else; only looked
     /// up, never iterated, so the output does not depend on its order).
@@ -87,8 +92,21 @@ pub const ADJACENT_PAIR_PENALTY: f64 = 10.0;
 
 impl<'a> Context<'a> {
     /// A context for one cycle.
-    pub fn new(diameter: f64, normal: P3, opts: &'a PairingOptions) -> Self {
-        Context { diameter, normal, opts, cache: RefCell::new(HashMap::new()) }
+    pub fn new(diameter: f64, normal: P3, opts: &'a PairingOptions, surface: Option<&'a CycleSurface>) -> Self {
+        Context {
+            diameter,
+            normal,
+            opts,
+            surface,
+            normals: RefCell::new(HashMap::new()),
+            cache: RefCell::new(HashMap::new()),
+        }
+    }
+
+    /// The CAD normal at the closest point to `p`, through the cache.
+    fn normal_at(&self, p: P3) -> Option<P3> {
+        let surface = self.surface?;
+        *self.normals.borrow_mut().entry(p.map(f64::to_bits)).or_insert_with(|| surface.bridge_normal_at(p))
     }
 
     /// The symmetric cost matrix, through the cache.
@@ -114,7 +132,9 @@ impl<'a> Context<'a> {
 
     /// The shapes of the segments.
     fn shapes(&self, lp: &SegmentedLoop) -> Vec<SegmentShape> {
-        segment_shapes(&lp.segment_polylines(), self.diameter, self.normal, self.opts.samples)
+        let at = |p: P3| self.normal_at(p);
+        let normal_at: Option<super::cost::NormalAt<'_>> = self.surface.map(|_| &at as super::cost::NormalAt<'_>);
+        segment_shapes(&lp.segment_polylines(), self.diameter, self.normal, self.opts.samples, normal_at)
     }
 
     /// Costs and matching of a segmentation: new segments get their initial

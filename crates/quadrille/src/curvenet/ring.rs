@@ -233,7 +233,7 @@ pub fn split_annulus(cycle: &CycleLoops, kept: &[[P3; 2]], opts: &PairingOptions
                 .filter(|&u| u != t && inside(flat[u][0], &flat_half))
                 .map(|u| cycle.holes[u - 1].clone())
                 .collect();
-            AnnulusHalf { loops: CycleLoops { outer: super::LoopPolyline { points, fixed }, holes }, connectors }
+            AnnulusHalf { loops: CycleLoops { outer: super::LoopPolyline { points, fixed }, holes, surface: cycle.surface.clone() }, connectors }
         };
         return Some([half(ia, ja, jb, ib), half(ja, ia, ib, jb)]);
     }

@@ -5,7 +5,7 @@
 
 use super::cost::{initial_direction, pair_cost, segment_shapes};
 use super::polyline::{dist, point_segment_distance, split_index, sub_polyline, turning_angle, P3};
-use super::PairingOptions;
+use super::{CycleSurface, PairingOptions};
 
 /// One loop cut into segments: the points (closed) and the segment starts,
 /// ascending, with a flag per segment for connectors that must not be split.
@@ -162,11 +162,14 @@ pub fn join_hole(
     diameter: f64,
     cycle_normal: P3,
     opts: &PairingOptions,
+    surface: Option<&CycleSurface>,
 ) -> SegmentedLoop {
     let outer_lines = outer.segment_polylines();
     let hole_lines = hole.segment_polylines();
-    let so = segment_shapes(&outer_lines, diameter, cycle_normal, opts.samples);
-    let sh = segment_shapes(&hole_lines, diameter, cycle_normal, opts.samples);
+    let at = |p: P3| surface.and_then(|s| s.bridge_normal_at(p));
+    let normal_at: Option<super::cost::NormalAt<'_>> = surface.map(|_| &at as super::cost::NormalAt<'_>);
+    let so = segment_shapes(&outer_lines, diameter, cycle_normal, opts.samples, normal_at);
+    let sh = segment_shapes(&hole_lines, diameter, cycle_normal, opts.samples, normal_at);
     let to: Vec<P3> = (0..so.len()).map(|i| initial_direction(&so, i, opts)).collect();
     let th: Vec<P3> = (0..sh.len()).map(|i| initial_direction(&sh, i, opts)).collect();
     let mut best: Option<(f64, usize, usize)> = None;

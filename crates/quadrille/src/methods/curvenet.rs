@@ -30,8 +30,8 @@ pub use crate::curvenet::midpoint::midpoint_pairing;
 use crate::curvenet::ring::{pair_ring, split_annulus};
 use crate::curvenet::sample::quadrangulate_with_minimums;
 use crate::curvenet::{
-    pair_cycle, CurveNetError, CurveNetwork, CycleLoops, CycleQuads, LayoutError, PairedCycle,
-    PairingOptions,
+    pair_cycle, CurveNetError, CurveNetwork, CycleLoops, CycleQuads, CycleSurface, LayoutError,
+    PairedCycle, PairingOptions,
 };
 
 /// Options of [`mesh_curve_network`].
@@ -345,7 +345,7 @@ fn mesh_part(
 ) -> Result<(), String> {
     let PartEnv { h, least, weld, rings } = *env;
     let popts = PairingOptions { closing_edge_unsplittable: closing, ..opts.clone() };
-    let facing = Facing::of(&loops.outer.points);
+    let facing = Facing::of(loops);
     // a pairing's quads with the network's interval minimums, refused when folded
     let lay_out = |paired: &PairedCycle| {
         let minimums: Vec<usize> = (0..paired.starts.len())
@@ -375,8 +375,22 @@ fn mesh_part(
             why.unwrap_or("no connectors clear of the loops")
         ));
     }
-    let matched = pair_cycle(loops, &popts).map_err(|e| e.to_string());
-    let matched_laid = matched.as_ref().ok().map(|(paired, _)| lay_out(paired));
+    let mut matched = pair_cycle(loops, &popts).map_err(|e| e.to_string());
+    let mut matched_laid = matched.as_ref().ok().map(|(paired, _)| lay_out(paired));
+    // On a CAD face whose pairing by the surface's bridge directions gives
+    // no valid layout, the pairing by the curves alone (best-fit planes),
+    // still judged and placed on the surface.
+    if loops.surface.is_some() && !matches!(matched_laid, Some(Ok(_))) {
+        let alone = CycleLoops { surface: None, ..loops.clone() };
+        if let Ok((paired, report)) = pair_cycle(&alone, &popts) {
+            let laid = lay_out(&paired);
+            if laid.is_ok() {
+                summary.notes.push("no valid layout from the CAD face's bridge directions: paired by the curves alone".to_string());
+                matched = Ok((paired, report));
+                matched_laid = Some(laid);
+            }
+        }
+    }
     let matched_ok = matches!(matched_laid, Some(Ok(_)));
     // A cycle with holes whose matched pairing fails or folds: an annulus
     // gets the ring layout (`curvenet::ring`), else the holes are split off
@@ -431,7 +445,8 @@ fn mesh_part(
             for part in &cut.parts {
                 let kept = edges_in(&part.loops.outer.points, &opts.unsplittable_edges);
                 let o = PairingOptions { unsplittable_edges: kept, ..opts.clone() };
-                mesh_part(&part.loops, env, &o, true, depth + 1, leaves, summary)?;
+                let part_loops = CycleLoops { surface: loops.surface.clone(), ..part.loops.clone() };
+                mesh_part(&part_loops, env, &o, true, depth + 1, leaves, summary)?;
             }
             return Ok(());
         }
@@ -541,17 +556,20 @@ const FOLDED_COS: f64 = -0.5;
 /// its quads must all face the plane's normal.
 const PLANAR: f64 = 1e-6;
 
-/// Which way a cycle's quads must face: its Newell normal, and whether the
-/// cycle is planar (then every quad faces it, else none turns more than 120°
-/// away).
+/// Which way a cycle's quads must face: the CAD normals of its face when it
+/// bounds one (every quad's corner SICN with them ≥ 0, the judge of `stats
+/// --cad`); else its Newell normal, and whether the cycle is planar (then
+/// every quad faces it, else none turns more than 120° away).
 #[derive(Clone, Debug)]
 pub(super) struct Facing {
     normal: Option<Vec3>,
     planar: bool,
+    surface: Option<CycleSurface>,
 }
 
 impl Facing {
-    pub(super) fn of(points: &[Vec3]) -> Self {
+    pub(super) fn of(loops: &CycleLoops) -> Self {
+        let points = &loops.outer.points;
         let n = points.len();
         let normal = vec3::normalize(crate::curvenet::geometry::newell(points));
         let planar = normal.is_some_and(|u| {
@@ -559,15 +577,40 @@ impl Facing {
             let size = points.iter().map(|&p| vec3::dist(p, centre)).fold(0.0, f64::max);
             points.iter().all(|&p| vec3::dot(vec3::sub(p, centre), u).abs() <= PLANAR * size)
         });
-        Facing { normal, planar }
+        Facing { normal, planar, surface: loops.surface.clone() }
+    }
+
+    /// On a CAD face: the nodes of `q` with its interior ones moved to
+    /// their closest points on the surface (the Coons patches span the
+    /// boundary curves, not the face: on a cylinder they cut through it),
+    /// and the CAD normal at every node (`None` where the projection fails
+    /// or the normal is undefined). `None` without a surface.
+    fn surface_nodes(&self, q: &CycleQuads) -> Option<(Vec<Vec3>, Vec<Option<Vec3>>)> {
+        let surface = self.surface.as_ref()?;
+        let mut nodes = q.nodes.clone();
+        let mut normals = Vec::with_capacity(q.nodes.len());
+        for (v, node) in nodes.iter_mut().enumerate() {
+            let found = surface.closest(*node);
+            if let Some((on, _)) = found {
+                if !q.boundary[v] {
+                    *node = on;
+                }
+            }
+            normals.push(found.map(|(_, n)| n));
+        }
+        Some((nodes, normals))
     }
 
     /// True when the quad `p` is inverted: by the element geometry (Gmsh's
-    /// `minSICN` sign), or facing away from the cycle (any amount on a
-    /// planar cycle, over 120° on a curved one).
-    fn inverted(&self, p: &[Vec3; 4]) -> bool {
+    /// `minSICN` sign); with the CAD normals `cad` at its corners, by a
+    /// negative corner SICN; else facing away from the cycle (any amount on
+    /// a planar cycle, over 120° on a curved one).
+    fn inverted(&self, p: &[Vec3; 4], cad: Option<[Option<Vec3>; 4]>) -> bool {
         if mesh::quality::quad_element_sicn(p) < 0.0 {
             return true;
+        }
+        if let Some([Some(a), Some(b), Some(c), Some(d)]) = cad {
+            return mesh::quality::quad_sicn(p, &[a, b, c, d]) < 0.0;
         }
         let Some(u) = self.normal else { return false };
         if self.planar {
@@ -578,15 +621,32 @@ impl Facing {
     }
 }
 
-/// `q` itself when none of its quads is inverted ([`Facing::inverted`]),
-/// else an error naming the count.
-pub(super) fn unfolded(q: CycleQuads, facing: &Facing) -> Result<CycleQuads, LayoutError> {
-    let folded = q.quads.iter().filter(|quad| facing.inverted(&quad.map(|v| q.nodes[v]))).count();
+/// `q` with its interior nodes on the cycle's CAD surface, if it has one
+/// ([`Facing::surface_nodes`]), when none of its quads is inverted
+/// ([`Facing::inverted`]); else `q` as sampled (Coons), when none of its
+/// quads is inverted with the same CAD normals (a node moved onto the
+/// surface can fold a thin quad at the boundary); else an error naming the
+/// count.
+pub(super) fn unfolded(mut q: CycleQuads, facing: &Facing) -> Result<CycleQuads, LayoutError> {
+    let folded_at = |nodes: &[Vec3], normals: Option<&Vec<Option<Vec3>>>| {
+        q.quads
+            .iter()
+            .filter(|quad| facing.inverted(&quad.map(|v| nodes[v]), normals.map(|n| quad.map(|v| n[v]))))
+            .count()
+    };
+    let Some((on_surface, normals)) = facing.surface_nodes(&q) else {
+        let folded = folded_at(&q.nodes, None);
+        return if folded == 0 { Ok(q) } else { Err(LayoutError::Folded { quads: folded, of: q.quads.len() }) };
+    };
+    let folded = folded_at(&on_surface, Some(&normals));
     if folded == 0 {
-        Ok(q)
-    } else {
-        Err(LayoutError::Folded { quads: folded, of: q.quads.len() })
+        q.nodes = on_surface;
+        return Ok(q);
     }
+    if folded_at(&q.nodes, Some(&normals)) == 0 {
+        return Ok(q);
+    }
+    Err(LayoutError::Folded { quads: folded, of: q.quads.len() })
 }
 
 /// Segment `s`'s end points, snapped and sorted: the same key for a cut or
@@ -802,6 +862,7 @@ mod tests {
         let loops = CycleLoops {
             outer: crate::curvenet::LoopPolyline { points: square(0.0, 3.0), fixed: vec![] },
             holes: vec![crate::curvenet::LoopPolyline { points: hole, fixed: vec![] }],
+            surface: None,
         };
         let inside = |p: &Vec3| p[0] > 1.0 + 1e-9 && p[0] < 2.0 - 1e-9 && p[1] > 1.0 + 1e-9 && p[1] < 2.0 - 1e-9;
         let summary = check_annulus(&loops, inside, 16.0);

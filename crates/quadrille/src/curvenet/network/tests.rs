@@ -20,6 +20,7 @@ fn cycle(loops: &[&[(usize, i32)]]) -> NetworkCycle {
     NetworkCycle {
         loops: loops.iter().map(|l| uses(l)).collect(),
         cad_face: None,
+        surface: None,
     }
 }
 
@@ -412,10 +413,12 @@ fn too_few_points_or_zero_length() {
             NetworkCycle {
                 loops: vec![],
                 cad_face: None,
+        surface: None,
             },
             NetworkCycle {
                 loops: vec![vec![]],
                 cad_face: None,
+        surface: None,
             },
         ],
         vec![],
