@@ -89,6 +89,20 @@ fn small_corpus_parts_mesh_valid_by_both_judges_and_closed() {
     assert!(!s["sharp_corners"].as_array().unwrap().is_empty(), "{s}");
 }
 
+/// Meshes `model` (default method, one thread) into `out` and returns its
+/// `stats --cad --json` after checking it is closed, valid by both judges
+/// and free of irregular face-interior vertices.
+fn meshed_regular_and_valid(model: &Path, out: &Path, label: &str) -> serde_json::Value {
+    let r = mesh_part(model, out, None, "1");
+    assert!(r.status.success(), "{label}: {}", String::from_utf8_lossy(&r.stderr));
+    let s: serde_json::Value = serde_json::from_str(&stats_json(out, model)).unwrap();
+    assert_eq!(s["irregular_nodes"], 0, "{label}: {s}");
+    assert_eq!(s["inverted_quads_outside_sharp"], 0, "{label}: {s}");
+    assert_eq!(s["inverted_quads_element_geometry_outside_sharp"], 0, "{label}: {s}");
+    assert_eq!(s["open_edges"], 0, "{label}: {s}");
+    s
+}
+
 #[test]
 fn washers_are_ring_grids_with_no_irregular_vertex() {
     // each flat side of a washer is an annulus between two circles: the
@@ -100,15 +114,8 @@ fn washers_are_ring_grids_with_no_irregular_vertex() {
     for name in ["plain_washer_m8.step", "chamfered_washer_m8.step"] {
         let model = industrial(name);
         let dir = tempfile::tempdir().unwrap();
-        let out = dir.path().join("washer.msh");
-        let r = mesh_part(&model, &out, None, "1");
-        assert!(r.status.success(), "{name}: {}", String::from_utf8_lossy(&r.stderr));
-        let s: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
+        let s = meshed_regular_and_valid(&model, &dir.path().join("washer.msh"), name);
         assert!(s["quads"].as_u64().unwrap() > 300, "{name}: {s}");
-        assert_eq!(s["irregular_nodes"], 0, "{name}: {s}");
-        assert_eq!(s["inverted_quads_outside_sharp"], 0, "{name}: {s}");
-        assert_eq!(s["inverted_quads_element_geometry_outside_sharp"], 0, "{name}: {s}");
-        assert_eq!(s["open_edges"], 0, "{name}: {s}");
         // square cells: the worst quad is far from a sliver
         assert!(s["sicn"]["min"].as_f64().unwrap() > 0.6, "{name}: {s}");
     }
@@ -123,15 +130,8 @@ fn a_shaft_keys_obround_faces_are_plain_grids() {
     // the worst quads are those four corners, about sin(e / R)
     let model = industrial("shaft_key_d20.step");
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("key.msh");
-    let r = mesh_part(&model, &out, None, "1");
-    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    let s: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
+    let s = meshed_regular_and_valid(&model, &dir.path().join("key.msh"), "shaft key");
     assert!(s["quads"].as_u64().unwrap() > 500, "{s}");
-    assert_eq!(s["irregular_nodes"], 0, "{s}");
-    assert_eq!(s["inverted_quads_outside_sharp"], 0, "{s}");
-    assert_eq!(s["inverted_quads_element_geometry_outside_sharp"], 0, "{s}");
-    assert_eq!(s["open_edges"], 0, "{s}");
     let sicn = &s["sicn"];
     assert!(sicn["min"].as_f64().unwrap() >= 0.2, "{s}");
     assert!(sicn["avg"].as_f64().unwrap() > 0.97, "{s}");

@@ -64,6 +64,12 @@ pub fn lerp(a: Vec3, b: Vec3, t: f64) -> Vec3 {
 
 /// Distance from `p` to the segment `ab` (to `a` when the segment is a point).
 pub fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
+    segment_closest(p, a, b).0
+}
+
+/// Distance from `p` to the segment `a b` and the parameter in [0, 1] of
+/// the segment's point nearest to `p` (0 for a segment of zero length).
+pub fn segment_closest(p: Vec3, a: Vec3, b: Vec3) -> (f64, f64) {
     let ab = sub(b, a);
     let l2 = dot(ab, ab);
     let t = if l2 > 0.0 {
@@ -71,7 +77,7 @@ pub fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
     } else {
         0.0
     };
-    dist(p, add(a, scale(ab, t)))
+    (dist(p, add(a, scale(ab, t))), t)
 }
 
 #[cfg(test)]

@@ -8,14 +8,7 @@ use geometry::vec3::{self, Vec3};
 /// Distance from `p` to segment `[a, b]`, and the parameter of the closest
 /// point (0 at `a`, 1 at `b`).
 pub(crate) fn point_segment(p: Vec3, a: Vec3, b: Vec3) -> (f64, f64) {
-    let d = vec3::sub(b, a);
-    let dd = vec3::dot(d, d);
-    let t = if dd > 0.0 {
-        (vec3::dot(vec3::sub(p, a), d) / dd).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (vec3::dist(p, vec3::add(a, vec3::scale(d, t))), t)
+    vec3::segment_closest(p, a, b)
 }
 
 /// Closest points of segments `[p1, q1]` and `[p2, q2]` in 3D (Ericson,

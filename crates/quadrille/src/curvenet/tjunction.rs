@@ -249,14 +249,7 @@ fn project(curve: &Polyline, p: Vec3) -> (f64, f64) {
     let mut best = (f64::INFINITY, 0.0);
     for k in 1..curve.points.len() {
         let (a, b) = (curve.points[k - 1], curve.points[k]);
-        let ab = vec3::sub(b, a);
-        let len2 = vec3::dot(ab, ab);
-        let t = if len2 > 0.0 {
-            (vec3::dot(vec3::sub(p, a), ab) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let d = vec3::dist(p, vec3::add(a, vec3::scale(ab, t)));
+        let (d, t) = vec3::segment_closest(p, a, b);
         if d < best.0 {
             best = (
                 d,

@@ -229,7 +229,7 @@ pub fn typical_curvature(
     triangles: &[[u32; 3]],
 ) -> Option<f64> {
     let stride = triangles.len().div_ceil(CURVATURE_SAMPLES).max(1);
-    let mut k: Vec<(f64, f64)> = triangles
+    let k: Vec<(f64, f64)> = triangles
         .iter()
         .step_by(stride)
         .filter_map(|t| {
@@ -247,19 +247,7 @@ pub fn typical_curvature(
         })
         .filter(|&(_, a)| a.is_finite())
         .collect();
-    k.sort_by(|x, y| x.0.total_cmp(&y.0));
-    let total: f64 = k.iter().map(|x| x.1).sum();
-    if !(total > 0.0) {
-        return None;
-    }
-    let mut below = 0.0;
-    for &(kappa, a) in &k {
-        below += a;
-        if below >= CURVATURE_QUANTILE * total {
-            return Some(kappa);
-        }
-    }
-    k.last().map(|x| x.0)
+    narrow::weighted_quantile(&k, CURVATURE_QUANTILE)
 }
 
 /// A heap entry ordered by size, smallest first.

@@ -176,7 +176,7 @@ pub fn local_widths(topo: &FaceTopology) -> Option<Vec<(f64, f64)>> {
                     if a == v || b == v {
                         continue;
                     }
-                    let (d, t) = segment_distance(p[v], p[a], p[b]);
+                    let (d, t) = vec3::segment_closest(p[v], p[a], p[b]);
                     if d >= width {
                         continue;
                     }
@@ -199,22 +199,9 @@ pub fn local_widths(topo: &FaceTopology) -> Option<Vec<(f64, f64)>> {
     Some(out)
 }
 
-/// Distance from `x` to the segment `a b` and the parameter in [0, 1] of
-/// the nearest point.
-fn segment_distance(x: Vec3, a: Vec3, b: Vec3) -> (f64, f64) {
-    let ab = vec3::sub(b, a);
-    let len2 = vec3::dot(ab, ab);
-    let t = if len2 > 0.0 {
-        (vec3::dot(vec3::sub(x, a), ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (vec3::dist(x, vec3::add(a, vec3::scale(ab, t))), t)
-}
-
 /// The value below which the fraction `q` of the total weight lies (values
 /// `(value, weight)`); `None` when the total weight is not positive.
-fn weighted_quantile(values: &[(f64, f64)], q: f64) -> Option<f64> {
+pub(super) fn weighted_quantile(values: &[(f64, f64)], q: f64) -> Option<f64> {
     let total: f64 = values.iter().map(|x| x.1).sum();
     if !(total > 0.0) {
         return None;
