@@ -135,3 +135,90 @@ pub(crate) fn mesh_lens_strip(
         quads,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geometry::primitives;
+
+    /// A crescent ring in the plane z = 0 ((u, v) = (x, y)): chain a on the
+    /// circle of radius `r` about (5, 5) over `arc` radians in `n` segments,
+    /// chain b back over the same angles at radius r + w sin(π k / n) (`nb`
+    /// segments), so the two tips are shared; corners at ring positions 0
+    /// and `n`.
+    fn crescent(r: f64, w: f64, arc: f64, n: usize, nb: usize) -> Ring {
+        let point = |rad: f64, t: f64| [5.0 + rad * t.cos(), 5.0 + rad * t.sin(), 0.0];
+        let mut pos = Vec::new();
+        for k in 0..=n {
+            pos.push(point(r, arc * k as f64 / n as f64));
+        }
+        for k in (1..nb).rev() {
+            let s = k as f64 / nb as f64;
+            pos.push(point(r + w * (std::f64::consts::PI * s).sin(), arc * s));
+        }
+        let nodes = pos
+            .iter()
+            .map(|p| LocalNode {
+                uv: [p[0], p[1]],
+                node: NodeRef::Interior,
+                pole: None,
+            })
+            .collect();
+        Ring {
+            nodes,
+            pos,
+            corners: vec![(0, 0.0), (n, 0.0)],
+        }
+    }
+
+    #[test]
+    fn a_curved_narrow_lens_gets_two_rows_of_valid_quads() {
+        // the rod's run-outs: radius 2.5, 2.5e-4 wide, 8 segments of 0.1 rad
+        // (0.25 long, sagitta 0.003: 12 × the width)
+        let model = primitives::rectangle(10.0, 10.0);
+        let face = &model.faces[0];
+        let ring = crescent(2.5, 2.5e-4, 0.8, 8, 8);
+        let p = mesh_lens_strip(face, &ring, [0, 8]).expect("a narrow lens");
+        // two rows of n − 2 quads and a kite at each tip; n − 1 middle nodes
+        assert_eq!(p.quads.len(), 2 * 8 - 2);
+        assert_eq!(p.nodes.len(), 16 + 7);
+        for q in &p.quads {
+            assert!(quad_quality(face, &p.nodes, &p.pos, q) > 0.0, "{q:?}");
+            let uv: Vec<[f64; 2]> = q.iter().map(|&i| p.nodes[i as usize].uv).collect();
+            // counter-clockwise in the plane, whose normal is +z
+            let area: f64 = (0..4)
+                .map(|k| uv[k][0] * uv[(k + 1) % 4][1] - uv[(k + 1) % 4][0] * uv[k][1])
+                .sum();
+            assert!(area > 0.0, "{q:?}");
+        }
+        // the middle nodes lie between the chains (radius in (r, r + w))
+        for (nd, pos) in p.nodes.iter().zip(&p.pos).skip(16) {
+            assert_eq!(nd.node, NodeRef::Interior);
+            let rad = ((pos[0] - 5.0).powi(2) + (pos[1] - 5.0).powi(2)).sqrt();
+            assert!(rad > 2.5 && rad < 2.5 + 2.5e-4, "{rad}");
+        }
+        // one row on the boundary points alone folds: the quad
+        // a_2 a_3 b_2 b_1 has a corner past 180° on the concave chain
+        let (a, b) = (|k: usize| k as u32, |k: usize| (16 - k) as u32);
+        let mut q = [a(2), a(3), b(2), b(1)];
+        q.reverse(); // the ring runs clockwise
+        assert!(quad_quality(face, &ring.nodes, &ring.pos, &q) < 0.0);
+    }
+
+    #[test]
+    fn wide_lenses_and_unequal_chains_are_left_to_other_meshers() {
+        let model = primitives::rectangle(10.0, 10.0);
+        let face = &model.faces[0];
+        // 0.5 wide against segments of 0.25
+        let wide = crescent(2.5, 0.5, 0.8, 8, 8);
+        assert!(mesh_lens_strip(face, &wide, [0, 8]).is_err());
+        // 8 and 10 segments
+        let uneven = crescent(2.5, 2.5e-4, 0.8, 8, 10);
+        assert!(mesh_lens_strip(face, &uneven, [0, 8]).is_err());
+        // n = 2 is one quad A a_1 B b_1; on a crescent its corner at a_1
+        // (the concave chain) passes 180°, so it is refused too
+        let short = crescent(2.5, 2.5e-4, 0.2, 2, 2);
+        let why = mesh_lens_strip(face, &short, [0, 2]).unwrap_err();
+        assert!(why.contains("SICN"), "{why}");
+    }
+}
