@@ -327,6 +327,14 @@ pub fn mesh_face_pattern(
     }
     let ring = boundary_ring(model, fid, cms)?;
     let nb = ring.nodes.len();
+    // two CAD corners: a narrow lens gets two rows of quads on its boundary
+    // points; its tips are cusps, whose angle may read 0° or 360°
+    if let [(c0, _), (c1, _)] = ring.corners[..] {
+        match crate::direct::strip_face::mesh_lens_strip(face, &ring, [c0, c1]) {
+            Ok(p) => return Ok((p, crate::direct::strip_face::LENS_STRIP.into())),
+            Err(why) => tracing::debug!("face {}: no lens strip: {why}", fid.0 + 1),
+        }
+    }
     // convex corners (ideal valence 1) are the pattern's corners; flat ones
     // (2) lie inside sides; a concave one rules patterns out
     let mut corners = Vec::new();
