@@ -10,7 +10,7 @@
 //! the face (on another loop, or at least [`ACROSS_DETOUR`] times as far
 //! along the loop as in space: the same side is never that far round).
 
-use geometry::vec3::{self, Vec3};
+use geometry::vec3;
 
 use crate::field::crossfield::topology::NONE;
 use crate::field::crossfield::FaceTopology;
