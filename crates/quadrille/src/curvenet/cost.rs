@@ -6,7 +6,7 @@
 //! within 45°).
 
 use super::polyline::{
-    add, angle, cross, dist, dot, norm, normalized, point_polyline_distance, resample_open, scale,
+    add, angle, cross, dist, dot, norm, normalized, resample_open, scale,
     sub, symmetric_eigen, P3,
 };
 use super::PairingOptions;
@@ -163,7 +163,7 @@ pub fn initial_direction(shapes: &[SegmentShape], i: usize, opts: &PairingOption
 
 /// The mean over the samples p of `a` of the smallest angle between `t` and
 /// `x − p` for x a sample of `b` (a_{a→b}, spec §2.1).
-fn mean_bridge_angle(a: &SegmentShape, t: P3, b: &SegmentShape) -> f64 {
+pub fn mean_bridge_angle(a: &SegmentShape, t: P3, b: &SegmentShape) -> f64 {
     let mut total = 0.0;
     for &p in &a.samples {
         // The best x by cosine (cheap), its angle by atan2 (accurate near 0,
@@ -184,7 +184,7 @@ fn mean_bridge_angle(a: &SegmentShape, t: P3, b: &SegmentShape) -> f64 {
 /// The RMS closest-point distance from `a`'s samples mapped by the best
 /// affine fit onto `b`'s reversed samples (opposite sides of a quad run in
 /// opposite directions), to the polyline of `b` (spec §2.2).
-fn affine_residual(a: &SegmentShape, b: &SegmentShape) -> f64 {
+pub fn affine_residual(a: &SegmentShape, b: &SegmentShape) -> f64 {
     let n = a.samples.len();
     let ca = scale(a.samples.iter().fold([0.0; 3], |s, p| add(s, *p)), 1.0 / n as f64);
     let cb = b.centre;
@@ -220,13 +220,56 @@ fn affine_residual(a: &SegmentShape, b: &SegmentShape) -> f64 {
             x[r][s] = (0..3).map(|k| pinv[r][k] * ptq[k][s]).sum();
         }
     }
+    let line = PolylineSegments::of(&b.samples);
     let mut sq = 0.0;
     for p in &a.samples {
         let d = sub(*p, ca);
         let mapped = add(cb, [0, 1, 2].map(|s| (0..3).map(|r| d[r] * x[r][s]).sum()));
-        sq += point_polyline_distance(mapped, &b.samples).powi(2);
+        sq += line.distance(mapped).powi(2);
     }
     (sq / n as f64).sqrt()
+}
+
+/// An open polyline's segments with their vectors and squared lengths
+/// computed once, for many point distances (issue 30: the affine residuals
+/// are most of the pairing time).
+struct PolylineSegments<'a> {
+    points: &'a [P3],
+    /// Per segment: `b − a` and its squared length.
+    segments: Vec<(P3, f64)>,
+}
+
+impl<'a> PolylineSegments<'a> {
+    fn of(points: &'a [P3]) -> Self {
+        let segments = points
+            .windows(2)
+            .map(|w| {
+                let ab = sub(w[1], w[0]);
+                (ab, dot(ab, ab))
+            })
+            .collect();
+        PolylineSegments { points, segments }
+    }
+
+    /// Bit-identical to `point_polyline_distance(p, points)`: the same
+    /// closest point per segment, the smallest squared distance and one
+    /// square root (the root is monotonic, so the root of the least is the
+    /// least root).
+    fn distance(&self, p: P3) -> f64 {
+        match self.points {
+            [] => f64::INFINITY,
+            [q] => dist(p, *q),
+            _ => {
+                let mut least = f64::INFINITY;
+                for (&a, &(ab, l2)) in self.points.iter().zip(&self.segments) {
+                    let t = if l2 > 0.0 { (dot(sub(p, a), ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
+                    let v = sub(p, add(a, scale(ab, t)));
+                    least = least.min(dot(v, v));
+                }
+                least.sqrt()
+            }
+        }
+    }
 }
 
 /// The three terms and the total of one pair's cost.
@@ -244,11 +287,27 @@ pub struct PairCost {
 
 /// The cost of pairing segments `a` and `b` with bridge directions `ta`, `tb`.
 pub fn pair_cost(a: &SegmentShape, ta: P3, b: &SegmentShape, tb: P3, opts: &PairingOptions) -> PairCost {
-    let mut bridge = mean_bridge_angle(a, ta, b).max(mean_bridge_angle(b, tb, a));
+    let angles = [mean_bridge_angle(a, ta, b), mean_bridge_angle(b, tb, a)];
+    let residuals = [affine_residual(a, b), affine_residual(b, a)];
+    pair_cost_of_parts(a, b, angles, residuals, opts)
+}
+
+/// [`pair_cost`] from its expensive parts computed beforehand (the refiner
+/// caches them, issue 30): `angles` = [`mean_bridge_angle`] a→b and b→a,
+/// `residuals` = [`affine_residual`] (a, b) and (b, a). Bit-identical to
+/// [`pair_cost`] for the same parts.
+pub fn pair_cost_of_parts(
+    a: &SegmentShape,
+    b: &SegmentShape,
+    angles: [f64; 2],
+    residuals: [f64; 2],
+    opts: &PairingOptions,
+) -> PairCost {
+    let mut bridge = angles[0].max(angles[1]);
     if !opts.b_in_radians {
         bridge /= std::f64::consts::PI;
     }
-    let l = 0.5 * (affine_residual(a, b) + affine_residual(b, a));
+    let l = 0.5 * (residuals[0] + residuals[1]);
     let sigma = opts.shape_sigma;
     let similarity = 0.5 * (a.length - b.length).abs() + 0.5 * (1.0 - (-(l * l) / (sigma * sigma)).exp());
     let distance = dist(a.centre, b.centre);
@@ -374,6 +433,44 @@ mod tests {
         // so the sheared image is close but not exact.
         assert!(similar < 1e-9, "{similar}");
         assert!(sheared < 0.01 && bent > 2.0 * sheared, "{sheared} {bent}");
+    }
+
+    #[test]
+    fn polyline_segments_distance_is_bit_identical_to_the_plain_one() {
+        use super::super::polyline::point_polyline_distance;
+        // A helix-like polyline with a repeated point (a zero-length segment).
+        let mut line: Vec<P3> = (0..12).map(|k| {
+            let a = 0.7 * k as f64;
+            [a.cos(), a.sin(), 0.13 * k as f64]
+        }).collect();
+        line.insert(5, line[5]);
+        let fast = PolylineSegments::of(&line);
+        let mut checked = 0;
+        for i in 0..40 {
+            let s = i as f64 * 0.37;
+            let p = [1.3 * s.sin(), 0.9 * (1.7 * s).cos(), 0.05 * i as f64 - 0.3];
+            assert_eq!(fast.distance(p).to_bits(), point_polyline_distance(p, &line).to_bits(), "at {p:?}");
+            checked += 1;
+        }
+        assert_eq!(checked, 40);
+        // One point, and none.
+        let one = [[1.0, 2.0, 2.0]];
+        assert_eq!(PolylineSegments::of(&one).distance([0.0; 3]), 3.0);
+        assert_eq!(PolylineSegments::of(&[]).distance([0.0; 3]), f64::INFINITY);
+    }
+
+    #[test]
+    fn pair_cost_of_parts_equals_pair_cost() {
+        let sides = rectangle_sides();
+        let shapes = segment_shapes(&sides, 2.0, [0.0, 0.0, 1.0], 9, None);
+        let o = PairingOptions::default();
+        let t: Vec<P3> = (0..4).map(|i| initial_direction(&shapes, i, &o)).collect();
+        for (i, j) in [(0, 2), (0, 1), (1, 3)] {
+            let (a, b) = (&shapes[i], &shapes[j]);
+            let angles = [mean_bridge_angle(a, t[i], b), mean_bridge_angle(b, t[j], a)];
+            let residuals = [affine_residual(a, b), affine_residual(b, a)];
+            assert_eq!(pair_cost_of_parts(a, b, angles, residuals, &o), pair_cost(a, t[i], b, t[j], &o));
+        }
     }
 
     #[test]

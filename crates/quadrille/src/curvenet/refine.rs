@@ -7,7 +7,10 @@
 use std::cell::RefCell;
 use std::collections::HashMap;
 
-use super::cost::{dominant_update, initial_direction, pair_cost, segment_shapes, SegmentShape};
+use super::cost::{
+    affine_residual, dominant_update, initial_direction, mean_bridge_angle, pair_cost_of_parts, segment_shapes,
+    SegmentShape,
+};
 use super::polyline::{split_index, P3};
 use super::roommates::{match_by_cost, MatchOutcome};
 use super::segment::SegmentedLoop;
@@ -77,7 +80,18 @@ pub struct Context<'a> {
     /// bridge directions (a pair's cost depends on nothing else; only looked
     /// up, never iterated, so the output does not depend on its order).
     cache: RefCell<HashMap<PairKey, f64>>,
+    /// The cost's parts on a pair-cache miss (issue 30: a new bridge
+    /// direction of one segment made every pair with it miss, and each miss
+    /// recomputed both residuals, which do not depend on the directions):
+    /// mean bridge angles by the from-segment's key and the to-segment's
+    /// ends, affine residuals by the two segments' ends (each ordered).
+    angles: RefCell<HashMap<(SegmentKey, SegmentEnds), f64>>,
+    residuals: RefCell<HashMap<(SegmentEnds, SegmentEnds), f64>>,
 }
+
+/// A segment's ends (start indices of it and its successor): its polyline,
+/// hence its samples, centre and length.
+type SegmentEnds = (usize, usize);
 
 /// A segment's identity for the cost cache: its two end indices and the bits
 /// of its bridge direction.
@@ -100,6 +114,8 @@ impl<'a> Context<'a> {
             surface,
             normals: RefCell::new(HashMap::new()),
             cache: RefCell::new(HashMap::new()),
+            angles: RefCell::new(HashMap::new()),
+            residuals: RefCell::new(HashMap::new()),
         }
     }
 
@@ -119,7 +135,7 @@ impl<'a> Context<'a> {
             for j in i + 1..k {
                 let mut v = *cache
                     .entry((key(i), key(j)))
-                    .or_insert_with(|| pair_cost(&shapes[i], t[i], &shapes[j], t[j], self.opts).total);
+                    .or_insert_with(|| self.pair_cost(&shapes[i], key(i), &shapes[j], key(j)));
                 if k > 2 && (j == i + 1 || (i == 0 && j == k - 1)) {
                     v += ADJACENT_PAIR_PENALTY;
                 }
@@ -128,6 +144,21 @@ impl<'a> Context<'a> {
             }
         }
         c
+    }
+
+    /// The total cost of pairing segments `a` (key `ka`, direction in it)
+    /// and `b` (key `kb`), its mean bridge angles and affine residuals
+    /// through their caches: the same value as `cost::pair_cost`.
+    fn pair_cost(&self, a: &SegmentShape, ka: SegmentKey, b: &SegmentShape, kb: SegmentKey) -> f64 {
+        let (ta, tb) = (ka.2.map(f64::from_bits), kb.2.map(f64::from_bits));
+        let (ea, eb) = ((ka.0, ka.1), (kb.0, kb.1));
+        let mut angles = self.angles.borrow_mut();
+        let ab = *angles.entry((ka, eb)).or_insert_with(|| mean_bridge_angle(a, ta, b));
+        let ba = *angles.entry((kb, ea)).or_insert_with(|| mean_bridge_angle(b, tb, a));
+        let mut residuals = self.residuals.borrow_mut();
+        let rab = *residuals.entry((ea, eb)).or_insert_with(|| affine_residual(a, b));
+        let rba = *residuals.entry((eb, ea)).or_insert_with(|| affine_residual(b, a));
+        pair_cost_of_parts(a, b, [ab, ba], [rab, rba], self.opts).total
     }
 
     /// The shapes of the segments.
