@@ -37,6 +37,28 @@ fn mesh_part(model: &Path, out: &Path, method: Option<&str>, threads: &str) -> s
     quadrille(&args)
 }
 
+/// Meshes `model` into `out` (`method`, `threads`), checks the run
+/// succeeded and returns the mesh's `stats --cad --json`.
+fn meshed_stats(
+    model: &Path,
+    out: &Path,
+    method: Option<&str>,
+    threads: &str,
+    label: &str,
+) -> serde_json::Value {
+    let r = mesh_part(model, out, method, threads);
+    assert!(r.status.success(), "{label}: {}", String::from_utf8_lossy(&r.stderr));
+    serde_json::from_str(&stats_json(out, model)).unwrap()
+}
+
+/// Checks `s` (a `stats --cad --json` report) has no quad inverted by
+/// either judge outside the excused sharp corners and no open edge.
+fn assert_valid_and_closed(s: &serde_json::Value, label: &str) {
+    assert_eq!(s["inverted_quads_outside_sharp"], 0, "{label}: {s}");
+    assert_eq!(s["inverted_quads_element_geometry_outside_sharp"], 0, "{label}: {s}");
+    assert_eq!(s["open_edges"], 0, "{label}: {s}");
+}
+
 #[test]
 fn small_corpus_parts_mesh_valid_by_both_judges_and_closed() {
     // a thread-simulating screw (13 faces), a cusp prism (2 cusp corners on
@@ -49,21 +71,10 @@ fn small_corpus_parts_mesh_valid_by_both_judges_and_closed() {
         let model = industrial(name);
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("part.msh");
-        let r = mesh_part(&model, &out, None, "1");
-        assert!(
-            r.status.success(),
-            "{name}: {}",
-            String::from_utf8_lossy(&r.stderr)
-        );
-        let s: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
+        let s = meshed_stats(&model, &out, None, "1", name);
         assert!(s["quads"].as_u64().unwrap() > 100, "{name}: {s}");
         assert_eq!(s["triangles"], 0, "{name}");
-        assert_eq!(s["inverted_quads_outside_sharp"], 0, "{name}: {s}");
-        assert_eq!(
-            s["inverted_quads_element_geometry_outside_sharp"], 0,
-            "{name}: {s}"
-        );
-        assert_eq!(s["open_edges"], 0, "{name}");
+        assert_valid_and_closed(&s, name);
         assert_eq!(s["non_manifold_edges"], 0, "{name}");
         // two threads write the same bytes
         let two = dir.path().join("part-2.msh");
@@ -82,10 +93,7 @@ fn small_corpus_parts_mesh_valid_by_both_judges_and_closed() {
     // the cusp prism's two cusps (on each end face) are found as sharp corners
     let model = industrial("t_cusp_prism.step");
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("cusp.msh");
-    let r = mesh_part(&model, &out, None, "1");
-    assert!(r.status.success());
-    let s: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
+    let s = meshed_stats(&model, &dir.path().join("cusp.msh"), None, "1", "cusp prism");
     assert!(!s["sharp_corners"].as_array().unwrap().is_empty(), "{s}");
 }
 
@@ -93,13 +101,9 @@ fn small_corpus_parts_mesh_valid_by_both_judges_and_closed() {
 /// `stats --cad --json` after checking it is closed, valid by both judges
 /// and free of irregular face-interior vertices.
 fn meshed_regular_and_valid(model: &Path, out: &Path, label: &str) -> serde_json::Value {
-    let r = mesh_part(model, out, None, "1");
-    assert!(r.status.success(), "{label}: {}", String::from_utf8_lossy(&r.stderr));
-    let s: serde_json::Value = serde_json::from_str(&stats_json(out, model)).unwrap();
+    let s = meshed_stats(model, out, None, "1", label);
     assert_eq!(s["irregular_nodes"], 0, "{label}: {s}");
-    assert_eq!(s["inverted_quads_outside_sharp"], 0, "{label}: {s}");
-    assert_eq!(s["inverted_quads_element_geometry_outside_sharp"], 0, "{label}: {s}");
-    assert_eq!(s["open_edges"], 0, "{label}: {s}");
+    assert_valid_and_closed(&s, label);
     s
 }
 
@@ -146,13 +150,9 @@ fn the_unstructured_method_meshes_a_face_cut_open_by_a_slit() {
     let model = industrial(name);
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("bearing.msh");
-    let r = mesh_part(&model, &out, Some("unstructured"), "1");
-    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    let s: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
+    let s = meshed_stats(&model, &out, Some("unstructured"), "1", name);
     assert_eq!(s["triangles"], 0, "{s}");
-    assert_eq!(s["inverted_quads_outside_sharp"], 0, "{s}");
-    assert_eq!(s["inverted_quads_element_geometry_outside_sharp"], 0, "{s}");
-    assert_eq!(s["open_edges"], 0, "{s}");
+    assert_valid_and_closed(&s, name);
     assert_eq!(s["non_manifold_edges"], 0, "{s}");
 }
 
@@ -174,14 +174,10 @@ fn regular_method_meshes_a_part_its_baseline_cannot() {
     );
     let dir = tempfile::tempdir().unwrap();
     let (one, two) = (dir.path().join("one.msh"), dir.path().join("two.msh"));
-    let r = mesh_part(&model, &one, Some("regular"), "1");
-    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    let s: serde_json::Value = serde_json::from_str(&stats_json(&one, &model)).unwrap();
+    let s = meshed_stats(&model, &one, Some("regular"), "1", name);
     assert!(s["quads"].as_u64().unwrap() > 500, "{s}");
     assert_eq!(s["triangles"], 0);
-    assert_eq!(s["inverted_quads_outside_sharp"], 0, "{s}");
-    assert_eq!(s["inverted_quads_element_geometry_outside_sharp"], 0, "{s}");
-    assert_eq!(s["open_edges"], 0, "{s}");
+    assert_valid_and_closed(&s, name);
     assert!(s["irregular_percent"].as_f64().unwrap() <= 5.0, "{s}");
     // the same mesh on two threads
     let r = mesh_part(&model, &two, Some("regular"), "2");
@@ -200,10 +196,7 @@ fn the_threaded_rods_narrow_lens_faces_get_two_rows_of_quads() {
     // inverted quads (CAD normals / element geometry).
     let model = industrial("t_threaded_rod_m6.step");
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("rod.msh");
-    let r = mesh_part(&model, &out, None, "1");
-    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    let s: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
+    let s = meshed_stats(&model, &dir.path().join("rod.msh"), None, "1", "rod");
     assert!(s["quads"].as_u64().unwrap() > 5000, "{s}");
     assert_eq!(s["triangles"], 0, "{s}");
     // no exemption: not one inverted quad by either judge

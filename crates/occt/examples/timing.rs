@@ -137,7 +137,7 @@ impl DiagCached for geometry::Model {
         use std::sync::Mutex;
         static CACHE: Mutex<Option<HashMap<usize, f64>>> = Mutex::new(None);
         let key = self as *const _ as usize;
-        let mut g = CACHE.lock().unwrap();
+        let mut g = CACHE.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         *g.get_or_insert_with(HashMap::new)
             .entry(key)
             .or_insert_with(|| self.diagonal())

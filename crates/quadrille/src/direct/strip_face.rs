@@ -1,7 +1,7 @@
 //! Meshing a narrow two-cornered face (a lens: two curve chains between two
 //! convex corners, e.g. the run-out strip of a helical thread flank, far
-//! narrower than the target size) as one row of quads on its boundary
-//! points alone. No pattern of the library has two corners, and the
+//! narrower than the target size) as two rows of quads on a middle row of
+//! nodes. No pattern of the library has two corners, and the
 //! triangulation-based meshers fold there: a strip a thousand times longer
 //! than wide leaves no room for interior nodes in (u, v).
 //!
