@@ -16,7 +16,7 @@ use geometry::{FaceId, Model};
 use crate::core::patch::{LocalNode, QuadPatch};
 use crate::core::valence::ideal_corner_valence;
 use crate::curves::curve_mesh::CurveMesh;
-use crate::direct::pattern_face::{harmonic_uv, loop_ring, two_loop_patch, uv_area};
+use crate::direct::pattern_face::{harmonic_uv, loop_ring, ring_step, two_loop_patch, uv_area};
 
 /// Name of the pattern of [`mesh_holed_face`].
 pub const HOLED_GRID: &str = "holed grid";
@@ -168,13 +168,7 @@ pub fn mesh_holed_face(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<
     // nearest the outer corners (each hole corner faces its outer corner)
     let outer_at = |k: usize| (corners[0] + k) % nb;
     let same_sense = (areas[o] > 0.0) == (areas[h] > 0.0);
-    let hole_at = |r: usize, k: usize| {
-        if same_sense {
-            (r + k) % nh
-        } else {
-            (r + nh - k % nh) % nh
-        }
-    };
+    let hole_at = |r: usize, k: usize| ring_step(r, k, nh, same_sense);
     let hole_corner_offsets = [0, mx, mx + my, 2 * mx + my];
     let outer_corner_offsets = [0, nx, nx + ny, 2 * nx + ny];
     let dist2 = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);

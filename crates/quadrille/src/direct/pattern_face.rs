@@ -454,6 +454,18 @@ pub(crate) fn place_interior(
     Ok(())
 }
 
+/// The ring position `k` steps from position `r` on a ring of `n` nodes,
+/// forward when `same_sense` (the ring turns like the loop it is matched
+/// to), backward otherwise: how the ring and holed grids walk a hole's
+/// loop beside the outer one.
+pub(crate) fn ring_step(r: usize, k: usize, n: usize, same_sense: bool) -> usize {
+    if same_sense {
+        (r + k) % n
+    } else {
+        (r + n - k % n) % n
+    }
+}
+
 /// Whether `quads`, with their vertices at `uv`, must be reversed to run
 /// counter-clockwise in (u, v) and then about the face's oriented normal.
 pub(crate) fn needs_reversal(face: &geometry::Face, quads: &[[u32; 4]], uv: &[[f64; 2]]) -> bool {

@@ -20,7 +20,7 @@ use crate::core::patch::QuadPatch;
 use crate::curves::curve_chords::annulus_loops;
 use crate::core::valence::ideal_corner_valence;
 use crate::curves::curve_mesh::CurveMesh;
-use crate::direct::pattern_face::{loop_ring, two_loop_patch, uv_area, Ring};
+use crate::direct::pattern_face::{loop_ring, ring_step, two_loop_patch, uv_area, Ring};
 
 /// Name of the pattern of [`mesh_ring_face`].
 pub const RING_GRID: &str = "ring";
@@ -97,13 +97,7 @@ pub fn mesh_ring_face(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Q
     // the hole's node facing outer node k, in the outer loop's sense of
     // rotation, with the offset that puts matched nodes nearest each other
     let same_sense = (areas[o] > 0.0) == (areas[h] > 0.0);
-    let hole_at = |r: usize, k: usize| {
-        if same_sense {
-            (r + k) % n
-        } else {
-            (r + n - k % n) % n
-        }
-    };
+    let hole_at = |r: usize, k: usize| ring_step(r, k, n, same_sense);
     let dist2 = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2);
     let cost = |r: usize| -> f64 {
         (0..n)
