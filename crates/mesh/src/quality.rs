@@ -62,9 +62,32 @@ pub fn quad_sicn(p: &[Vec3; 4], n: &[Vec3; 4]) -> f64 {
 /// varies smoothly as a node moves, which the untangling needs, while the
 /// element judge jumps when corner 1, its reference, flips.
 pub fn quad_sicn_both_judges(p: &[Vec3; 4], n: &[Vec3; 4]) -> f64 {
-    let cad = quad_sicn(p, n);
+    // each corner's cross product and denominator, shared by both judges
+    // (the same arithmetic as [`corner_sicn`] and [`element_corner_sicn`],
+    // so the values are theirs bit for bit)
+    let mut c = [[0.0; 3]; 4];
+    let mut den = [0.0; 4];
+    let mut cad = f64::INFINITY;
+    for i in 0..4 {
+        (c[i], den[i]) = corner_cross(p, i);
+        let v = if den[i] > 0.0 {
+            2.0 * dot(c[i], n[i]) / den[i]
+        } else {
+            0.0
+        };
+        cad = cad.min(v);
+    }
     if cad > 0.0 {
-        let element = quad_element_sicn(p);
+        // the element judge's minimum matters only when negative, and a
+        // corner is negative only on the far side of the reference: the
+        // others' norms are not taken
+        let reference = element_reference(c[1]);
+        let mut element = f64::INFINITY;
+        for i in 0..4 {
+            if dot(c[i], reference) < 0.0 {
+                element = element.min(element_value(c[i], den[i], reference));
+            }
+        }
         if element < 0.0 {
             return element;
         }
@@ -111,31 +134,46 @@ pub const ELEMENT_SICN_FLAT: f64 = 1e-8;
 /// 1e-9 off straight, where this formula gives −4e-9). When `c_1 = 0`
 /// (corner 1 straight) every value is 0, as in Gmsh.
 pub fn element_corner_sicn(p: &[Vec3; 4]) -> [f64; 4] {
-    let corner = |i: usize| {
-        let a = sub(p[(i + 1) % 4], p[i]);
-        let b = sub(p[(i + 3) % 4], p[i]);
-        (cross(a, b), dot(a, a) + dot(b, b))
-    };
-    let (c1, _) = corner(1);
-    // scaled to its largest component: the sign of c_i · c_1 survives
-    // coordinates whose squares underflow
+    let reference = element_reference(corner_cross(p, 1).0);
+    [0, 1, 2, 3].map(|i| {
+        let (c, den) = corner_cross(p, i);
+        element_value(c, den, reference)
+    })
+}
+
+/// Corner `i`'s cross product `a × b` and `|a|² + |b|²` (module docs).
+#[inline]
+fn corner_cross(p: &[Vec3; 4], i: usize) -> (Vec3, f64) {
+    let a = sub(p[(i + 1) % 4], p[i]);
+    let b = sub(p[(i + 3) % 4], p[i]);
+    (cross(a, b), dot(a, a) + dot(b, b))
+}
+
+/// The element judge's reference normal from corner 1's cross product `c1`,
+/// scaled to its largest component (the sign of `c_i · c_1` survives
+/// coordinates whose squares underflow); 0 when `c1` is 0 or not finite.
+#[inline]
+fn element_reference(c1: Vec3) -> Vec3 {
     let big = c1.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let reference = if big > 0.0 && c1.iter().all(|x| x.is_finite()) {
+    if big > 0.0 && c1.iter().all(|x| x.is_finite()) {
         c1.map(|x| x / big)
     } else {
         [0.0; 3]
-    };
-    [0, 1, 2, 3].map(|i| {
-        let (c, den) = corner(i);
-        let side = dot(c, reference);
-        let value = 2.0 * norm(c) / den;
-        // NaN (a zero-length corner, non-finite coordinates) fails the tests
-        if side != 0.0 && !side.is_nan() && value >= ELEMENT_SICN_FLAT {
-            value.copysign(side)
-        } else {
-            0.0
-        }
-    })
+    }
+}
+
+/// One corner's element-geometry SICN from its cross product `c`, its
+/// `den` and the [`element_reference`] (see [`element_corner_sicn`]).
+#[inline]
+fn element_value(c: Vec3, den: f64, reference: Vec3) -> f64 {
+    let side = dot(c, reference);
+    let value = 2.0 * norm(c) / den;
+    // NaN (a zero-length corner, non-finite coordinates) fails the tests
+    if side != 0.0 && !side.is_nan() && value >= ELEMENT_SICN_FLAT {
+        value.copysign(side)
+    } else {
+        0.0
+    }
 }
 
 /// Quad element-geometry SICN: the minimum of [`element_corner_sicn`].
@@ -328,5 +366,70 @@ mod tests {
         ];
         assert_eq!(quad_sicn_both_judges(&square, &Z), quad_sicn(&square, &Z));
         assert!((quad_sicn_both_judges(&square, &Z) - 1.0).abs() < 1e-12);
+    }
+    /// The two judges as separate functions (the definition
+    /// [`quad_sicn_both_judges`] computes in one pass).
+    fn both_judges_by_definition(p: &[Vec3; 4], n: &[Vec3; 4]) -> f64 {
+        let cad = quad_sicn(p, n);
+        if cad > 0.0 {
+            let element = quad_element_sicn(p);
+            if element < 0.0 {
+                return element;
+            }
+        }
+        cad
+    }
+
+    #[test]
+    fn both_judges_in_one_pass_equal_the_definition_bit_for_bit() {
+        // a fixed pseudo-random sequence (64-bit LCG) of quads near a unit
+        // square: perturbed, folded, twisted, with repeated and tiny corners
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let base = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let (mut element_won, mut cad_negative) = (0, 0);
+        for case in 0..20_000 {
+            let scale = [1.0, 0.3, 1e-9][case % 3];
+            let mut p = base;
+            for c in p.iter_mut() {
+                for x in c.iter_mut() {
+                    *x += scale * next();
+                }
+            }
+            if case % 7 == 0 {
+                p[2] = p[1]; // a repeated corner
+            }
+            if case % 11 == 0 {
+                p[3][2] += 2.0 * next(); // out of plane
+            }
+            let mut n = Z;
+            for c in n.iter_mut() {
+                let v = [0.2 * next(), 0.2 * next(), 1.0];
+                let l = norm(v);
+                *c = v.map(|x| x / l);
+            }
+            let want = both_judges_by_definition(&p, &n);
+            let got = quad_sicn_both_judges(&p, &n);
+            assert_eq!(got.to_bits(), want.to_bits(), "case {case}: {p:?} {n:?}");
+            if want < 0.0 && quad_sicn(&p, &n) > 0.0 {
+                element_won += 1;
+            }
+            if quad_sicn(&p, &n) < 0.0 {
+                cad_negative += 1;
+            }
+        }
+        // both branches were exercised
+        assert!(element_won > 100, "{element_won}");
+        assert!(cad_negative > 100, "{cad_negative}");
     }
 }

@@ -110,10 +110,17 @@ pub fn keep_unfolded_curve_normals(
     if !(0..4).any(on_curve) {
         return;
     }
-    let interior: Vec<Vec3> = (0..4)
-        .filter(|&k| !on_curve(k))
-        .filter_map(|k| known[k])
-        .collect();
+    // the known normals of the face-interior corners (no allocation: this
+    // runs for every quad a smoothing sweep measures)
+    let mut inner = [[0.0; 3]; 4];
+    let mut count = 0;
+    for k in (0..4).filter(|&k| !on_curve(k)) {
+        if let Some(m) = known[k] {
+            inner[count] = m;
+            count += 1;
+        }
+    }
+    let interior = &inner[..count];
     for k in (0..4).filter(|&k| on_curve(k)) {
         if let Some(n) = known[k] {
             let unfolded =

@@ -24,7 +24,7 @@
 //! singular point of the parametrization is refused.
 
 use geometry::vec3::{self, Vec3};
-use geometry::Face;
+use geometry::{Face, SurfaceDerivs};
 
 use crate::core::patch::NodeRef;
 use crate::core::patch::QuadPatch;
@@ -179,8 +179,21 @@ pub(crate) fn map_to_surface(
     target: Vec3,
     tol: f64,
 ) -> Option<([f64; 2], Vec3, Vec3)> {
+    map_to_surface_from(face, uv, face.surface.first_derivs(uv), target, tol)
+}
+
+/// [`map_to_surface`] with the surface's first derivatives at the start
+/// `uv` given (`d`, from `first_derivs(uv)`): the smoothing maps several
+/// trial targets of one node from the same start, and evaluates it once.
+fn map_to_surface_from(
+    face: &Face,
+    uv: [f64; 2],
+    d: SurfaceDerivs,
+    target: Vec3,
+    tol: f64,
+) -> Option<([f64; 2], Vec3, Vec3)> {
     let mut cur = uv;
-    let mut d = face.surface.first_derivs(cur);
+    let mut d = d;
     for _ in 0..MAP_ITERATIONS {
         let r = vec3::sub(target, d.point);
         let (a, b, c) = (
@@ -472,7 +485,10 @@ fn sweep_nodes(
                 if quads_of[i].iter().all(|&q| qv[q as usize] >= ASCENT_GOOD) {
                     continue;
                 }
-                let Some(t1) = vec3::normalize(face.surface.first_derivs(p.nodes[i].uv).du) else {
+                // the derivatives at the node: its tangent frame and the
+                // start of every trial placement below
+                let d0 = face.surface.first_derivs(p.nodes[i].uv);
+                let Some(t1) = vec3::normalize(d0.du) else {
                     continue;
                 };
                 let t2 = vec3::cross(n_i, t1);
@@ -483,7 +499,8 @@ fn sweep_nodes(
                              nrm: &mut Vec<Option<Vec3>>,
                              new_q: &mut Vec<f64>,
                              t: Vec3| {
-                    let (uv, nx, nn) = map_to_surface(face, old_uv, t, MAP_TOLERANCE * edge)?;
+                    let (uv, nx, nn) =
+                        map_to_surface_from(face, old_uv, d0, t, MAP_TOLERANCE * edge)?;
                     p.nodes[i].uv = uv;
                     p.pos[i] = nx;
                     nrm[i] = Some(nn);
@@ -614,8 +631,11 @@ fn sweep_nodes(
             let mean = vec3::scale(mean, 1.0 / k as f64);
             let half = |t: Vec3| vec3::scale(vec3::add(t, x), 0.5);
             let tries = [target, target.map(half), Some(mean), Some(half(mean))];
+            // every try starts from the node's (u, v): its derivatives once
+            let d0 = face.surface.first_derivs(old_uv);
             for t in tries.into_iter().flatten() {
-                let Some((uv, nx, nn)) = map_to_surface(face, old_uv, t, MAP_TOLERANCE * edge)
+                let Some((uv, nx, nn)) =
+                    map_to_surface_from(face, old_uv, d0, t, MAP_TOLERANCE * edge)
                 else {
                     continue;
                 };
