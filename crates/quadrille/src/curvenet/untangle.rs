@@ -57,10 +57,15 @@ pub fn untangle(
         quality(&q.map(|v| nodes[v]), q.map(|v| normals[v]))
     };
     let worst_at = |nodes: &[Vec3], normals: &[Option<Vec3>], v: usize| {
-        node_quads[v].iter().map(|&k| quad_quality(nodes, normals, k)).fold(f64::INFINITY, f64::min)
+        node_quads[v]
+            .iter()
+            .map(|&k| quad_quality(nodes, normals, k))
+            .fold(f64::INFINITY, f64::min)
     };
     let bad = |nodes: &[Vec3], normals: &[Option<Vec3>]| -> Vec<usize> {
-        (0..quads.len()).filter(|&k| !(quad_quality(nodes, normals, k) > 0.0)).collect()
+        (0..quads.len())
+            .filter(|&k| !(quad_quality(nodes, normals, k) > 0.0))
+            .collect()
     };
     let mut left = bad(nodes, normals);
     for round in 0..ROUNDS {
@@ -69,8 +74,10 @@ pub fn untangle(
         }
         let mut region: BTreeSet<usize> = left.iter().flat_map(|&k| quads[k]).collect();
         for _ in 0..(1 + round / ROUNDS_PER_RING).min(MAX_RINGS) {
-            let grown: BTreeSet<usize> =
-                region.iter().flat_map(|&v| node_quads[v].iter().flat_map(|&k| quads[k])).collect();
+            let grown: BTreeSet<usize> = region
+                .iter()
+                .flat_map(|&v| node_quads[v].iter().flat_map(|&k| quads[k]))
+                .collect();
             region = grown;
         }
         let mut moved = false;
@@ -125,11 +132,17 @@ mod tests {
     /// A 4 × 4 grid of the unit square (25 nodes, 16 quads), counter-clockwise.
     fn grid() -> (Vec<Vec3>, Vec<[usize; 4]>, Vec<bool>) {
         let at = |i: usize, j: usize| j * 5 + i;
-        let nodes: Vec<Vec3> = (0..25).map(|v| [(v % 5) as f64 / 4.0, (v / 5) as f64 / 4.0, 0.0]).collect();
-        let quads = (0..4)
-            .flat_map(|j| (0..4).map(move |i| [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]))
+        let nodes: Vec<Vec3> = (0..25)
+            .map(|v| [(v % 5) as f64 / 4.0, (v / 5) as f64 / 4.0, 0.0])
             .collect();
-        let fixed = (0..25).map(|v| v % 5 == 0 || v % 5 == 4 || v / 5 == 0 || v / 5 == 4).collect();
+        let quads = (0..4)
+            .flat_map(|j| {
+                (0..4).map(move |i| [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)])
+            })
+            .collect();
+        let fixed = (0..25)
+            .map(|v| v % 5 == 0 || v % 5 == 4 || v / 5 == 0 || v / 5 == 4)
+            .collect();
         (nodes, quads, fixed)
     }
 
@@ -143,11 +156,23 @@ mod tests {
         // node (1, 1) pushed past (2, 2)
         nodes[6] = [0.6, 0.6, 0.0];
         let mut normals = vec![None; nodes.len()];
-        let inverted = quads.iter().filter(|q| area_quality(&q.map(|v| nodes[v]), [None; 4]) <= 0.0).count();
+        let inverted = quads
+            .iter()
+            .filter(|q| area_quality(&q.map(|v| nodes[v]), [None; 4]) <= 0.0)
+            .count();
         assert!(inverted >= 1, "the test's fold inverts no quad");
-        let left = untangle(&mut nodes, &mut normals, &quads, &fixed, &|p| (p, None), &area_quality);
+        let left = untangle(
+            &mut nodes,
+            &mut normals,
+            &quads,
+            &fixed,
+            &|p| (p, None),
+            &area_quality,
+        );
         assert_eq!(left, 0);
-        assert!(quads.iter().all(|q| area_quality(&q.map(|v| nodes[v]), [None; 4]) > 0.0));
+        assert!(quads
+            .iter()
+            .all(|q| area_quality(&q.map(|v| nodes[v]), [None; 4]) > 0.0));
         for v in (0..25).filter(|&v| fixed[v]) {
             assert_eq!(nodes[v], start[v]);
         }
@@ -163,7 +188,14 @@ mod tests {
         nodes[12] = [0.9, 0.9, 0.3];
         let mut normals = vec![None; nodes.len()];
         let flat = |p: Vec3| ([p[0], p[1], 0.0], Some([0.0, 0.0, 1.0]));
-        let left = untangle(&mut nodes, &mut normals, &quads, &fixed, &flat, &area_quality);
+        let left = untangle(
+            &mut nodes,
+            &mut normals,
+            &quads,
+            &fixed,
+            &flat,
+            &area_quality,
+        );
         assert_eq!(left, 0);
         assert_eq!(nodes[12][2], 0.0);
         assert_eq!(normals[12], Some([0.0, 0.0, 1.0]));
@@ -175,7 +207,17 @@ mod tests {
         let (mut nodes, quads, fixed) = grid();
         let start = nodes.clone();
         let mut normals = vec![None; nodes.len()];
-        assert_eq!(untangle(&mut nodes, &mut normals, &quads, &fixed, &|p| (p, None), &area_quality), 0);
+        assert_eq!(
+            untangle(
+                &mut nodes,
+                &mut normals,
+                &quads,
+                &fixed,
+                &|p| (p, None),
+                &area_quality
+            ),
+            0
+        );
         assert_eq!(nodes, start);
     }
 }
