@@ -121,6 +121,7 @@ pub mod intervals;
 pub mod layout;
 pub mod sample;
 pub mod tjunction;
+pub mod untangle;
 
 pub use layout::LayoutError;
 pub use sample::{quadrangulate, CycleQuads};

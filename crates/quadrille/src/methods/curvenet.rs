@@ -29,6 +29,7 @@ use crate::curvenet::cut::find_cut;
 pub use crate::curvenet::midpoint::midpoint_pairing;
 use crate::curvenet::ring::{pair_ring, split_annulus};
 use crate::curvenet::sample::quadrangulate_with_minimums;
+use crate::curvenet::untangle::untangle;
 use crate::curvenet::{
     pair_cycle, CurveNetError, CurveNetwork, CycleLoops, CycleQuads, CycleSurface, LayoutError,
     PairedCycle, PairingOptions,
@@ -288,8 +289,15 @@ pub(super) fn mesh_cycle(
     for _ in 0..MAX_COUNT_ROUNDS {
         let mut leaves = Vec::new();
         let mut summary = CycleSummary::default();
-        let env = PartEnv { h, least: &least, weld, rings };
-        mesh_part(loops, &env, opts, false, 0, &mut leaves, &mut summary)?;
+        // Untangling is the last resort: a cycle whose layouts all fold
+        // (as judged without it) is meshed again with it, so that a few
+        // thin inverted quads do not pre-empt the cut, ring or split routes.
+        let env = PartEnv { h, least: &least, weld, rings, untangle: false };
+        if mesh_part(loops, &env, opts, false, 0, &mut leaves, &mut summary).is_err() {
+            (leaves, summary) = (Vec::new(), CycleSummary::default());
+            let env = PartEnv { untangle: true, ..env };
+            mesh_part(loops, &env, opts, false, 0, &mut leaves, &mut summary)?;
+        }
         let mut counts: BTreeMap<[[i64; 3]; 2], Vec<usize>> = BTreeMap::new();
         for leaf in &leaves {
             for (key, n) in unsplittable_counts(leaf, weld) {
@@ -331,6 +339,9 @@ struct PartEnv<'a> {
     least: &'a BTreeMap<[[i64; 3]; 2], usize>,
     weld: &'a Welder,
     rings: bool,
+    /// Whether a layout with a few inverted quads is untangled before it is
+    /// refused ([`unfolded`]).
+    untangle: bool,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -343,7 +354,7 @@ fn mesh_part(
     leaves: &mut Vec<Leaf>,
     summary: &mut CycleSummary,
 ) -> Result<(), String> {
-    let PartEnv { h, least, weld, rings } = *env;
+    let PartEnv { h, least, weld, rings, untangle } = *env;
     let popts = PairingOptions { closing_edge_unsplittable: closing, ..opts.clone() };
     let facing = Facing::of(loops);
     // a pairing's quads with the network's interval minimums, refused when folded
@@ -351,7 +362,7 @@ fn mesh_part(
         let minimums: Vec<usize> = (0..paired.starts.len())
             .map(|s| least.get(&segment_key(paired, s, weld)).copied().unwrap_or(0))
             .collect();
-        quadrangulate_with_minimums(paired, h, &minimums).and_then(|q| unfolded(q, &facing))
+        quadrangulate_with_minimums(paired, h, &minimums).and_then(|q| unfolded(q, &facing, untangle))
     };
     // Hole splits are not counted against `MAX_CUT_DEPTH`: each leaves
     // fewer holes in both halves, so they end.
@@ -456,7 +467,7 @@ fn mesh_part(
                 .map(|s| least.get(&segment_key(&mid, s, weld)).copied().unwrap_or(0))
                 .collect();
             let q = quadrangulate_with_minimums(&mid, h, &minimums)
-                .and_then(|q| unfolded(q, &facing))
+                .and_then(|q| unfolded(q, &facing, untangle))
                 .map_err(|e| format!("{first}; the midpoint layout failed too: {e}"))?;
             summary.midpoint_layout = true;
             summary.notes.push(format!("layout failed ({first}): midpoint layout used (Fig. 5 top)"));
@@ -601,6 +612,38 @@ impl Facing {
         Some((nodes, normals))
     }
 
+    /// Where a moved node goes: its closest point on the CAD surface and
+    /// the face's normal there; without a surface (or where the projection
+    /// fails) the point itself and no normal.
+    fn place(&self, p: Vec3) -> (Vec3, Option<Vec3>) {
+        match self.surface.as_ref().and_then(|s| s.closest(p)) {
+            Some((on, n)) => (on, Some(n)),
+            None => (p, None),
+        }
+    }
+
+    /// A quad's quality for untangling, valid when > 0 and ≤ 0 wherever
+    /// [`Facing::inverted`] holds: the least of its element SICN and its
+    /// corner SICN with the CAD normals at its corners (all known), else
+    /// with the plane's normal (planar cycle), else its facing margin
+    /// (cosine to the Newell normal above −0.5).
+    fn quality(&self, p: &[Vec3; 4], cad: [Option<Vec3>; 4]) -> f64 {
+        let element = mesh::quality::quad_element_sicn(p);
+        let facing = if let [Some(a), Some(b), Some(c), Some(d)] = cad {
+            mesh::quality::quad_sicn(p, &[a, b, c, d])
+        } else {
+            match self.normal {
+                Some(u) if self.planar => mesh::quality::quad_sicn(p, &[u; 4]),
+                Some(u) => {
+                    let n = vec3::cross(vec3::sub(p[2], p[0]), vec3::sub(p[3], p[1]));
+                    vec3::normalize(n).map_or(-1.0, |n| vec3::dot(n, u) - FOLDED_COS)
+                }
+                None => f64::INFINITY,
+            }
+        };
+        element.min(facing)
+    }
+
     /// True when the quad `p` is inverted: by the element geometry (Gmsh's
     /// `minSICN` sign); with the CAD normals `cad` at its corners, by a
     /// negative corner SICN; else facing away from the cycle (any amount on
@@ -621,22 +664,50 @@ impl Facing {
     }
 }
 
+/// A layout with at most this many inverted quads, or this share of its
+/// quads, is untangled (`curvenet::untangle`) before it is refused; more
+/// is a layout that folds, not a few thin quads.
+const UNTANGLE_MAX_QUADS: usize = 8;
+/// See [`UNTANGLE_MAX_QUADS`].
+const UNTANGLE_MAX_SHARE: f64 = 0.05;
+
 /// `q` with its interior nodes on the cycle's CAD surface, if it has one
 /// ([`Facing::surface_nodes`]), when none of its quads is inverted
 /// ([`Facing::inverted`]); else `q` as sampled (Coons), when none of its
 /// quads is inverted with the same CAD normals (a node moved onto the
-/// surface can fold a thin quad at the boundary); else an error naming the
-/// count.
-pub(super) fn unfolded(mut q: CycleQuads, facing: &Facing) -> Result<CycleQuads, LayoutError> {
+/// surface can fold a thin quad at the boundary); else, when only a few
+/// quads are inverted, `q` with the free nodes around them untangled
+/// (`curvenet::untangle`, on the surface) when that leaves none and
+/// `untangle_few` allows it; else an error naming the count.
+pub(super) fn unfolded(mut q: CycleQuads, facing: &Facing, untangle_few: bool) -> Result<CycleQuads, LayoutError> {
     let folded_at = |nodes: &[Vec3], normals: Option<&Vec<Option<Vec3>>>| {
         q.quads
             .iter()
             .filter(|quad| facing.inverted(&quad.map(|v| nodes[v]), normals.map(|n| quad.map(|v| n[v]))))
             .count()
     };
+    let few = |folded: usize| {
+        untangle_few && folded <= UNTANGLE_MAX_QUADS || folded as f64 <= UNTANGLE_MAX_SHARE * q.quads.len() as f64
+    };
+    let untangled = |mut nodes: Vec<Vec3>, mut normals: Vec<Option<Vec3>>| {
+        let place = |p: Vec3| facing.place(p);
+        let quality = |p: &[Vec3; 4], n: [Option<Vec3>; 4]| facing.quality(p, n);
+        untangle(&mut nodes, &mut normals, &q.quads, &q.boundary, &place, &quality);
+        (nodes, normals)
+    };
     let Some((on_surface, normals)) = facing.surface_nodes(&q) else {
         let folded = folded_at(&q.nodes, None);
-        return if folded == 0 { Ok(q) } else { Err(LayoutError::Folded { quads: folded, of: q.quads.len() }) };
+        if folded == 0 {
+            return Ok(q);
+        }
+        if few(folded) {
+            let (nodes, _) = untangled(q.nodes.clone(), vec![None; q.nodes.len()]);
+            if folded_at(&nodes, None) == 0 {
+                q.nodes = nodes;
+                return Ok(q);
+            }
+        }
+        return Err(LayoutError::Folded { quads: folded, of: q.quads.len() });
     };
     let folded = folded_at(&on_surface, Some(&normals));
     if folded == 0 {
@@ -645,6 +716,13 @@ pub(super) fn unfolded(mut q: CycleQuads, facing: &Facing) -> Result<CycleQuads,
     }
     if folded_at(&q.nodes, Some(&normals)) == 0 {
         return Ok(q);
+    }
+    if few(folded) {
+        let (nodes, normals) = untangled(on_surface, normals);
+        if folded_at(&nodes, Some(&normals)) == 0 {
+            q.nodes = nodes;
+            return Ok(q);
+        }
     }
     Err(LayoutError::Folded { quads: folded, of: q.quads.len() })
 }

@@ -172,12 +172,12 @@ pub(super) fn network_stage(
                 return Ok(None);
             }
             let q = sample_layout_with_intervals(p, old.quads.layout.clone(), n);
-            return unfolded(q, &old.facing).map(|q| Some((p.clone(), q))).map_err(|e| e.to_string());
+            return unfolded(q, &old.facing, true).map(|q| Some((p.clone(), q))).map_err(|e| e.to_string());
         }
         let layout = embed(p).map_err(|e| e.to_string())?;
         let n = intervals(&layout);
         let q = sample_layout_with_intervals(p, layout, n);
-        unfolded(q, &old.facing).map(|q| Some((p.clone(), q))).map_err(|e| e.to_string())
+        unfolded(q, &old.facing, true).map(|q| Some((p.clone(), q))).map_err(|e| e.to_string())
     };
     let outcomes = match threads.and_then(|n| {
         rayon::ThreadPoolBuilder::new()
