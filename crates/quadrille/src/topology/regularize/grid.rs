@@ -275,9 +275,9 @@ pub fn ring_sides(fq: &FaceQuads) -> Option<[Vec<u32>; 2]> {
 /// (ours, as `direct::ring_face` meshes such a face from its curves). Loop
 /// `b` is walked forward and loop `a` backward (both run with the quads on
 /// their left), from the offset that puts matched vertices nearest in
-/// (u, v); `m` and the rows' geometric spacing are those of
-/// `direct::ring_face::ring_rows` and `row_fraction` (square cells on a
-/// circular annulus); interior (u, v) on the straight (u, v) segment between matched
+/// (u, v); the rows' geometric spacing is `direct::ring_face::row_fraction`,
+/// `m` is `direct::ring_face::ring_rows` (square cells on a circular annulus)
+/// but at least the input's quads over `n`; interior (u, v) on the straight (u, v) segment between matched
 /// vertices. Vertex slots as [`structured_grid`]. `None` when the face is
 /// not such an annulus or a position cannot be evaluated. The result is not
 /// checked for validity.
@@ -311,7 +311,9 @@ pub fn ring_grid(fq: &FaceQuads, face: &Face, fid: FaceId) -> Option<FaceQuads> 
     if !(len_a > 0.0 && len_b > 0.0 && width > 0.0) {
         return None;
     }
-    let m = ring_rows(n, len_a, len_b, width);
+    // square cells, but never fewer rows than the input's quads fill (a
+    // coarser ring lowers no irregular count, only the interior vertices)
+    let m = ring_rows(n, len_a, len_b, width).max((fq.num_quads() + n / 2) / n);
     let ratio = len_b / len_a;
     let mut bld = Builder::new(fq, face, fid);
     // row j (0: loop a, m: loop b), sector k
