@@ -18,6 +18,12 @@
 //! irregular vertex, as few as its boundary allows: three grids, one per
 //! corner, around a centre of valence 3 ([`three_sided_patch`]).
 //!
+//! An annulus (two loops, every boundary vertex straight, the same edge
+//! count on both) has a fully regular ring grid ([`ring_grid`]); without it
+//! the operations spent most of the regular method's time on such faces of
+//! the industrial corpus (a flange's face around its bore, a washer's side)
+//! and still left irregular vertices.
+//!
 //! The boundary vertices are the input's own (same local ids, untouched), so
 //! the face stays watertight with its neighbours.
 
@@ -28,11 +34,11 @@ use mesh::NodeClass;
 
 use crate::core::face_quads::{FaceQuads, QVertex};
 
-/// The boundary of `fq`'s live quads as one loop of local vertex ids,
-/// following the directed boundary edges (the quads on the left), starting
-/// at the smallest id; `None` when the boundary touches itself or is
-/// several loops.
-pub fn boundary_loop(fq: &FaceQuads) -> Option<Vec<u32>> {
+/// The boundary loops of `fq`'s live quads, each following the directed
+/// boundary edges (the quads on the left) from its smallest vertex id, in
+/// order of those ids; `None` when the boundary touches itself (a vertex
+/// with two outgoing boundary edges) or a loop does not close.
+pub fn boundary_loops(fq: &FaceQuads) -> Option<Vec<Vec<u32>>> {
     let mut directed = std::collections::BTreeSet::new();
     for q in fq.live_quads() {
         let r = fq.quads[q as usize];
@@ -46,20 +52,37 @@ pub fn boundary_loop(fq: &FaceQuads) -> Option<Vec<u32>> {
             return None; // the boundary touches itself at a
         }
     }
-    let start = *next.keys().next()?;
-    let mut lp = vec![start];
-    let mut v = next[&start];
-    while v != start {
-        if lp.len() > next.len() {
-            return None;
+    let mut loops = Vec::new();
+    let mut seen = std::collections::BTreeSet::new();
+    for &start in next.keys() {
+        if seen.contains(&start) {
+            continue;
         }
-        lp.push(v);
-        v = *next.get(&v)?;
+        let mut lp = vec![start];
+        seen.insert(start);
+        let mut v = next[&start];
+        while v != start {
+            if lp.len() > next.len() || !seen.insert(v) {
+                return None;
+            }
+            lp.push(v);
+            v = *next.get(&v)?;
+        }
+        loops.push(lp);
     }
-    if lp.len() != next.len() {
-        return None; // several loops
+    Some(loops)
+}
+
+/// The boundary of `fq`'s live quads as one loop of local vertex ids,
+/// following the directed boundary edges (the quads on the left), starting
+/// at the smallest id; `None` when the boundary touches itself or is
+/// several loops.
+pub fn boundary_loop(fq: &FaceQuads) -> Option<Vec<u32>> {
+    let mut loops = boundary_loops(fq)?;
+    if loops.len() != 1 {
+        return None;
     }
-    Some(lp)
+    loops.pop()
 }
 
 /// Edge counts of the 4 sides of a face whose boundary is one loop with 4
@@ -222,6 +245,104 @@ pub fn three_sided_patch(fq: &FaceQuads, face: &Face, fid: FaceId) -> Option<Fac
         quads.extend(b.fill(&bottom, &right, &top, &left)?);
     }
     FaceQuads::new(b.verts, quads)
+}
+
+/// The two boundary loops of an annulus whose every boundary vertex is
+/// straight (ideal valence 3, an open fan, no pole), with the same edge
+/// count `n ≥ 3` on both and every fixed vertex on them; `None` otherwise.
+pub fn ring_sides(fq: &FaceQuads) -> Option<[Vec<u32>; 2]> {
+    let mut loops = boundary_loops(fq)?;
+    if loops.len() != 2 || loops[0].len() != loops[1].len() || loops[0].len() < 3 {
+        return None;
+    }
+    let fixed_alive = fq.verts.iter().filter(|x| x.alive && x.fixed).count();
+    if fixed_alive != 2 * loops[0].len() {
+        return None; // a fixed vertex off the loops (a pole, a hard point)
+    }
+    if loops.iter().flatten().any(|&v| {
+        let x = &fq.verts[v as usize];
+        x.pole.is_some() || x.edge_offset != 1 || x.ideal != 3
+    }) {
+        return None;
+    }
+    let b = loops.pop()?;
+    let a = loops.pop()?;
+    Some([a, b])
+}
+
+/// The ring grid of an annulus ([`ring_sides`]): `n` sectors joining the
+/// loops' vertices one to one, `m` rows between them, every vertex regular
+/// (ours, as `direct::ring_face` meshes such a face from its curves). Loop
+/// `b` is walked forward and loop `a` backward (both run with the quads on
+/// their left), from the offset that puts matched vertices nearest in
+/// (u, v); the rows' geometric spacing is `direct::ring_face::row_fraction`,
+/// `m` is `direct::ring_face::ring_rows` (square cells on a circular annulus)
+/// but at least the input's quads over `n`; interior (u, v) on the straight (u, v) segment between matched
+/// vertices. Vertex slots as [`structured_grid`]. `None` when the face is
+/// not such an annulus or a position cannot be evaluated. The result is not
+/// checked for validity.
+pub fn ring_grid(fq: &FaceQuads, face: &Face, fid: FaceId) -> Option<FaceQuads> {
+    use crate::direct::ring_face::{ring_rows, row_fraction};
+    let [a, b] = ring_sides(fq)?;
+    let n = a.len();
+    let x = |v: u32| &fq.verts[v as usize];
+    // loop a's vertex matched with b[k] at offset r
+    let at = |r: usize, k: usize| a[(r + n - k % n) % n];
+    let dist2 = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
+    let cost = |r: usize| -> f64 {
+        (0..n)
+            .map(|k| dist2(x(b[k]).uv, x(at(r, k)).uv_toward(x(b[k]).uv)))
+            .sum()
+    };
+    let rotation = (0..n)
+        .map(|r| (r, cost(r)))
+        .min_by(|p, q| p.1.total_cmp(&q.1))
+        .map_or(0, |(r, _)| r);
+    let closed = |lp: &[u32]| -> f64 {
+        (0..lp.len())
+            .map(|k| geometry::vec3::dist(x(lp[k]).xyz, x(lp[(k + 1) % lp.len()]).xyz))
+            .sum()
+    };
+    let (len_a, len_b) = (closed(&a), closed(&b));
+    let width = (0..n)
+        .map(|k| geometry::vec3::dist(x(b[k]).xyz, x(at(rotation, k)).xyz))
+        .sum::<f64>()
+        / n as f64;
+    if !(len_a > 0.0 && len_b > 0.0 && width > 0.0) {
+        return None;
+    }
+    // square cells, but never fewer rows than the input's quads fill (a
+    // coarser ring lowers no irregular count, only the interior vertices)
+    let m = ring_rows(n, len_a, len_b, width).max((fq.num_quads() + n / 2) / n);
+    let ratio = len_b / len_a;
+    let mut bld = Builder::new(fq, face, fid);
+    // row j (0: loop a, m: loop b), sector k
+    let mut id = vec![u32::MAX; (m + 1) * n];
+    for k in 0..n {
+        let (pa, pb) = (at(rotation, k), b[k]);
+        let (ua, ub) = (x(pa).uv_toward(x(pb).uv), x(pb).uv);
+        id[k] = pa;
+        id[m * n + k] = pb;
+        for j in 1..m {
+            let t = row_fraction(j, m, ratio);
+            id[j * n + k] = bld.add([ua[0] + t * (ub[0] - ua[0]), ua[1] + t * (ub[1] - ua[1])])?;
+        }
+    }
+    let quads = (0..m)
+        .flat_map(|j| {
+            let id = &id;
+            (0..n).map(move |k| {
+                let k1 = (k + 1) % n;
+                [
+                    id[(j + 1) * n + k],
+                    id[(j + 1) * n + k1],
+                    id[j * n + k1],
+                    id[j * n + k],
+                ]
+            })
+        })
+        .collect();
+    FaceQuads::new(bld.verts, quads)
 }
 
 /// Builds the vertices of a new patch of a face: the input's slots (fixed

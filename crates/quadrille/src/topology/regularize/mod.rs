@@ -23,7 +23,8 @@
 //! Beyond the paper, three things decide most of what is left:
 //! - **structured patches** ([`grid`]): a four-sided face whose opposite
 //!   sides have equal edge counts gets its `n1 × n2` grid, a three-sided face
-//!   three grids around a valence-3 centre, when every quad is valid (the
+//!   three grids around a valence-3 centre, an annulus with equal loop
+//!   counts its ring grid, when every quad is valid (the
 //!   operations do not reach them from the split, whose interior is often
 //!   2–3 times denser than its boundary);
 //! - the **quad count** ([`QuadTarget`]): the split's quads are about 1.5 times
@@ -133,7 +134,8 @@ pub struct RegularizeOptions {
     /// On a four-sided face whose opposite sides have equal edge counts, try
     /// the structured `n1 × n2` grid ([`grid::structured_grid`], fully
     /// regular) first, on a three-sided face the three grids around a
-    /// valence-3 centre ([`grid::three_sided_patch`]), and keep it when all
+    /// valence-3 centre ([`grid::three_sided_patch`]), on an annulus with
+    /// equal loop counts its ring grid ([`grid::ring_grid`]), and keep it when all
     /// its quads are valid and no more are inverted against the CAD normals
     /// than in the input; the topological phase then does not run on that
     /// face.
@@ -376,6 +378,12 @@ pub fn regularize_face(
     if opts.structured_grids && !opts.strict_validity {
         if let Some((g, invalid_before)) = grid_candidate(face, fid, fq) {
             *fq = g;
+            tracing::debug!(
+                "regularize face {}: {} quads in, a structured patch of {} quads",
+                fid.0 + 1,
+                before.0,
+                fq.num_quads()
+            );
             let window = if opts.redistribute {
                 redistribute::redistribute(fq, face, opts.window, opts.target, opts.angle_step)
             } else {
@@ -591,15 +599,17 @@ pub fn regularize_face(
 
 /// The structured grid of a four-sided face ([`grid::structured_grid`]), or
 /// else the three-grid patch of a three-sided face
-/// ([`grid::three_sided_patch`]), with the input's invalid quad count, when
+/// ([`grid::three_sided_patch`]), or else the ring grid of an annulus
+/// ([`grid::ring_grid`]), with the input's invalid quad count, when
 /// it is worth keeping: fewer irregular vertices than the input and no more
 /// than the magnitude of the face's index sum (as regular as the boundary
 /// allows), every quad valid for the base window (after the initial repair by
 /// repositioning), and no more quads inverted against the CAD normals than
 /// the input.
 fn grid_candidate(face: &Face, fid: FaceId, fq: &FaceQuads) -> Option<(FaceQuads, usize)> {
-    let mut g =
-        grid::structured_grid(fq, face, fid).or_else(|| grid::three_sided_patch(fq, face, fid))?;
+    let mut g = grid::structured_grid(fq, face, fid)
+        .or_else(|| grid::three_sided_patch(fq, face, fid))
+        .or_else(|| grid::ring_grid(fq, face, fid))?;
     if g.irregular_count() >= fq.irregular_count()
         || g.irregular_count() as i64 > index_sum(fq).abs()
     {

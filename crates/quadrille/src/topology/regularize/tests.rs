@@ -1152,6 +1152,89 @@ fn a_three_sided_face_gets_three_grids_around_a_valence_3_centre() {
     assert!(three_sided_patch(&four, face, FaceId(0)).is_none());
 }
 
+/// The triangle split of a planar annulus between concentric 12-gons of
+/// radii 1 and 2 centred at (4, 4), one triangle pair per sector: 72 quads,
+/// both loops of 24 edges.
+fn split_annulus() -> FaceQuads {
+    let n = 12u32;
+    let at = |r: f64, k: u32| {
+        let a = std::f64::consts::TAU * k as f64 / n as f64;
+        [4.0 + r * a.cos(), 4.0 + r * a.sin()]
+    };
+    let mut pts: Vec<[f64; 2]> = (0..n).map(|k| at(2.0, k)).collect();
+    pts.extend((0..n).map(|k| at(1.0, k)));
+    let tris: Vec<[u32; 3]> = (0..n)
+        .flat_map(|k| {
+            let k1 = (k + 1) % n;
+            [[k, k1, n + k1], [k, n + k1, n + k]]
+        })
+        .collect();
+    let quads = split_in_quads(&mut pts, &tris);
+    planar(&pts, quads)
+}
+
+#[test]
+fn an_annulus_with_equal_loop_counts_gets_its_ring_grid() {
+    use super::grid::{ring_grid, ring_sides};
+    let m = plane(8.0);
+    let face = &m.faces[0];
+    let fq = split_annulus();
+    assert_eq!(fq.num_quads(), 72);
+    assert!(fq.irregular_count() > 0);
+    assert_eq!(index_sum(&fq), 0);
+    let [a, b] = ring_sides(&fq).expect("an annulus");
+    assert_eq!((a.len(), b.len()), (24, 24));
+    assert!(super::grid::boundary_loop(&fq).is_none());
+    let g = ring_grid(&fq, face, FaceId(0)).expect("a ring grid");
+    // 24 sectors; rows: n w / L̄ = 24 · 1 / (2π / ln 2) = 2.65 → 3
+    assert_eq!(g.num_quads(), 72);
+    assert_eq!(g.num_verts(), 48 + 48);
+    assert_eq!(g.irregular_count(), 0);
+    assert_eq!(boundary_edges(&g), boundary_edges(&fq));
+    assert_sound(&fq, &g, face);
+    // the rows are log-polar: matched nodes at equal angles, row j at 2^(j/3)
+    // times the loop nodes' radius (1 at the 12-gons' corners, cos 15° at
+    // their chords' midpoints)
+    let mut radii: Vec<f64> = g
+        .verts
+        .iter()
+        .filter(|x| x.alive && !x.fixed)
+        .map(|x| ((x.uv[0] - 4.0).powi(2) + (x.uv[1] - 4.0).powi(2)).sqrt())
+        .collect();
+    radii.sort_by(f64::total_cmp);
+    let mid = 15f64.to_radians().cos();
+    for (i, r) in radii.iter().enumerate() {
+        let row = 2f64.powf(if i < 24 { 1.0 / 3.0 } else { 2.0 / 3.0 });
+        let want = row * if i % 24 < 12 { mid } else { 1.0 };
+        assert!((r - want).abs() < 1e-9, "{i}: {r} {want}");
+    }
+    // the whole method takes it: no operation, no work, nothing irregular
+    let mut done = fq.clone();
+    let rep = regularize_face(face, FaceId(0), &mut done, &RegularizeOptions::default());
+    assert_eq!((rep.quads, rep.irregular.1, rep.invalid.1), ((72, 72), 0, 0));
+    assert_eq!((rep.ops, rep.work), (OpCounts::default(), 0));
+    assert_sound(&fq, &done, face);
+    // without structured patches the operations search (and spend work)
+    let mut local = fq.clone();
+    let rep = regularize_face(
+        face,
+        FaceId(0),
+        &mut local,
+        &RegularizeOptions {
+            structured_grids: false,
+            sweep_orders: 1,
+            ..Default::default()
+        },
+    );
+    assert!(rep.work > 0, "{rep:?}");
+    // a corner on a loop, or a disk: no ring grid
+    let mut corner = fq.clone();
+    corner.verts[a[0] as usize].ideal = 2;
+    assert!(ring_sides(&corner).is_none());
+    assert!(ring_grid(&corner, face, FaceId(0)).is_none());
+    assert!(ring_sides(&split_patch(3)).is_none());
+}
+
 #[test]
 fn boundary_angles_at_the_225_degree_threshold_count_as_straight() {
     // a 4 × 4 grid whose boundary vertices get hand-set angles through their
