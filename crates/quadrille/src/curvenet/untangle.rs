@@ -88,7 +88,7 @@ pub fn untangle(
             let before = worst_at(nodes, normals, v);
             let (old, old_normal) = (nodes[v], normals[v]);
             for t in STEPS {
-                let (p, normal) = place(vec3::add(old, vec3::scale(vec3::sub(target, old), t)));
+                let (p, normal) = place(vec3::lerp(old, target, t));
                 nodes[v] = p;
                 normals[v] = normal;
                 if worst_at(nodes, normals, v) > before {

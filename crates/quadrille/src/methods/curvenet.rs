@@ -289,13 +289,14 @@ pub(super) fn mesh_cycle(
     for _ in 0..MAX_COUNT_ROUNDS {
         let mut leaves = Vec::new();
         let mut summary = CycleSummary::default();
-        // Untangling is the last resort: a cycle whose layouts all fold
-        // (as judged without it) is meshed again with it, so that a few
-        // thin inverted quads do not pre-empt the cut, ring or split routes.
-        let env = PartEnv { h, least: &least, weld, rings, untangle: false };
+        // Untangling by count is the last resort: a cycle whose layouts all
+        // fold (untangled only up to the share) is meshed again with it, so
+        // that a few thin inverted quads of a small layout do not pre-empt
+        // the cut, ring or split routes.
+        let env = PartEnv { h, least: &least, weld, rings, untangle_by_count: false };
         if mesh_part(loops, &env, opts, false, 0, &mut leaves, &mut summary).is_err() {
             (leaves, summary) = (Vec::new(), CycleSummary::default());
-            let env = PartEnv { untangle: true, ..env };
+            let env = PartEnv { untangle_by_count: true, ..env };
             mesh_part(loops, &env, opts, false, 0, &mut leaves, &mut summary)?;
         }
         let mut counts: BTreeMap<[[i64; 3]; 2], Vec<usize>> = BTreeMap::new();
@@ -339,9 +340,10 @@ struct PartEnv<'a> {
     least: &'a BTreeMap<[[i64; 3]; 2], usize>,
     weld: &'a Welder,
     rings: bool,
-    /// Whether a layout with a few inverted quads is untangled before it is
-    /// refused ([`unfolded`]).
-    untangle: bool,
+    /// Whether a layout with up to [`UNTANGLE_MAX_QUADS`] inverted quads is
+    /// untangled before it is refused, besides one with up to
+    /// [`UNTANGLE_MAX_SHARE`] of its quads inverted ([`unfolded`]).
+    untangle_by_count: bool,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -354,7 +356,7 @@ fn mesh_part(
     leaves: &mut Vec<Leaf>,
     summary: &mut CycleSummary,
 ) -> Result<(), String> {
-    let PartEnv { h, least, weld, rings, untangle } = *env;
+    let PartEnv { h, least, weld, rings, untangle_by_count } = *env;
     let popts = PairingOptions { closing_edge_unsplittable: closing, ..opts.clone() };
     let facing = Facing::of(loops);
     // a pairing's quads with the network's interval minimums, refused when folded
@@ -362,7 +364,7 @@ fn mesh_part(
         let minimums: Vec<usize> = (0..paired.starts.len())
             .map(|s| least.get(&segment_key(paired, s, weld)).copied().unwrap_or(0))
             .collect();
-        quadrangulate_with_minimums(paired, h, &minimums).and_then(|q| unfolded(q, &facing, untangle))
+        quadrangulate_with_minimums(paired, h, &minimums).and_then(|q| unfolded(q, &facing, untangle_by_count))
     };
     // Hole splits are not counted against `MAX_CUT_DEPTH`: each leaves
     // fewer holes in both halves, so they end.
@@ -467,7 +469,7 @@ fn mesh_part(
                 .map(|s| least.get(&segment_key(&mid, s, weld)).copied().unwrap_or(0))
                 .collect();
             let q = quadrangulate_with_minimums(&mid, h, &minimums)
-                .and_then(|q| unfolded(q, &facing, untangle))
+                .and_then(|q| unfolded(q, &facing, untangle_by_count))
                 .map_err(|e| format!("{first}; the midpoint layout failed too: {e}"))?;
             summary.midpoint_layout = true;
             summary.notes.push(format!("layout failed ({first}): midpoint layout used (Fig. 5 top)"));
@@ -664,22 +666,26 @@ impl Facing {
     }
 }
 
-/// A layout with at most this many inverted quads, or this share of its
-/// quads, is untangled (`curvenet::untangle`) before it is refused; more
-/// is a layout that folds, not a few thin quads.
-const UNTANGLE_MAX_QUADS: usize = 8;
-/// See [`UNTANGLE_MAX_QUADS`].
+/// A layout with at most this share of its quads inverted, or (when the
+/// caller allows it, [`unfolded`]'s `by_count`) at most
+/// [`UNTANGLE_MAX_QUADS`], is untangled (`curvenet::untangle`) before it is
+/// refused; more is a layout that folds, not a few thin quads. The share
+/// is allowed on every try: on i02o it keeps the 3-hole plate's network
+/// counts (140 open edges; 162 when the share waits for the second pass).
 const UNTANGLE_MAX_SHARE: f64 = 0.05;
+/// See [`UNTANGLE_MAX_SHARE`].
+const UNTANGLE_MAX_QUADS: usize = 8;
 
 /// `q` with its interior nodes on the cycle's CAD surface, if it has one
 /// ([`Facing::surface_nodes`]), when none of its quads is inverted
 /// ([`Facing::inverted`]); else `q` as sampled (Coons), when none of its
 /// quads is inverted with the same CAD normals (a node moved onto the
 /// surface can fold a thin quad at the boundary); else, when only a few
-/// quads are inverted, `q` with the free nodes around them untangled
-/// (`curvenet::untangle`, on the surface) when that leaves none and
-/// `untangle_few` allows it; else an error naming the count.
-pub(super) fn unfolded(mut q: CycleQuads, facing: &Facing, untangle_few: bool) -> Result<CycleQuads, LayoutError> {
+/// quads are inverted (at most [`UNTANGLE_MAX_SHARE`] of them, or at most
+/// [`UNTANGLE_MAX_QUADS`] when `by_count`), `q` with the free nodes around
+/// them untangled (`curvenet::untangle`, on the surface) when that leaves
+/// none; else an error naming the count.
+pub(super) fn unfolded(mut q: CycleQuads, facing: &Facing, by_count: bool) -> Result<CycleQuads, LayoutError> {
     let folded_at = |nodes: &[Vec3], normals: Option<&Vec<Option<Vec3>>>| {
         q.quads
             .iter()
@@ -687,7 +693,7 @@ pub(super) fn unfolded(mut q: CycleQuads, facing: &Facing, untangle_few: bool) -
             .count()
     };
     let few = |folded: usize| {
-        untangle_few && folded <= UNTANGLE_MAX_QUADS || folded as f64 <= UNTANGLE_MAX_SHARE * q.quads.len() as f64
+        folded as f64 <= UNTANGLE_MAX_SHARE * q.quads.len() as f64 || by_count && folded <= UNTANGLE_MAX_QUADS
     };
     let untangled = |mut nodes: Vec<Vec3>, mut normals: Vec<Option<Vec3>>| {
         let place = |p: Vec3| facing.place(p);
