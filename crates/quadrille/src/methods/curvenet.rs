@@ -20,18 +20,19 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use geometry::vec3::{self, Vec3};
+use geometry::vec3::Vec3;
 use mesh::QuadMesh;
 
 use crate::core::work_queue::map_in_order;
 use super::curvenet_assemble::{assemble, Welder};
+use super::curvenet_facing::Facing;
+use super::curvenet_facing::unfolded;
 use crate::curvenet::cut::find_cut;
 pub use crate::curvenet::midpoint::midpoint_pairing;
 use crate::curvenet::ring::{pair_ring, split_annulus};
 use crate::curvenet::sample::quadrangulate_with_minimums;
-use crate::curvenet::untangle::untangle;
 use crate::curvenet::{
-    pair_cycle, CurveNetError, CurveNetwork, CycleLoops, CycleQuads, CycleSurface, LayoutError,
+    pair_cycle, CurveNetError, CurveNetwork, CycleLoops, CycleQuads, LayoutError,
     PairedCycle, PairingOptions,
 };
 
@@ -560,179 +561,6 @@ fn absorb(summary: &mut CycleSummary, part: CycleSummary) {
     summary.notes.extend(part.notes);
 }
 
-/// Quads whose normal turns more than 120° from the cycle's Newell normal
-/// fold over (the cycle has no such face: one cycle spans less than a
-/// hemisphere around its Newell normal).
-const FOLDED_COS: f64 = -0.5;
-
-/// A cycle within this share of its diameter of its mean plane is planar:
-/// its quads must all face the plane's normal.
-const PLANAR: f64 = 1e-6;
-
-/// Which way a cycle's quads must face: the CAD normals of its face when it
-/// bounds one (every quad's corner SICN with them ≥ 0, the judge of `stats
-/// --cad`); else its Newell normal, and whether the cycle is planar (then
-/// every quad faces it, else none turns more than 120° away).
-#[derive(Clone, Debug)]
-pub(super) struct Facing {
-    normal: Option<Vec3>,
-    planar: bool,
-    surface: Option<CycleSurface>,
-}
-
-impl Facing {
-    pub(super) fn of(loops: &CycleLoops) -> Self {
-        let points = &loops.outer.points;
-        let n = points.len();
-        let normal = vec3::normalize(crate::curvenet::geometry::newell(points));
-        let planar = normal.is_some_and(|u| {
-            let centre = vec3::scale(points.iter().fold([0.0; 3], |a, &p| vec3::add(a, p)), 1.0 / n as f64);
-            let size = points.iter().map(|&p| vec3::dist(p, centre)).fold(0.0, f64::max);
-            points.iter().all(|&p| vec3::dot(vec3::sub(p, centre), u).abs() <= PLANAR * size)
-        });
-        Facing { normal, planar, surface: loops.surface.clone() }
-    }
-
-    /// On a CAD face: the nodes of `q` with its interior ones moved to
-    /// their closest points on the surface (the Coons patches span the
-    /// boundary curves, not the face: on a cylinder they cut through it),
-    /// and the CAD normal at every node (`None` where the projection fails
-    /// or the normal is undefined). `None` without a surface.
-    fn surface_nodes(&self, q: &CycleQuads) -> Option<(Vec<Vec3>, Vec<Option<Vec3>>)> {
-        let surface = self.surface.as_ref()?;
-        let mut nodes = q.nodes.clone();
-        let mut normals = Vec::with_capacity(q.nodes.len());
-        for (v, node) in nodes.iter_mut().enumerate() {
-            let found = surface.closest(*node);
-            if let Some((on, _)) = found {
-                if !q.boundary[v] {
-                    *node = on;
-                }
-            }
-            normals.push(found.map(|(_, n)| n));
-        }
-        Some((nodes, normals))
-    }
-
-    /// Where a moved node goes: its closest point on the CAD surface and
-    /// the face's normal there; without a surface (or where the projection
-    /// fails) the point itself and no normal.
-    fn place(&self, p: Vec3) -> (Vec3, Option<Vec3>) {
-        match self.surface.as_ref().and_then(|s| s.closest(p)) {
-            Some((on, n)) => (on, Some(n)),
-            None => (p, None),
-        }
-    }
-
-    /// A quad's quality for untangling, valid when > 0 and ≤ 0 wherever
-    /// [`Facing::inverted`] holds: the least of its element SICN and its
-    /// corner SICN with the CAD normals at its corners (all known), else
-    /// with the plane's normal (planar cycle), else its facing margin
-    /// (cosine to the Newell normal above −0.5).
-    fn quality(&self, p: &[Vec3; 4], cad: [Option<Vec3>; 4]) -> f64 {
-        let element = mesh::quality::quad_element_sicn(p);
-        let facing = if let [Some(a), Some(b), Some(c), Some(d)] = cad {
-            mesh::quality::quad_sicn(p, &[a, b, c, d])
-        } else {
-            match self.normal {
-                Some(u) if self.planar => mesh::quality::quad_sicn(p, &[u; 4]),
-                Some(u) => {
-                    let n = vec3::cross(vec3::sub(p[2], p[0]), vec3::sub(p[3], p[1]));
-                    vec3::normalize(n).map_or(-1.0, |n| vec3::dot(n, u) - FOLDED_COS)
-                }
-                None => f64::INFINITY,
-            }
-        };
-        element.min(facing)
-    }
-
-    /// True when the quad `p` is inverted: by the element geometry (Gmsh's
-    /// `minSICN` sign); with the CAD normals `cad` at its corners, by a
-    /// negative corner SICN; else facing away from the cycle (any amount on
-    /// a planar cycle, over 120° on a curved one).
-    fn inverted(&self, p: &[Vec3; 4], cad: Option<[Option<Vec3>; 4]>) -> bool {
-        if mesh::quality::quad_element_sicn(p) < 0.0 {
-            return true;
-        }
-        if let Some([Some(a), Some(b), Some(c), Some(d)]) = cad {
-            return mesh::quality::quad_sicn(p, &[a, b, c, d]) < 0.0;
-        }
-        let Some(u) = self.normal else { return false };
-        if self.planar {
-            return mesh::quality::quad_sicn(p, &[u; 4]) <= 0.0;
-        }
-        let n = vec3::cross(vec3::sub(p[2], p[0]), vec3::sub(p[3], p[1]));
-        vec3::normalize(n).is_some_and(|n| vec3::dot(n, u) < FOLDED_COS)
-    }
-}
-
-/// A layout with at most this share of its quads inverted, or (when the
-/// caller allows it, [`unfolded`]'s `by_count`) at most
-/// [`UNTANGLE_MAX_QUADS`], is untangled (`curvenet::untangle`) before it is
-/// refused; more is a layout that folds, not a few thin quads. The share
-/// is allowed on every try: on i02o it keeps the 3-hole plate's network
-/// counts (140 open edges; 162 when the share waits for the second pass).
-const UNTANGLE_MAX_SHARE: f64 = 0.05;
-/// See [`UNTANGLE_MAX_SHARE`].
-const UNTANGLE_MAX_QUADS: usize = 8;
-
-/// `q` with its interior nodes on the cycle's CAD surface, if it has one
-/// ([`Facing::surface_nodes`]), when none of its quads is inverted
-/// ([`Facing::inverted`]); else `q` as sampled (Coons), when none of its
-/// quads is inverted with the same CAD normals (a node moved onto the
-/// surface can fold a thin quad at the boundary); else, when only a few
-/// quads are inverted (at most [`UNTANGLE_MAX_SHARE`] of them, or at most
-/// [`UNTANGLE_MAX_QUADS`] when `by_count`), `q` with the free nodes around
-/// them untangled (`curvenet::untangle`, on the surface) when that leaves
-/// none; else an error naming the count.
-pub(super) fn unfolded(mut q: CycleQuads, facing: &Facing, by_count: bool) -> Result<CycleQuads, LayoutError> {
-    let folded_at = |nodes: &[Vec3], normals: Option<&Vec<Option<Vec3>>>| {
-        q.quads
-            .iter()
-            .filter(|quad| facing.inverted(&quad.map(|v| nodes[v]), normals.map(|n| quad.map(|v| n[v]))))
-            .count()
-    };
-    let few = |folded: usize| {
-        folded as f64 <= UNTANGLE_MAX_SHARE * q.quads.len() as f64 || by_count && folded <= UNTANGLE_MAX_QUADS
-    };
-    let untangled = |mut nodes: Vec<Vec3>, mut normals: Vec<Option<Vec3>>| {
-        let place = |p: Vec3| facing.place(p);
-        let quality = |p: &[Vec3; 4], n: [Option<Vec3>; 4]| facing.quality(p, n);
-        untangle(&mut nodes, &mut normals, &q.quads, &q.boundary, &place, &quality);
-        (nodes, normals)
-    };
-    let Some((on_surface, normals)) = facing.surface_nodes(&q) else {
-        let folded = folded_at(&q.nodes, None);
-        if folded == 0 {
-            return Ok(q);
-        }
-        if few(folded) {
-            let (nodes, _) = untangled(q.nodes.clone(), vec![None; q.nodes.len()]);
-            if folded_at(&nodes, None) == 0 {
-                q.nodes = nodes;
-                return Ok(q);
-            }
-        }
-        return Err(LayoutError::Folded { quads: folded, of: q.quads.len() });
-    };
-    let folded = folded_at(&on_surface, Some(&normals));
-    if folded == 0 {
-        q.nodes = on_surface;
-        return Ok(q);
-    }
-    if folded_at(&q.nodes, Some(&normals)) == 0 {
-        return Ok(q);
-    }
-    if few(folded) {
-        let (nodes, normals) = untangled(on_surface, normals);
-        if folded_at(&nodes, Some(&normals)) == 0 {
-            q.nodes = nodes;
-            return Ok(q);
-        }
-    }
-    Err(LayoutError::Folded { quads: folded, of: q.quads.len() })
-}
-
 /// Segment `s`'s end points, snapped and sorted: the same key for a cut or
 /// connector seen from either side.
 pub(super) fn segment_key(paired: &PairedCycle, s: usize, weld: &Welder) -> [[i64; 3]; 2] {
@@ -762,6 +590,7 @@ fn unsplittable_counts(leaf: &Leaf, weld: &Welder) -> Vec<([[i64; 3]; 2], usize)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use geometry::vec3;
     use crate::curvenet::fixtures;
     use crate::curvenet::parse_json;
 

@@ -27,8 +27,9 @@ use crate::curvenet::tjunction::{
 };
 use crate::curvenet::{CurveNetwork, PairedCycle};
 
-use super::curvenet::{mesh_cycle, segment_key, unfolded, CurvesOptions, CurvesReport, CycleSummary, Leaf};
+use super::curvenet::{mesh_cycle, segment_key, CurvesOptions, CurvesReport, CycleSummary, Leaf};
 use super::curvenet_assemble::Welder;
+use super::curvenet_facing::unfolded;
 
 /// What the network stage did.
 #[derive(Clone, Debug, Default)]

@@ -25,6 +25,7 @@ pub(crate) mod baseline;
 pub(crate) mod coarse;
 pub mod curvenet;
 mod curvenet_assemble;
+mod curvenet_facing;
 pub mod curvenet_network;
 pub(crate) mod driver;
 pub(crate) mod guard;
