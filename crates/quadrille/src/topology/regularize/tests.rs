@@ -563,6 +563,24 @@ fn min_fan_follows_the_spec_per_kind_of_vertex() {
     assert_eq!(min_fan(&p), 3);
 }
 
+/// A structured patch `g` made for `fq`: `quads` quads, `verts` vertices,
+/// `irregular` irregular ones, the same boundary edges, and sound
+/// ([`assert_sound`]).
+fn assert_patch(
+    fq: &FaceQuads,
+    g: &FaceQuads,
+    face: &geometry::Face,
+    quads: usize,
+    verts: usize,
+    irregular: usize,
+) {
+    assert_eq!(g.num_quads(), quads);
+    assert_eq!(g.num_verts(), verts);
+    assert_eq!(g.irregular_count(), irregular);
+    assert_eq!(boundary_edges(g), boundary_edges(fq));
+    assert_sound(fq, g, face);
+}
+
 /// Every live quad valid, the structure consistent, V − Q and the fixed
 /// vertices (bits, class, ideal) as in `orig`.
 fn assert_sound(orig: &FaceQuads, fq: &FaceQuads, face: &geometry::Face) {
@@ -934,11 +952,7 @@ fn a_four_sided_face_with_matching_sides_gets_its_structured_grid() {
     assert_eq!(lp.len(), 48);
     assert_eq!(fq.verts[lp[0] as usize].ideal, 2);
     let g = structured_grid(&fq, face, FaceId(0)).expect("a grid");
-    assert_eq!(g.num_quads(), 144);
-    assert_eq!(g.num_verts(), 13 * 13);
-    assert_eq!(g.irregular_count(), 0);
-    assert_eq!(boundary_edges(&g), boundary_edges(&fq));
-    assert_sound(&fq, &g, face);
+    assert_patch(&fq, &g, face, 144, 13 * 13, 0);
     // on the unit square the interpolated nodes are the integer half-steps
     for v in 0..g.verts.len() {
         let x = &g.verts[v];
@@ -1122,16 +1136,12 @@ fn a_three_sided_face_gets_three_grids_around_a_valence_3_centre() {
     assert!(super::grid::four_sided_sides(&fq).is_none());
     let g = three_sided_patch(&fq, face, FaceId(0)).expect("a patch");
     // 3 grids of 2 × 2: 12 quads, 7 interior vertices, only the centre irregular
-    assert_eq!(g.num_quads(), 12);
-    assert_eq!(g.num_verts(), 12 + 7);
-    assert_eq!(g.irregular_count(), 1);
+    assert_patch(&fq, &g, face, 12, 12 + 7, 1);
     let centre = (0..g.verts.len() as u32)
         .find(|&v| g.verts[v as usize].alive && g.is_irregular(v))
         .unwrap();
     assert!(!g.verts[centre as usize].fixed);
     assert_eq!(g.valence(centre), 3);
-    assert_eq!(boundary_edges(&g), boundary_edges(&fq));
-    assert_sound(&fq, &g, face);
     // the index sum 4 − 3 corners = 1 allows no better: the method takes it
     assert_eq!(index_sum(&fq), 1);
     let mut done = fq.clone();
@@ -1187,11 +1197,7 @@ fn an_annulus_with_equal_loop_counts_gets_its_ring_grid() {
     assert!(super::grid::boundary_loop(&fq).is_none());
     let g = ring_grid(&fq, face, FaceId(0)).expect("a ring grid");
     // 24 sectors; rows: n w / L̄ = 24 · 1 / (2π / ln 2) = 2.65 → 3
-    assert_eq!(g.num_quads(), 72);
-    assert_eq!(g.num_verts(), 48 + 48);
-    assert_eq!(g.irregular_count(), 0);
-    assert_eq!(boundary_edges(&g), boundary_edges(&fq));
-    assert_sound(&fq, &g, face);
+    assert_patch(&fq, &g, face, 72, 48 + 48, 0);
     // the rows are log-polar: matched nodes at equal angles, row j at 2^(j/3)
     // times the loop nodes' radius (1 at the 12-gons' corners, cos 15° at
     // their chords' midpoints)
