@@ -6,12 +6,9 @@
 //! patches cut through the cylinder. With the face's surface in the cycle,
 //! bridge directions are n_CAD × tangent: along the axis, across the band.
 
-use std::f64::consts::PI;
-use std::sync::Arc;
-
-use geometry::primitives::{Circle, Cylinder, Line, Line2d};
+use geometry::primitives;
 use geometry::vec3::{self, Vec3};
-use geometry::{Bounds2, Corner, CornerId, CurveEntity, CurveId, CurveUse, Face, Loop, Model};
+use geometry::Model;
 use quadrille::curvenet::{network_from_model, pair_cycle, PairedCycle, PairingOptions};
 use quadrille::methods::curvenet::{mesh_curve_network, CurvesOptions};
 
@@ -19,75 +16,11 @@ use quadrille::methods::curvenet::{mesh_curve_network, CurvesOptions};
 const R: f64 = 2.37;
 const H: f64 = 0.76;
 
-/// The half-cylinder x² + y² = R², y ≥ 0, 0 ≤ z ≤ H, normal outward: one
-/// face bounded by the arc at z = 0 (curve 0), the line at x = −R (curve 1),
-/// the arc at z = H (curve 2, used backwards) and the line at x = R
-/// (curve 3, used backwards).
+/// The half-cylinder x² + y² = R², y ≥ 0, 0 ≤ z ≤ H, normal outward
+/// ([`primitives::half_cylinder`]: the arc at z = 0 is curve 0, the line at
+/// x = −R curve 1, the arc at z = H curve 2, the line at x = R curve 3).
 fn half_cylinder() -> Model {
-    let (x, y) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
-    let corners = [[R, 0.0, 0.0], [-R, 0.0, 0.0], [-R, 0.0, H], [R, 0.0, H]]
-        .map(|point| Corner { point })
-        .to_vec();
-    let arc = |z: f64| Circle {
-        center: [0.0, 0.0, z],
-        xdir: x,
-        ydir: y,
-        radius: R,
-        range: (0.0, PI),
-    };
-    let line = |x0: f64| Line {
-        origin: [x0, 0.0, 0.0],
-        dir: [0.0, 0.0, 1.0],
-        range: (0.0, H),
-    };
-    let curve = |geom: Arc<dyn geometry::Curve>, range: (f64, f64), a: u32, b: u32| CurveEntity {
-        geom: Some(geom),
-        range,
-        start: CornerId(a),
-        end: CornerId(b),
-        degenerate: false,
-    };
-    let curves = vec![
-        curve(Arc::new(arc(0.0)), (0.0, PI), 0, 1),
-        curve(Arc::new(line(-R)), (0.0, H), 1, 2),
-        curve(Arc::new(arc(H)), (0.0, PI), 3, 2),
-        curve(Arc::new(line(R)), (0.0, H), 0, 3),
-    ];
-    // (u, v) = (angle, height); the pcurves share their curves' parameters
-    let use_ = |c: u32, forward: bool, origin: [f64; 2], dir: [f64; 2]| CurveUse {
-        curve: CurveId(c),
-        forward,
-        pcurve: Arc::new(Line2d { origin, dir }),
-        seam: false,
-    };
-    let uses = vec![
-        use_(0, true, [0.0, 0.0], [1.0, 0.0]),
-        use_(1, true, [PI, 0.0], [0.0, 1.0]),
-        use_(2, false, [0.0, H], [1.0, 0.0]),
-        use_(3, false, [0.0, 0.0], [0.0, 1.0]),
-    ];
-    let face = Face {
-        surface: Arc::new(Cylinder {
-            center: [0.0; 3],
-            xdir: x,
-            ydir: y,
-            radius: R,
-            height: (0.0, H),
-        }),
-        reversed: false,
-        loops: vec![Loop { uses, outer: true }],
-        uv_bounds: Bounds2 {
-            umin: 0.0,
-            umax: PI,
-            vmin: 0.0,
-            vmax: H,
-        },
-    };
-    Model {
-        corners,
-        curves,
-        faces: vec![face],
-    }
+    primitives::half_cylinder(R, H)
 }
 
 /// Which boundary curve point `p` lies on (the numbering of
