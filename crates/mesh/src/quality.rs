@@ -17,18 +17,21 @@ use geometry::vec3::{cross, dot, norm, sub, Vec3};
 
 /// SICN of each corner of the quad `p` with corner normals `n` (unit vectors).
 pub fn corner_sicn(p: &[Vec3; 4], n: &[Vec3; 4]) -> [f64; 4] {
-    let mut out = [0.0; 4];
-    for i in 0..4 {
-        let a = sub(p[(i + 1) % 4], p[i]);
-        let b = sub(p[(i + 3) % 4], p[i]);
-        let den = dot(a, a) + dot(b, b);
-        out[i] = if den > 0.0 {
-            2.0 * dot(cross(a, b), n[i]) / den
-        } else {
-            0.0
-        };
+    [0, 1, 2, 3].map(|i| {
+        let (c, den) = corner_cross(p, i);
+        cad_value(c, den, n[i])
+    })
+}
+
+/// One corner's SICN with the normal `n` from its cross product `c` and
+/// `den` ([`corner_cross`]); 0 for a corner of zero length.
+#[inline]
+fn cad_value(c: Vec3, den: f64, n: Vec3) -> f64 {
+    if den > 0.0 {
+        2.0 * dot(c, n) / den
+    } else {
+        0.0
     }
-    out
 }
 
 /// Scaled Jacobian of each corner of the quad `p` with corner normals `n`.
@@ -70,12 +73,7 @@ pub fn quad_sicn_both_judges(p: &[Vec3; 4], n: &[Vec3; 4]) -> f64 {
     let mut cad = f64::INFINITY;
     for i in 0..4 {
         (c[i], den[i]) = corner_cross(p, i);
-        let v = if den[i] > 0.0 {
-            2.0 * dot(c[i], n[i]) / den[i]
-        } else {
-            0.0
-        };
-        cad = cad.min(v);
+        cad = cad.min(cad_value(c[i], den[i], n[i]));
     }
     if cad > 0.0 {
         // the element judge's minimum matters only when negative, and a
