@@ -170,6 +170,30 @@ fn planar_model(
     }
 }
 
+/// The cylinder of radius `r` about the z axis from z = 0 to `h`, (u, v) =
+/// (angle from x, height): the side of [`cylinder`] and [`half_cylinder`].
+fn z_cylinder(r: f64, h: f64) -> Arc<Cylinder> {
+    Arc::new(Cylinder {
+        center: [0.0; 3],
+        xdir: [1.0, 0.0, 0.0],
+        ydir: [0.0, 1.0, 0.0],
+        radius: r,
+        height: (0.0, h),
+    })
+}
+
+/// The arc of radius `r` about the z axis at height `z`, from angle 0 (on
+/// x) to `end`.
+fn z_arc(r: f64, z: f64, end: f64) -> Circle {
+    Circle {
+        center: [0.0, 0.0, z],
+        xdir: [1.0, 0.0, 0.0],
+        ydir: [0.0, 1.0, 0.0],
+        radius: r,
+        range: (0.0, end),
+    }
+}
+
 /// A closed cylinder solid of radius `r` and height `h` along z: a side face
 /// (periodic, with a seam line) and two disc faces; 3 curves (2 circles, 1
 /// seam), 2 corners. Normals point outward.
@@ -182,13 +206,7 @@ pub fn cylinder(r: f64, h: f64) -> Model {
         },
         Corner { point: [r, 0.0, h] },
     ];
-    let circle = |z: f64| Circle {
-        center: [0.0, 0.0, z],
-        xdir: x,
-        ydir: y,
-        radius: r,
-        range: (0.0, TAU),
-    };
+    let circle = |z: f64| z_arc(r, z, TAU);
     let curves = vec![
         CurveEntity {
             geom: Some(Arc::new(circle(0.0))),
@@ -223,13 +241,7 @@ pub fn cylinder(r: f64, h: f64) -> Model {
         vmax: h,
     };
     let side = Face {
-        surface: Arc::new(Cylinder {
-            center: [0.0; 3],
-            xdir: x,
-            ydir: y,
-            radius: r,
-            height: (0.0, h),
-        }),
+        surface: z_cylinder(r, h),
         reversed: false,
         loops: vec![Loop {
             uses: vec![
@@ -285,17 +297,10 @@ pub fn cylinder(r: f64, h: f64) -> Model {
 /// z = h (curve 2, used backwards) and the line at x = r (curve 3, used
 /// backwards); 4 corners, (r, 0, 0), (−r, 0, 0), (−r, 0, h), (r, 0, h).
 pub fn half_cylinder(r: f64, h: f64) -> Model {
-    let (x, y) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
     let corners = [[r, 0.0, 0.0], [-r, 0.0, 0.0], [-r, 0.0, h], [r, 0.0, h]]
         .map(|point| Corner { point })
         .to_vec();
-    let arc = |z: f64| Circle {
-        center: [0.0, 0.0, z],
-        xdir: x,
-        ydir: y,
-        radius: r,
-        range: (0.0, PI),
-    };
+    let arc = |z: f64| z_arc(r, z, PI);
     let line = |x0: f64| Line {
         origin: [x0, 0.0, 0.0],
         dir: [0.0, 0.0, 1.0],
@@ -322,13 +327,7 @@ pub fn half_cylinder(r: f64, h: f64) -> Model {
         line_use(3, false, [0.0, 0.0], [0.0, 1.0], false),
     ];
     let face = Face {
-        surface: Arc::new(Cylinder {
-            center: [0.0; 3],
-            xdir: x,
-            ydir: y,
-            radius: r,
-            height: (0.0, h),
-        }),
+        surface: z_cylinder(r, h),
         reversed: false,
         loops: vec![Loop { uses, outer: true }],
         uv_bounds: Bounds2 {
