@@ -48,12 +48,13 @@ fn options(args: &SplineArgs) -> Result<SplineOptions> {
             InteriorArg::Coons => Interior::Coons,
             InteriorArg::Fit => Interior::Fit,
         },
+        cones: Default::default(),
     })
 }
 
 /// Runs `quadrille spline`.
 pub fn run(args: &SplineArgs) -> Result<()> {
-    let opts = options(args)?;
+    let mut opts = options(args)?;
     let format = files::check_output(&args.output, &OUTPUTS)?;
     if let Some(p) = &args.png {
         files::check_output(p, &["png"])?;
@@ -84,6 +85,7 @@ pub fn run(args: &SplineArgs) -> Result<()> {
     let shell =
         shell_from_model(&model, &faces, size).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     let t_load = t0.elapsed().as_secs_f64();
+    opts.cones = crate::cmd_spline_cones::choose_cones(args, &shell, &name)?;
     let result = splines_from_shell(&shell, &opts).with_context(|| name.clone())?;
     let t1 = Instant::now();
     let mp = &result.multipatch;

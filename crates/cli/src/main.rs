@@ -13,6 +13,7 @@ mod cmd_info;
 mod cmd_mesh;
 mod cmd_render;
 mod cmd_spline;
+mod cmd_spline_cones;
 mod cmd_stats;
 mod files;
 mod progress;
@@ -134,6 +135,13 @@ pub struct SplineArgs {
     /// Write a picture of the patches with the layout drawn over them.
     #[arg(long, value_name = "PIC.png")]
     png: Option<PathBuf>,
+    /// Cones from a file (lines `x y z index`, `#` comments; each point snapped to the
+    /// nearest shell vertex) instead of the cross-field proposal.
+    #[arg(long, value_name = "FILE")]
+    cones: Option<PathBuf>,
+    /// Write the cones (the proposal, or --cones) in the --cones format, for hand edits.
+    #[arg(long, value_name = "FILE")]
+    cones_out: Option<PathBuf>,
     /// Print the report as JSON.
     #[arg(long)]
     json: bool,

@@ -257,3 +257,58 @@ fn bad_options_are_refused_before_any_work() {
         assert!(!out.exists());
     }
 }
+
+#[test]
+fn cones_out_is_written_and_a_shell_with_interior_cones_is_refused_without_output() {
+    // Issue 31 shell (c): the torus tube and the drilled cylinder, χ = −1.
+    let dir = tempfile::tempdir().unwrap();
+    let model = cad("n10o_qtorus_cyl.step");
+    let out = dir.path().join("c.step");
+    let cones = dir.path().join("c.cones");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "spline",
+            model.to_str().unwrap(),
+            "--faces",
+            "5,7",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        quadrille(&args)
+    };
+    let r = run(&["--cones-out", cones.to_str().unwrap()]);
+    let err = assert_clean_failure(&r, "n10o_qtorus_cyl.step");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("interior cones") && err.contains("Σ I = -4, 4χ = -4") && err.contains("S6–S7"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    // The proposal was written before the refusal, and reads back as the same set.
+    let text = std::fs::read_to_string(&cones).unwrap();
+    let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    assert!(!lines.is_empty());
+    let sum: i32 = lines
+        .iter()
+        .map(|l| l.split_whitespace().nth(3).unwrap().parse::<i32>().unwrap())
+        .sum();
+    assert_eq!(sum, -4);
+    let r = run(&["--cones", cones.to_str().unwrap()]);
+    let again = assert_clean_failure(&r, "n10o_qtorus_cyl.step");
+    assert_eq!(again, err);
+    assert!(!out.exists());
+    // A hand edit gone wrong: one cone moved far off the shell.
+    let bad = dir.path().join("bad.cones");
+    let mut edited = text.clone();
+    edited.push_str("100 100 100 1\n");
+    std::fs::write(&bad, &edited).unwrap();
+    let r = run(&["--cones", bad.to_str().unwrap()]);
+    let err = assert_clean_failure(&r, "bad.cones");
+    let line = text.lines().count() + 1;
+    assert!(
+        err.contains(&format!("bad.cones:{line}:")) && err.contains("from the nearest shell vertex"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

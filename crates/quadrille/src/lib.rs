@@ -41,6 +41,7 @@
 
 pub mod coarse;
 pub mod combinatorics;
+pub mod cones;
 pub mod core;
 pub mod curves;
 pub mod curvenet;

@@ -9,7 +9,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The folders of `src`, bottom to top (ARCHITECTURE.md, "The `quadrille` crate").
-const LAYERS: [&str; 17] = [
+const LAYERS: [&str; 18] = [
     "core",
     "combinatorics",
     "curves",
@@ -23,6 +23,7 @@ const LAYERS: [&str; 17] = [
     "curvenet",
     "shell",
     "ricci",
+    "cones",
     "cut",
     "immersion",
     "layout",

@@ -22,7 +22,9 @@ use crate::layout::{orthogonal_boundary, trace_layout, Layout, LayoutError, PsiL
 use crate::ricci::{boundary_corner_cones, ricci_flow, RicciError, RicciOptions};
 use crate::shell::{Shell, ShellError, ShellTopology};
 
+mod cones;
 mod fit;
+pub use cones::{cone_core, refuse_unless_corner_cones, ConeChoice, ConeCore};
 pub use fit::{Interior, Segments, SEGMENT_CHOICES};
 
 /// ψ's boundary runs must be straight and axis-aligned within this share of
@@ -44,6 +46,9 @@ pub struct SplineOptions {
     pub refine: usize,
     /// How patch interiors are made.
     pub interior: Interior,
+    /// The cones: boundary corners only, or a given set (refused while it
+    /// has interior cones: the layout energy is not built).
+    pub cones: ConeChoice,
 }
 
 impl Default for SplineOptions {
@@ -53,6 +58,7 @@ impl Default for SplineOptions {
             tolerance: None,
             refine: 1,
             interior: Interior::Fit,
+            cones: ConeChoice::CornersOnly,
         }
     }
 }
@@ -143,6 +149,12 @@ pub enum SplineMethodError {
     /// Interior cones would be needed.
     #[error("the shell needs interior cones, which this version does not place yet (S2): {0}")]
     NeedsCones(String),
+    /// The cone set is not usable.
+    #[error("{0}")]
+    Cones(#[from] crate::cones::ConeError),
+    /// Cones were placed, but their layout needs S6–S7.
+    #[error("{0}")]
+    NeedsLayoutEnergy(String),
     /// The shell falls apart.
     #[error("the shell has {0} connected components; give the faces of one with --faces")]
     Components(usize),
@@ -229,6 +241,9 @@ pub fn splines_from_shell(
         }
     }
     let t0 = Instant::now();
+    if let ConeChoice::Given(given) = &opts.cones {
+        refuse_unless_corner_cones(shell, given)?;
+    }
     let (topo, cones) = disk_with_corners(shell)?;
     let diag = diagonal(&shell.vertices);
     let tolerance = opts.tolerance.unwrap_or(DEFAULT_TOLERANCE_SHARE * diag);

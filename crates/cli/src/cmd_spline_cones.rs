@@ -1,0 +1,62 @@
+//! The cones of `quadrille spline` (issue 31 S2): `--cones FILE` read and
+//! snapped, or the cross-field proposal; `--cones-out FILE` written
+//! (atomically) before the spline stage, which refuses shells with interior
+//! cones until the layout energy (S6–S7) is built.
+
+use anyhow::{anyhow, Context, Result};
+use quadrille::cones::{format_cones, parse_cones, propose_cones, write_cones, ConeSummary};
+use quadrille::methods::spline::ConeChoice;
+use quadrille::ricci::boundary_corner_cones;
+use quadrille::shell::Shell;
+
+use crate::SplineArgs;
+
+/// The cones for `shell`: the file's, else the proposal's. A disk whose
+/// boundary corners alone sum to 4 keeps the cone-free path (its proposal
+/// is only computed for `--cones-out`; interior ± pairs it has are noted).
+/// A shell the topology check refuses is left to the spline stage's error.
+pub fn choose_cones(args: &SplineArgs, shell: &Shell, name: &str) -> Result<ConeChoice> {
+    let Ok(topo) = shell.check() else {
+        return Ok(ConeChoice::CornersOnly);
+    };
+    if topo.components != 1 {
+        return Ok(ConeChoice::CornersOnly);
+    }
+    let write_out = |cones: &[quadrille::ricci::Cone]| -> Result<()> {
+        if let Some(out) = &args.cones_out {
+            write_cones(out, &format_cones(shell, &topo, cones))
+                .with_context(|| format!("--cones-out {}", out.display()))?;
+        }
+        Ok(())
+    };
+    if let Some(path) = &args.cones {
+        let text =
+            std::fs::read_to_string(path).with_context(|| format!("--cones {}", path.display()))?;
+        let cones = parse_cones(&text, &path.display().to_string(), shell, &topo)?;
+        write_out(&cones)?;
+        return Ok(ConeChoice::Given(cones));
+    }
+    let corner_sum: i32 = boundary_corner_cones(shell, &topo)
+        .iter()
+        .map(|c| c.index)
+        .sum();
+    let corner_disk = topo.euler == 1 && corner_sum == 4;
+    if corner_disk && args.cones_out.is_none() {
+        return Ok(ConeChoice::CornersOnly);
+    }
+    let cones = propose_cones(shell, &topo).map_err(|e| anyhow!("{name}: {e}"))?;
+    write_out(&cones)?;
+    let summary = ConeSummary::of(&topo, &cones);
+    if summary.interior() == 0 {
+        return Ok(ConeChoice::CornersOnly);
+    }
+    if corner_disk {
+        eprintln!(
+            "note: {name}: the cross field proposes {} interior cones (Σ I = {}); the disk's corners suffice, so they are not used",
+            summary.interior(),
+            summary.interior_sum
+        );
+        return Ok(ConeChoice::CornersOnly);
+    }
+    Ok(ConeChoice::Given(cones))
+}

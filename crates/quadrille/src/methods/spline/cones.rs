@@ -1,0 +1,146 @@
+//! Shells with interior cones (issue 31 S2): the geometric core with the
+//! cones (one-rings of interior cones refined, Ricci flow, cut, immersion,
+//! the cut transitions), and the refusal of the spline output while the
+//! seamless layout energy (S6–S7) is not built.
+
+use super::SplineMethodError;
+use crate::cones::{check_cones, ConeSummary};
+use crate::cut::{cut_to_disk, CutMesh, CutTarget};
+use crate::immersion::{immerse, CutTransition, Immersion};
+use crate::ricci::{
+    boundary_corner_cones, refine_cone_rings, ricci_flow, Cone, RicciMetric, RicciOptions,
+};
+use crate::shell::{Shell, ShellTopology};
+
+/// Which cones [`super::splines_from_shell`] uses.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum ConeChoice {
+    /// The boundary corners only (the cone-free path).
+    #[default]
+    CornersOnly,
+    /// These cones (a checked proposal or a cone file).
+    Given(Vec<Cone>),
+}
+
+/// The geometric core run with cones: the refined shell and everything
+/// the flow, the cut and the immersion made on it.
+#[derive(Clone, Debug)]
+pub struct ConeCore {
+    /// The shell with the one-rings of interior cones refined (old vertex
+    /// indices kept, new vertices appended).
+    pub shell: Shell,
+    /// Its topology.
+    pub topo: ShellTopology,
+    /// The cones (same vertices as given).
+    pub cones: Vec<Cone>,
+    /// Their counts.
+    pub summary: ConeSummary,
+    /// The flat cone metric.
+    pub metric: RicciMetric,
+    /// The cut mesh Ω.
+    pub cut: CutMesh,
+    /// ψ_R with one transition per cut path.
+    pub immersion: Immersion,
+}
+
+impl ConeCore {
+    /// The transitions of the cut paths that end at `vertex` (a cone).
+    pub fn transitions_at(&self, vertex: usize) -> Vec<CutTransition> {
+        self.immersion
+            .transitions
+            .iter()
+            .filter(|t| {
+                let v = &self.cut.paths[t.path].vertices;
+                v.first() == Some(&vertex) || v.last() == Some(&vertex)
+            })
+            .copied()
+            .collect()
+    }
+
+    /// Cut branches made for boundary loops.
+    pub fn loop_cuts(&self) -> usize {
+        self.cut
+            .branches
+            .iter()
+            .filter(|b| matches!(b.target, CutTarget::Loop(_)))
+            .count()
+    }
+
+    /// One line: cones, flow, cut paths and their quarter turns.
+    pub fn describe(&self) -> String {
+        let turns: Vec<u8> = self
+            .immersion
+            .transitions
+            .iter()
+            .map(|t| t.quarter_turns)
+            .collect();
+        let angle = self
+            .immersion
+            .transitions
+            .iter()
+            .map(|t| t.angle_error)
+            .fold(0.0, f64::max);
+        format!(
+            "placed {}; Ricci converged in {} iterations (max |K̄−K| {:.1e}) on {} triangles; {} cut paths, quarter turns {turns:?} (max angle error {angle:.1e})",
+            self.summary,
+            self.metric.iterations,
+            self.metric.max_error,
+            self.shell.triangles.len(),
+            self.cut.paths.len(),
+        )
+    }
+}
+
+/// Runs the core with `cones` (checked by [`check_cones`]): interior cones'
+/// one-rings refined ([`refine_cone_rings`]), Ricci flow, cut to a disk
+/// (cuts to every interior cone), immersion with the cut transitions.
+pub fn cone_core(shell: &Shell, cones: &[Cone]) -> Result<ConeCore, SplineMethodError> {
+    let topo = shell.check()?;
+    if topo.components != 1 {
+        return Err(SplineMethodError::Components(topo.components));
+    }
+    check_cones(shell, &topo, cones, "cones")?;
+    let interior: Vec<usize> = cones
+        .iter()
+        .filter(|c| c.index != 0 && !topo.on_boundary[c.vertex])
+        .map(|c| c.vertex)
+        .collect();
+    let refined = refine_cone_rings(shell, &topo, &interior);
+    let rtopo = refined.check()?;
+    let cones: Vec<Cone> = cones.iter().copied().filter(|c| c.index != 0).collect();
+    let summary = check_cones(&refined, &rtopo, &cones, "cones")?;
+    let metric = ricci_flow(&refined, &rtopo, &cones, &RicciOptions::default())?;
+    let cut = cut_to_disk(&refined, &rtopo, &cones)?;
+    let immersion = immerse(&refined, &rtopo, &cut, &metric)?;
+    Ok(ConeCore {
+        shell: refined,
+        topo: rtopo,
+        cones,
+        summary,
+        metric,
+        cut,
+        immersion,
+    })
+}
+
+/// `Ok` when `cones` are exactly the boundary corners of `shell` (the
+/// cone-free path can go on); otherwise runs [`cone_core`] with them and
+/// refuses with one line saying what was placed and that the seamless
+/// layout energy (S6–S7) is not built yet.
+pub fn refuse_unless_corner_cones(shell: &Shell, cones: &[Cone]) -> Result<(), SplineMethodError> {
+    let topo = shell.check()?;
+    let mut given: Vec<Cone> = cones.iter().copied().filter(|c| c.index != 0).collect();
+    given.sort_by_key(|c| c.vertex);
+    let mut corners = boundary_corner_cones(shell, &topo);
+    corners.sort_by_key(|c| c.vertex);
+    if given == corners {
+        return Ok(());
+    }
+    let core = cone_core(shell, &given)?;
+    Err(SplineMethodError::NeedsLayoutEnergy(format!(
+        "interior cones: {}; patches on these cones need the seamless layout energy (S6–S7), which is not built yet (boundary Σ I = {}, interior Σ I = {})",
+        core.describe(),
+        core.summary.boundary_sum,
+        core.summary.interior_sum,
+    )))
+}
