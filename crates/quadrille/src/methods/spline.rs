@@ -7,8 +7,10 @@
 //! patch: arcs fitted once (shared sides bit-identical), interiors by the
 //! exact Coons patch of §9.4 or fitted to the shell (ours).
 //!
-//! Not built yet: interior cones (S2) and the layout energy (S6–S7), so a
-//! shell with holes, with Σ I ≠ 4, or whose ψ is not orthogonal is refused
+//! Not built yet: the layout energy (S6–S7), so a shell with holes, with
+//! Σ I ≠ 4, with interior cones (S2, `cones`: given through
+//! [`SplineOptions::cones`], run through the flow, cut and immersion by
+//! [`cone_core`] and then refused) or whose ψ is not orthogonal is refused
 //! with one error line.
 
 use std::time::Instant;
@@ -147,7 +149,7 @@ pub enum SplineMethodError {
     #[error("{0}")]
     Shell(#[from] ShellError),
     /// Interior cones would be needed.
-    #[error("the shell needs interior cones, which this version does not place yet (S2): {0}")]
+    #[error("this version lays out only disks whose boundary corners sum to Σ I = 4 (no interior cones, no layout energy S6–S7): {0}")]
     NeedsCones(String),
     /// The cone set is not usable.
     #[error("{0}")]
