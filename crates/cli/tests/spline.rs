@@ -281,7 +281,9 @@ fn cones_out_is_written_and_a_shell_with_interior_cones_is_refused_without_outpu
     let err = assert_clean_failure(&r, "n10o_qtorus_cyl.step");
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     assert!(
-        err.contains("interior cones") && err.contains("Σ I = -4, 4χ = -4") && err.contains("S6–S7"),
+        err.contains("interior cones")
+            && err.contains("Σ I = -4, 4χ = -4")
+            && err.contains("S6–S7"),
         "{err}"
     );
     assert!(!out.exists());
@@ -307,7 +309,8 @@ fn cones_out_is_written_and_a_shell_with_interior_cones_is_refused_without_outpu
     let err = assert_clean_failure(&r, "bad.cones");
     let line = text.lines().count() + 1;
     assert!(
-        err.contains(&format!("bad.cones:{line}:")) && err.contains("from the nearest shell vertex"),
+        err.contains(&format!("bad.cones:{line}:"))
+            && err.contains("from the nearest shell vertex"),
         "{err}"
     );
     assert!(!out.exists());

@@ -58,7 +58,8 @@ fn main() {
                 .map(|f| f.to_string_lossy().into_owned())
                 .unwrap_or_default()
         );
-        let shell = match shell_from_model(&model, &chosen, size.unwrap_or(model.diagonal() / 72.0)) {
+        let shell = match shell_from_model(&model, &chosen, size.unwrap_or(model.diagonal() / 72.0))
+        {
             Ok(s) => s,
             Err(e) => {
                 println!("| {name} | shell: {e} |");
@@ -76,7 +77,11 @@ fn main() {
         let cones = match propose_cones(&shell, &topo) {
             Ok(c) => c,
             Err(e) => {
-                println!("| {name} | {} | {} | proposal: {e} |", shell.triangles.len(), topo.euler);
+                println!(
+                    "| {name} | {} | {} | proposal: {e} |",
+                    shell.triangles.len(),
+                    topo.euler
+                );
                 continue;
             }
         };
@@ -103,7 +108,10 @@ fn main() {
                         .file_stem()
                         .map(|f| f.to_string_lossy().into_owned())
                         .unwrap_or_default();
-                    let path = dir.join(format!("spline_cones_{stem}_{}.png", faces.replace(',', "_")));
+                    let path = dir.join(format!(
+                        "spline_cones_{stem}_{}.png",
+                        faces.replace(',', "_")
+                    ));
                     if let Err(e) = picture(&c, &name, &path) {
                         eprintln!("{}: {e}", path.display());
                     }
