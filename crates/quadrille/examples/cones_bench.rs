@@ -7,7 +7,8 @@
 //! with FACES 1-based and comma-separated (`all`: every face), optionally
 //! `FACES@SIZE` for a triangle size other than the diagonal / 72.
 //! `--png DIR` first: a picture of each shell (refined) with its cones
-//! marked and the cut drawn, `DIR/spline_cones_<file>_<faces>.png`.
+//! marked and the cut drawn, `DIR/spline_cones_<file>_<faces>.png`; then
+//! `--eye X,Y,Z` for the view direction (default: the renderer's).
 
 use std::time::Instant;
 
@@ -24,6 +25,14 @@ fn main() {
     } else {
         None
     };
+    let mut eye = None;
+    if args.first().map(String::as_str) == Some("--eye") && args.len() > 1 {
+        let v: Vec<f64> = args[1].split(',').filter_map(|x| x.parse().ok()).collect();
+        if let [x, y, z] = v[..] {
+            eye = Some([x, y, z]);
+        }
+        args.drain(..2);
+    }
     println!("| shell | triangles | χ | cones +1 / −1 / other / boundary | Σ I vs 4χ | proposal s | refined triangles | Ricci iterations | max abs(K̄−K) | cut paths | paths with k = 0/1/2/3 | max angle err | core s |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for pair in args.chunks(2) {
@@ -112,7 +121,7 @@ fn main() {
                         "spline_cones_{stem}_{}.png",
                         faces.replace(',', "_")
                     ));
-                    if let Err(e) = picture(&c, &name, &path) {
+                    if let Err(e) = picture(&c, &name, &path, eye) {
                         eprintln!("{}: {e}", path.display());
                     }
                 }
@@ -145,6 +154,7 @@ fn picture(
     c: &quadrille::methods::spline::ConeCore,
     name: &str,
     path: &std::path::Path,
+    eye: Option<[f64; 3]>,
 ) -> Result<(), mesh::render::RenderError> {
     use mesh::render::{Overlay, OverlayPoint, OverlaySegment, RenderOptions};
     let mut m = mesh::quadmesh::QuadMesh::default();
@@ -205,12 +215,15 @@ fn picture(
         s.euler,
         c.metric.iterations
     );
-    let opts = RenderOptions {
+    let mut opts = RenderOptions {
         title: Some(&title),
         overlay: Some(&overlay),
         show_irregular: false,
         show_info: false,
         ..Default::default()
     };
+    if let Some(e) = eye {
+        opts.eye_dir = e;
+    }
     mesh::render::render_png(&m, &opts, path)
 }
