@@ -315,3 +315,89 @@ fn cones_out_is_written_and_a_shell_with_interior_cones_is_refused_without_outpu
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn an_l_plate_s_cone_file_holds_its_six_corners_and_reads_back_to_the_same_patches() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("lplate.obj");
+    let obj = grid_obj(
+        8,
+        |i, j| !(i >= 4 && j >= 4),
+        |u, v| [20.0 * u, 20.0 * v, 5.0],
+    );
+    std::fs::write(&input, obj).unwrap();
+    let cones = dir.path().join("lplate.cones");
+    let out = dir.path().join("a.json");
+    let rep = run_json(&input, &out, &["--cones-out", cones.to_str().unwrap()]);
+    assert_eq!(rep["patches"], 3);
+    // Five convex corners +1 and the reflex corner (10, 10) −1; no interior cone.
+    let text = std::fs::read_to_string(&cones).unwrap();
+    let mut rows: Vec<(f64, f64, i32)> = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| {
+            let t: Vec<&str> = l.split_whitespace().collect();
+            assert_eq!(t[2], "5", "{l}");
+            assert!(l.ends_with("# boundary"), "{l}");
+            (
+                t[0].parse().unwrap(),
+                t[1].parse().unwrap(),
+                t[3].parse().unwrap(),
+            )
+        })
+        .collect();
+    rows.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    assert_eq!(
+        rows,
+        [
+            (0.0, 0.0, 1),
+            (0.0, 20.0, 1),
+            (10.0, 10.0, -1),
+            (10.0, 20.0, 1),
+            (20.0, 0.0, 1),
+            (20.0, 10.0, 1)
+        ]
+    );
+    // Given back, the corners are the cones of the cone-free path: the same patches.
+    let again = dir.path().join("b.json");
+    let rep2 = run_json(&input, &again, &["--cones", cones.to_str().unwrap()]);
+    assert_eq!(rep2["patches"], 3);
+    assert_eq!(
+        std::fs::read_to_string(&out).unwrap(),
+        std::fs::read_to_string(&again).unwrap()
+    );
+    // The reflex corner's −1 moved inside: an interior cone, refused, no file.
+    let moved = dir.path().join("moved.cones");
+    std::fs::write(&moved, text.replace("10 10 5 -1", "7.4 7.6 5 -1")).unwrap();
+    let bad = dir.path().join("c.json");
+    let r = quadrille(&[
+        "spline",
+        input.to_str().unwrap(),
+        "-o",
+        bad.to_str().unwrap(),
+        "--cones",
+        moved.to_str().unwrap(),
+    ]);
+    let err = assert_clean_failure(&r, "lplate.obj");
+    assert!(
+        err.contains("S6–S7") && err.contains("1 interior cones (+1: 0, −1: 1"),
+        "{err}"
+    );
+    assert!(!bad.exists());
+    // On the boundary but off the corner: boundary cones other than the corners.
+    std::fs::write(&moved, text.replace("10 10 5 -1", "10 12.5 5 -1")).unwrap();
+    let r = quadrille(&[
+        "spline",
+        input.to_str().unwrap(),
+        "-o",
+        bad.to_str().unwrap(),
+        "--cones",
+        moved.to_str().unwrap(),
+    ]);
+    let err = assert_clean_failure(&r, "lplate.obj");
+    assert!(
+        err.contains("boundary cones other than the shell's corners") && err.contains("S6–S7"),
+        "{err}"
+    );
+    assert!(!bad.exists());
+}

@@ -137,8 +137,13 @@ pub fn refuse_unless_corner_cones(shell: &Shell, cones: &[Cone]) -> Result<(), S
         return Ok(());
     }
     let core = cone_core(shell, &given)?;
+    let what = if core.summary.interior() > 0 {
+        "interior cones"
+    } else {
+        "boundary cones other than the shell's corners"
+    };
     Err(SplineMethodError::NeedsLayoutEnergy(format!(
-        "interior cones: {}; patches on these cones need the seamless layout energy (S6–S7), which is not built yet (boundary Σ I = {}, interior Σ I = {})",
+        "{what}: {}; patches on these cones need the seamless layout energy (S6–S7), which is not built yet (boundary Σ I = {}, interior Σ I = {})",
         core.describe(),
         core.summary.boundary_sum,
         core.summary.interior_sum,
