@@ -29,7 +29,8 @@ pub struct AnnulusLayout {
     pub period: f64,
     /// The height H of the strip.
     pub height: f64,
-    /// The rotation between the cut's two sides (radians; 0 for a cylinder).
+    /// The rotation between the cut's two sides, from the chords of its two
+    /// copies (radians; 0 for a cylinder).
     pub seam_rotation: f64,
     /// The largest distance of a loop vertex from its loop's line, in ψ.
     pub max_deviation: f64,
@@ -38,7 +39,8 @@ pub struct AnnulusLayout {
 }
 
 /// Lays out a cone-free annulus cut by one loop cut: checks the cut's sides
-/// differ by a translation (rotation below [`SEAM_ROTATION_LIMIT`]) and both
+/// differ by a translation (rotation below [`SEAM_ROTATION_LIMIT`], each child
+/// within `tolerance` × C of it) and both
 /// loops are straight within `tolerance` × the rectangle's diagonal, and
 /// returns the one-rectangle layout (see the module docs).
 pub fn annulus_layout(
@@ -57,10 +59,25 @@ pub fn annulus_layout(
     }
     let path = &cut.paths[0];
     let tr = &imm.transitions[0];
-    if tr.quarter_turns != 0 || tr.angle_error > SEAM_ROTATION_LIMIT {
+    // The rotation between the two copies, from their chords (first to last
+    // child): per-edge angles of short cut edges carry ψ's rounding.
+    let (l0, l1) = (
+        path.sides[0].left[0],
+        path.sides[path.sides.len() - 1].left[1],
+    );
+    let (r0, r1) = (
+        path.sides[0].right[0],
+        path.sides[path.sides.len() - 1].right[1],
+    );
+    let dl = [imm.uv[l1][0] - imm.uv[l0][0], imm.uv[l1][1] - imm.uv[l0][1]];
+    let dr = [imm.uv[r1][0] - imm.uv[r0][0], imm.uv[r1][1] - imm.uv[r0][1]];
+    let seam_rotation = (dl[0] * dr[1] - dl[1] * dr[0])
+        .atan2(dl[0] * dr[0] + dl[1] * dr[1])
+        .abs();
+    if tr.quarter_turns != 0 || seam_rotation > SEAM_ROTATION_LIMIT {
         return Err(not(format!(
-            "the two sides of the loop cut differ by a rotation of {} quarter turn(s) + {:.3e} rad, not a translation (the flat annulus is not a cylinder)",
-            tr.quarter_turns, tr.angle_error
+            "the two sides of the loop cut differ by a rotation of {} quarter turn(s) + {seam_rotation:.3e} rad, not a translation (the flat annulus is not a cylinder)",
+            tr.quarter_turns
         )));
     }
     // The translation: the mean of right − left over the path's children.
@@ -77,6 +94,20 @@ pub fn annulus_layout(
     let period = (t[0] * t[0] + t[1] * t[1]).sqrt();
     if !(period > 0.0 && period.is_finite()) {
         return Err(not("the loop cut's two sides coincide in ψ".into()));
+    }
+    let mut residual: f64 = 0.0;
+    for s in &path.sides {
+        for m in 0..2 {
+            let (l, r) = (imm.uv[s.left[m]], imm.uv[s.right[m]]);
+            residual =
+                residual.max(((r[0] - l[0] - t[0]).powi(2) + (r[1] - l[1] - t[1]).powi(2)).sqrt());
+        }
+    }
+    if residual > tolerance * period {
+        return Err(not(format!(
+            "the two sides of the loop cut are {:.3e} × the loop length from a translation (the limit is {tolerance:.0e})",
+            residual / period
+        )));
     }
     // Rotate t onto +x.
     let (c, s) = (t[0] / period, -t[1] / period);
@@ -151,7 +182,7 @@ pub fn annulus_layout(
         immersion,
         period,
         height,
-        seam_rotation: tr.angle_error,
+        seam_rotation,
         max_deviation,
         size,
     })
