@@ -17,7 +17,7 @@ mod annulus;
 mod locate;
 mod polygon;
 
-pub use annulus::{annulus_layout, AnnulusLayout, SEAM_ROTATION_LIMIT};
+pub use annulus::{annulus_layout, AnnulusLayout};
 pub use locate::PsiLocator;
 pub use polygon::{orthogonal_boundary, OrthogonalPolygon};
 
