@@ -296,3 +296,26 @@ fn an_annulus_with_corners_still_needs_cones() {
     assert!(matches!(e, SplineMethodError::NeedsCones(_)), "{msg}");
     assert!(msg.contains("2 boundary loop(s)") && msg.contains("Σ I = 0") && !msg.contains('\n'), "{msg}");
 }
+
+#[test]
+fn cylinder_layout_is_the_unrolled_prism() {
+    // the prism of 64 sides is flat with straight loops already: ψ is it unrolled
+    let (sectors, height) = (64, 2.0);
+    let shell = periodic_band(sectors, 16, |a, r| [a.cos(), a.sin(), height * r]);
+    let l = layout_of_shell(&shell).unwrap();
+    let perimeter = sectors as f64 * 2.0 * (std::f64::consts::PI / sectors as f64).sin();
+    assert_eq!((l.nodes.len(), l.arcs.len(), l.rects.len()), (4, 3, 1));
+    assert_eq!(l.node_glue, vec![0, 1, 0, 1]);
+    assert_eq!(l.period_x.map(|c| (c - perimeter).abs() < 1e-9), Some(true), "{:?}", l.period_x);
+    let [bl, br, tr, tl] = l.rects[0].corners.map(|k| l.nodes[k]);
+    assert!((br[0] - bl[0] - perimeter).abs() < 1e-9 && (tr[0] - tl[0] - perimeter).abs() < 1e-9);
+    assert!((tl[1] - bl[1] - height).abs() < 1e-9, "{bl:?} {tl:?}");
+    // left and right sides: the one seam arc, vertical; bottom and top: closed loop arcs
+    let sides = l.rects[0].sides;
+    assert_eq!(sides[2], sides[3]);
+    assert_eq!(l.arc_on_boundary, vec![true, true, false]);
+    for a in [sides[0].0, sides[1].0] {
+        let [s, e] = l.arcs[a];
+        assert_eq!(l.node_glue[s], l.node_glue[e], "a loop arc starts and ends on one node");
+    }
+}
