@@ -2,7 +2,9 @@
 //! untrimmed, watertight bicubic B-spline patches (paper
 //! ricci-flow-iga-reconstruction, issue 31; `docs/spline.md`). This version
 //! handles the shells that need no interior cone: disks whose boundary
-//! corners' indices sum to 4.
+//! corners' indices sum to 4, and annuli (two loops) with smooth loops, laid
+//! out as one patch closing along the loop cut (in STEP: one face whose seam
+//! edge is used twice).
 
 use std::time::Instant;
 
@@ -142,11 +144,12 @@ pub fn run(args: &SplineArgs) -> Result<()> {
 /// The text summary.
 fn summary_text(r: &SplineReport) -> String {
     format!(
-        "shell: {} triangles, {} boundary corners ({} reflex); Ricci {} iterations, max |K̄−K| {:.1e}\n\
-         layout: {} separatrices, {} patches, {} arcs\n\
+        "shell: {} triangles, {} boundary loop(s), {} boundary corners ({} reflex); Ricci {} iterations, max |K̄−K| {:.1e}\n\
+         layout: {} separatrices, {} patches, {} arcs{}\n\
          splines: {} span(s) per arc, refine {}, {} control points; distance max {:.3e} ({:.2e} D), mean {:.3e}; \
          min scaled Jacobian {:.3}; {} shared sides, gap {:e}\n",
         r.triangles,
+        r.boundary_loops,
         r.corners,
         r.reflex_corners,
         r.ricci_iterations,
@@ -154,6 +157,9 @@ fn summary_text(r: &SplineReport) -> String {
         r.separatrices,
         r.patches,
         r.arcs,
+        r.seam_rotation
+            .map(|a| format!(", closing along the loop cut (seam rotation {a:.1e} rad)"))
+            .unwrap_or_default(),
         r.segments,
         r.refine,
         r.control_points,
@@ -173,6 +179,8 @@ fn report_json(r: &SplineReport, triangles: usize) -> String {
         "vertices": r.vertices,
         "corners": r.corners,
         "reflex_corners": r.reflex_corners,
+        "boundary_loops": r.boundary_loops,
+        "seam_rotation": r.seam_rotation,
         "ricci_iterations": r.ricci_iterations,
         "ricci_error": r.ricci_error,
         "boundary_deviation": r.boundary_deviation,
@@ -203,7 +211,7 @@ fn report_json(r: &SplineReport, triangles: usize) -> String {
 }
 
 /// A picture: each patch tessellated into quads, the patch boundaries in
-/// green and the layout traced on the shell in blue.
+/// green, the control net in red and the layout traced on the shell in blue.
 fn render(result: &SplineResult, name: &str, png: &std::path::Path) -> Result<()> {
     let mp = &result.multipatch;
     let mut m = QuadMesh::default();
@@ -243,6 +251,25 @@ fn render(result: &SplineResult, name: &str, png: &std::path::Path) -> Result<()
                     color: [20, 150, 60],
                     normal: None,
                 });
+            }
+        }
+    }
+    // The control net: each patch's rows and columns of control points.
+    for g in mp.patches() {
+        let (ns, nt) = (g.n_s(), g.n_t());
+        let at = |i: usize, j: usize| mp.points()[g.indices[j * ns + i]];
+        for j in 0..nt {
+            for i in 0..ns {
+                for (di, dj) in [(1, 0), (0, 1)] {
+                    if i + di < ns && j + dj < nt {
+                        overlay.segments.push(mesh::render::OverlaySegment {
+                            a: at(i, j),
+                            b: at(i + di, j + dj),
+                            color: [200, 60, 40],
+                            normal: None,
+                        });
+                    }
+                }
             }
         }
     }

@@ -12,8 +12,9 @@ use quadrille::shell::Shell;
 use crate::SplineArgs;
 
 /// The cones for `shell`: the file's, else the proposal's. A disk whose
-/// boundary corners alone sum to 4 keeps the cone-free path (its proposal
-/// is only computed for `--cones-out`; interior ± pairs it has are noted).
+/// boundary corners alone sum to 4, or an annulus without corners, keeps the
+/// cone-free path (its proposal is only computed for `--cones-out`; interior
+/// ± pairs it has are noted).
 /// A shell the topology check refuses is left to the spline stage's error.
 pub fn choose_cones(args: &SplineArgs, shell: &Shell, name: &str) -> Result<ConeChoice> {
     let Ok(topo) = shell.check() else {
@@ -36,11 +37,12 @@ pub fn choose_cones(args: &SplineArgs, shell: &Shell, name: &str) -> Result<Cone
         write_out(&cones)?;
         return Ok(ConeChoice::Given(cones));
     }
-    let corner_sum: i32 = boundary_corner_cones(shell, &topo)
-        .iter()
-        .map(|c| c.index)
-        .sum();
-    let corner_disk = topo.euler == 1 && corner_sum == 4;
+    let corners = boundary_corner_cones(shell, &topo);
+    let corner_sum: i32 = corners.iter().map(|c| c.index).sum();
+    // the two cone-free shells: a disk whose corners sum to 4, an annulus
+    // with no corner (a flat cylinder)
+    let corner_disk = (topo.euler == 1 && corner_sum == 4)
+        || (topo.euler == 0 && topo.boundary_loops.len() == 2 && corners.is_empty());
     if corner_disk && args.cones_out.is_none() {
         return Ok(ConeChoice::CornersOnly);
     }
@@ -52,7 +54,7 @@ pub fn choose_cones(args: &SplineArgs, shell: &Shell, name: &str) -> Result<Cone
     }
     if corner_disk {
         eprintln!(
-            "note: {name}: the cross field proposes {} interior cones (Σ I = {}); the disk's corners suffice, so they are not used",
+            "note: {name}: the cross field proposes {} interior cones (Σ I = {}); the shell needs none, so they are not used",
             summary.interior(),
             summary.interior_sum
         );

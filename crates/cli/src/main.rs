@@ -86,7 +86,8 @@ size map) and singularity_index (0 on triangles, +1 or -1 on singularities).",
     Curves(CurvesArgs),
     /// Untrimmed, watertight bicubic B-spline patches of an open shell (CAD faces or a
     /// triangle mesh) by Ricci flow; this version: disks whose boundary corners need no
-    /// interior cone. See docs/spline.md.
+    /// interior cone, and annuli with corner-free loops (one patch closing along its seam).
+    /// See docs/spline.md.
     #[command(
         after_help = "Examples:\n  quadrille spline plate.step -o plate.step\n  quadrille spline part.step --faces 3 -o face3.iges --json\n  quadrille spline shell.stl -o shell.json --segments 4 --refine 2 --interior fit"
     )]

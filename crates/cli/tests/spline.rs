@@ -1,6 +1,7 @@
 //! `quadrille spline`: open shells that need no interior cone (disks whose
-//! boundary corners sum to Σ I = 4) to untrimmed, watertight bicubic
-//! B-spline patches; shells needing cones refused with one line, no file.
+//! boundary corners sum to Σ I = 4, annuli with smooth loops) to untrimmed,
+//! watertight bicubic B-spline patches; shells needing cones refused with
+//! one line, no file.
 
 mod common;
 
@@ -174,6 +175,41 @@ fn cad_face_written_as_step_reads_back_open_and_untrimmed() {
     assert_eq!(back.curves.len(), 4);
     for (c, users) in back.curve_faces().iter().enumerate() {
         assert_eq!(users.len(), 1, "curve {c}");
+    }
+}
+
+#[test]
+fn washer_side_is_one_step_face_closed_along_its_seam() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("side.step");
+    // the inner cylinder of an M8 washer: an annulus with two smooth loops
+    let model = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/industrial/plain_washer_m8.step");
+    let rep = run_json(&model, &out, &["--faces", "1"]);
+    assert_eq!(rep["boundary_loops"], 2);
+    assert_eq!(rep["corners"], 0);
+    assert_eq!(rep["patches"], 1);
+    assert!(rep["seam_rotation"].as_f64().unwrap() < 1e-8, "{rep}");
+    assert_eq!(rep["tolerance_met"], true);
+    assert!(rep["min_scaled_jacobian"].as_f64().unwrap() > 0.0, "{rep}");
+    // the seam: one arc, the patch's left and right side (gap 0)
+    assert_eq!((rep["shared_sides"].as_u64(), rep["max_gap"].as_f64()), (Some(1), Some(0.0)));
+    let back = occt::load(&out).unwrap();
+    assert_eq!(back.faces.len(), 1);
+    // three edges: the seam, used twice by the one face, and the two loops
+    assert_eq!(back.curves.len(), 3);
+    let uses: Vec<_> = back.faces[0].curve_uses().collect();
+    assert_eq!(uses.len(), 4);
+    let seams: Vec<_> = uses.iter().filter(|u| u.seam).collect();
+    assert_eq!(seams.len(), 2, "the seam appears twice");
+    assert_eq!(seams[0].curve, seams[1].curve);
+    // free edges: only the two loops, each closed (one corner at both ends)
+    for (c, users) in back.curve_faces().iter().enumerate() {
+        assert_eq!(users.len(), 1, "curve {c}");
+        let e = &back.curves[c];
+        if c != seams[0].curve.0 as usize {
+            assert_eq!(e.start, e.end, "loop {c} is closed");
+        }
     }
 }
 

@@ -16,6 +16,8 @@ pub struct PsiLocator {
     cell: f64,
     dims: [usize; 2],
     buckets: Vec<Vec<u32>>,
+    /// ψ repeats with this period along x (an annulus cut open along its seam).
+    period_x: Option<f64>,
 }
 
 fn barycentric(p: [f64; 2], a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> [f64; 3] {
@@ -69,12 +71,42 @@ impl PsiLocator {
             cell,
             dims,
             buckets,
+            period_x: None,
         }
+    }
+
+    /// The same locator for a ψ that repeats with period `c` along x: a
+    /// point outside Ω is looked up again shifted by ±c and ±2c.
+    pub fn with_period(mut self, c: f64) -> PsiLocator {
+        self.period_x = Some(c);
+        self
     }
 
     /// The triangle of Ω holding `p` and `p`'s barycentric coordinates there
     /// (the nearest triangle, coordinates clamped, when `p` is just outside ψ).
     pub fn locate(&self, p: [f64; 2]) -> Option<(usize, [f64; 3])> {
+        let mut best = self.locate_scored(p);
+        if let Some(c) = self.period_x {
+            for k in [-1.0, 1.0, -2.0, 2.0] {
+                if best.is_some_and(|b| b.0 >= -1e-12) {
+                    break;
+                }
+                let shifted = self.locate_scored([p[0] + k * c, p[1]]);
+                if shifted.is_some_and(|s| best.is_none_or(|b| s.0 > b.0)) {
+                    best = shifted;
+                }
+            }
+        }
+        best.map(|(_, f, l)| {
+            let l = l.map(|x| x.max(0.0));
+            let s = l[0] + l[1] + l[2];
+            (f, l.map(|x| x / s))
+        })
+    }
+
+    /// The best triangle near `p` with its smallest barycentric coordinate
+    /// (≥ 0 inside) and the raw coordinates.
+    fn locate_scored(&self, p: [f64; 2]) -> Option<(f64, usize, [f64; 3])> {
         let bi = |x: f64, k: usize| -> i64 { ((x - self.lo[k]) / self.cell).floor() as i64 };
         let (ci, cj) = (bi(p[0], 0), bi(p[1], 1));
         let mut best: Option<(f64, usize, [f64; 3])> = None;
@@ -101,11 +133,7 @@ impl PsiLocator {
                 break;
             }
         }
-        best.map(|(_, f, l)| {
-            let l = l.map(|x| x.max(0.0));
-            let s = l[0] + l[1] + l[2];
-            (f, l.map(|x| x / s))
-        })
+        best
     }
 
     /// The shell point under `p`: barycentric in the 3D triangle, and that

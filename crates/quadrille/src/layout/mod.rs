@@ -13,9 +13,11 @@
 
 use thiserror::Error;
 
+mod annulus;
 mod locate;
 mod polygon;
 
+pub use annulus::{annulus_layout, AnnulusLayout};
 pub use locate::PsiLocator;
 pub use polygon::{orthogonal_boundary, OrthogonalPolygon};
 
@@ -62,6 +64,11 @@ pub struct Layout {
     pub rects: Vec<LayoutRect>,
     /// Separatrices traced (two per reflex corner).
     pub separatrices: usize,
+    /// Per node: the node it is glued to (itself, or an earlier node with the
+    /// same place on the shell: the seam's copies in an annulus).
+    pub node_glue: Vec<usize>,
+    /// ψ repeats with this period along x (an annulus's loop length; `None`: a disk).
+    pub period_x: Option<f64>,
 }
 
 /// Grid indices of the four axis directions +x, +y, −x, −y.
@@ -380,11 +387,13 @@ fn build_layout(
     }
     let _ = poly;
     Ok(Layout {
+        node_glue: (0..nodes.len()).collect(),
         nodes,
         arcs,
         arc_on_boundary,
         rects,
         separatrices,
+        period_x: None,
     })
 }
 

@@ -1,26 +1,33 @@
 //! `quadrille spline` for the shells that need no interior cone (issue 31,
 //! paper ricci-flow-iga-reconstruction): a topological disk whose boundary
-//! corner indices sum to 4. Boundary corners are the only cones (K̄ = I·π/2,
-//! 0 elsewhere), the Ricci flow flattens the shell to an orthogonal polygon
-//! ψ, the separatrices of its reflex corners cut ψ into rectangles
-//! (`layout`), and each rectangle becomes an untrimmed bicubic B-spline
-//! patch: arcs fitted once (shared sides bit-identical), interiors by the
-//! exact Coons patch of §9.4 or fitted to the shell (ours).
+//! corner indices sum to 4, or an annulus (two loops, χ = 0) with smooth
+//! loops. Boundary corners are the only cones (K̄ = I·π/2, 0 elsewhere).
+//! A disk: the Ricci flow flattens it to an orthogonal polygon ψ, the
+//! separatrices of its reflex corners cut ψ into rectangles (`layout`). An
+//! annulus: the flat metric is a straight cylinder, the loop cut's two sides
+//! differ by a translation, and ψ is one rectangle closing along the cut
+//! (`layout::annulus_layout`, spec §8 footnote 3). Each rectangle becomes an
+//! untrimmed bicubic B-spline patch: arcs fitted once (shared sides
+//! bit-identical; an annulus's seam is one arc used as the patch's left and
+//! right side), interiors by the exact Coons patch of §9.4 or fitted to the
+//! shell (ours).
 //!
-//! Not built yet: the layout energy (S6–S7), so a shell with holes, with
-//! Σ I ≠ 4, with interior cones (S2, `cones`: given through
-//! [`SplineOptions::cones`], run through the flow, cut and immersion by
-//! [`cone_core`] and then refused) or whose ψ is not orthogonal is refused
-//! with one error line.
+//! Not built yet: the layout energy (S6–S7), so a shell with more loops,
+//! an annulus with boundary corners, Σ I ≠ 4χ over its corners, interior
+//! cones (S2, `cones`: given through [`SplineOptions::cones`], run through
+//! the flow, cut and immersion by [`cone_core`] and then refused) or whose
+//! ψ is not orthogonal is refused with one error line.
 
 use std::time::Instant;
 
 use spline::{jacobian_check, Multipatch, SplineError};
 use thiserror::Error;
 
-use crate::cut::{cut_to_disk, CutError};
-use crate::immersion::{immerse, ImmersionError};
-use crate::layout::{orthogonal_boundary, trace_layout, Layout, LayoutError, PsiLocator};
+use crate::cut::{cut_to_disk, CutError, CutMesh};
+use crate::immersion::{immerse, Immersion, ImmersionError};
+use crate::layout::{
+    annulus_layout, orthogonal_boundary, trace_layout, Layout, LayoutError, PsiLocator,
+};
 use crate::ricci::{boundary_corner_cones, ricci_flow, RicciError, RicciOptions};
 use crate::shell::{Shell, ShellError, ShellTopology};
 
@@ -93,6 +100,11 @@ pub struct SplineReport {
     pub ricci_iterations: usize,
     /// Final max |K̄ − K| (radians).
     pub ricci_error: f64,
+    /// Boundary loops of the shell (1: a disk, 2: an annulus).
+    pub boundary_loops: usize,
+    /// An annulus: the rotation between its loop cut's two sides (radians;
+    /// a flat cylinder has none). `None` for a disk.
+    pub seam_rotation: Option<f64>,
     /// Largest bend of a boundary run of ψ off its axis, over ψ's diagonal.
     pub boundary_deviation: f64,
     /// Smallest signed triangle area of ψ over its 3D area (Q1: positive).
@@ -188,11 +200,21 @@ pub enum SplineMethodError {
     Option(String),
 }
 
+/// The two kinds of shell that need no interior cone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum ConeFree {
+    /// A disk whose boundary corners' indices sum to 4.
+    Disk,
+    /// An annulus (two loops, χ = 0) with smooth loops: a flat cylinder.
+    Annulus,
+}
+
 /// Checks the shell is a single disk whose boundary corners' indices sum to
-/// 4 (Σ I = 4χ, χ = 1) and returns its topology and cones.
-fn disk_with_corners(
+/// 4 (Σ I = 4χ, χ = 1), or an annulus (two loops, χ = 0) without boundary
+/// corners, and returns its topology, cones and kind.
+fn cone_free_shell(
     shell: &Shell,
-) -> Result<(ShellTopology, Vec<crate::ricci::Cone>), SplineMethodError> {
+) -> Result<(ShellTopology, Vec<crate::ricci::Cone>, ConeFree), SplineMethodError> {
     let topo = shell.check()?;
     let loops = topo.boundary_loops.len();
     if topo.components != 1 {
@@ -200,16 +222,82 @@ fn disk_with_corners(
     }
     let cones = boundary_corner_cones(shell, &topo);
     let sum: i32 = cones.iter().map(|c| c.index).sum();
-    if topo.euler != 1 || sum != 4 {
-        let convex = cones.iter().filter(|c| c.index > 0).count();
-        return Err(SplineMethodError::NeedsCones(format!(
-            "{loops} boundary loop(s), χ = {}, boundary corners {} ({convex} convex, {} reflex) with Σ I = {sum}; without interior cones only a disk (one loop, χ = 1) with Σ I = 4 works",
-            topo.euler,
-            cones.len(),
-            cones.iter().filter(|c| c.index < 0).count(),
+    let kind = match (topo.euler, loops, sum) {
+        (1, 1, 4) => ConeFree::Disk,
+        (0, 2, 0) if cones.is_empty() => ConeFree::Annulus,
+        _ => {
+            let convex = cones.iter().filter(|c| c.index > 0).count();
+            return Err(SplineMethodError::NeedsCones(format!(
+                "{loops} boundary loop(s), χ = {}, boundary corners {} ({convex} convex, {} reflex) with Σ I = {sum}; without interior cones only a disk (one loop, χ = 1) with Σ I = 4 or an annulus (two loops, χ = 0) with no boundary corner works",
+                topo.euler,
+                cones.len(),
+                cones.iter().filter(|c| c.index < 0).count(),
+            )));
+        }
+    };
+    Ok((topo, cones, kind))
+}
+
+/// The flat layout of a cone-free shell: the cut, ψ (rotated to the layout
+/// for an annulus), the layout, its locator and the figures of the report.
+struct FlatLayout {
+    cut: CutMesh,
+    imm: Immersion,
+    layout: Layout,
+    locator: PsiLocator,
+    /// ψ's largest boundary bend over its size.
+    boundary_deviation: f64,
+    /// The rotation between the loop cut's two sides (annuli).
+    seam_rotation: Option<f64>,
+}
+
+/// Cut, immersion and layout (S4–S8) of a cone-free shell: the rectangles
+/// of an orthogonal polygon for a disk, one rectangle closing along the
+/// loop cut for an annulus (`layout::annulus_layout`).
+fn flat_layout(
+    shell: &Shell,
+    topo: &ShellTopology,
+    cones: &[crate::ricci::Cone],
+    metric: &crate::ricci::RicciMetric,
+    kind: ConeFree,
+) -> Result<FlatLayout, SplineMethodError> {
+    let cut = cut_to_disk(shell, topo, cones)?;
+    let imm = immerse(shell, topo, &cut, metric)?;
+    if !(imm.min_signed_area > 0.0) {
+        return Err(SplineMethodError::Layout(LayoutError::NotOrthogonal(
+            format!(
+                "ψ folds: smallest signed triangle area {:.3e} (Q1)",
+                imm.min_signed_area
+            ),
         )));
     }
-    Ok((topo, cones))
+    match kind {
+        ConeFree::Disk => {
+            let poly = orthogonal_boundary(topo, &cut, &imm, cones, ORTHOGONAL_TOLERANCE)?;
+            let layout = trace_layout(&poly)?;
+            let locator = PsiLocator::new(&cut, &imm);
+            Ok(FlatLayout {
+                cut,
+                imm,
+                layout,
+                locator,
+                boundary_deviation: poly.max_deviation / poly.size,
+                seam_rotation: None,
+            })
+        }
+        ConeFree::Annulus => {
+            let a = annulus_layout(topo, &cut, &imm, ORTHOGONAL_TOLERANCE)?;
+            let locator = PsiLocator::new(&cut, &a.immersion).with_period(a.period);
+            Ok(FlatLayout {
+                cut,
+                imm: a.immersion,
+                layout: a.layout,
+                locator,
+                boundary_deviation: a.max_deviation / a.size,
+                seam_rotation: Some(a.seam_rotation),
+            })
+        }
+    }
 }
 
 /// The bounding-box diagonal of a point set.
@@ -246,7 +334,7 @@ pub fn splines_from_shell(
     if let ConeChoice::Given(given) = &opts.cones {
         refuse_unless_corner_cones(shell, given)?;
     }
-    let (topo, cones) = disk_with_corners(shell)?;
+    let (topo, cones, kind) = cone_free_shell(shell)?;
     let diag = diagonal(&shell.vertices);
     let tolerance = opts.tolerance.unwrap_or(DEFAULT_TOLERANCE_SHARE * diag);
     if !(tolerance > 0.0 && tolerance.is_finite()) {
@@ -259,26 +347,21 @@ pub fn splines_from_shell(
     let metric = ricci_flow(shell, &topo, &cones, &RicciOptions::default())?;
     let t_ricci = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
-    let cut = cut_to_disk(shell, &topo, &cones)?;
-    let imm = immerse(shell, &topo, &cut, &metric)?;
-    if !(imm.min_signed_area > 0.0) {
-        return Err(SplineMethodError::Layout(LayoutError::NotOrthogonal(
-            format!(
-                "ψ folds: smallest signed triangle area {:.3e} (Q1)",
-                imm.min_signed_area
-            ),
-        )));
-    }
-    let poly = orthogonal_boundary(&topo, &cut, &imm, &cones, ORTHOGONAL_TOLERANCE)?;
-    let layout = trace_layout(&poly)?;
-    let locator = PsiLocator::new(&cut, &imm);
+    let flat = flat_layout(shell, &topo, &cones, &metric, kind)?;
+    let FlatLayout {
+        cut,
+        imm,
+        layout,
+        locator,
+        ..
+    } = &flat;
     let t_layout = t2.elapsed().as_secs_f64();
     let t3 = Instant::now();
-    let samples = fit::ShellSamples::new(shell, &cut, &imm, &layout);
+    let samples = fit::ShellSamples::new(shell, cut, imm, layout);
     let ctx = fit::FitContext {
         shell,
-        layout: &layout,
-        locator: &locator,
+        layout,
+        locator,
         samples: &samples,
     };
     let (segments, mut mp, mut dist, fallbacks) = match opts.segments {
@@ -335,7 +418,9 @@ pub fn splines_from_shell(
         reflex_corners: cones.iter().filter(|c| c.index < 0).count(),
         ricci_iterations: metric.iterations,
         ricci_error: metric.max_error,
-        boundary_deviation: poly.max_deviation / poly.size,
+        boundary_loops: topo.boundary_loops.len(),
+        seam_rotation: flat.seam_rotation,
+        boundary_deviation: flat.boundary_deviation,
         min_area_ratio: imm.min_area_ratio,
         separatrices: layout.separatrices,
         patches: layout.rects.len(),
@@ -369,12 +454,9 @@ pub fn splines_from_shell(
 /// The layout of `shell` alone (for tests and pictures): corners, flow,
 /// immersion, boundary check and tracing.
 pub fn layout_of_shell(shell: &Shell) -> Result<Layout, SplineMethodError> {
-    let (topo, cones) = disk_with_corners(shell)?;
+    let (topo, cones, kind) = cone_free_shell(shell)?;
     let metric = ricci_flow(shell, &topo, &cones, &RicciOptions::default())?;
-    let cut = cut_to_disk(shell, &topo, &cones)?;
-    let imm = immerse(shell, &topo, &cut, &metric)?;
-    let poly = orthogonal_boundary(&topo, &cut, &imm, &cones, ORTHOGONAL_TOLERANCE)?;
-    Ok(trace_layout(&poly)?)
+    Ok(flat_layout(shell, &topo, &cones, &metric, kind)?.layout)
 }
 
 #[cfg(test)]

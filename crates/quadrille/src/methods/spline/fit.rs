@@ -9,7 +9,7 @@
 use geometry::vec3::{cross, dot, normalize, sub};
 use spline::basis::basis_functions;
 use spline::{
-    fit_curve, jacobian_check, ArcUse, BSplinePatch, Multipatch, MultipatchBuilder, SplineError,
+    fit_curve, jacobian_check, ArcUse, BSplineCurve, BSplinePatch, Multipatch, MultipatchBuilder, SplineError,
 };
 
 use super::SplineMethodError;
@@ -64,8 +64,15 @@ impl ShellSamples {
             .map(|(a, c)| (c[0] - a[0]).max(c[1] - a[1]))
             .fold(0.0, f64::max);
         let eps = 1e-9 * size;
+        // An annulus: ψ's x taken modulo the period into the one rectangle.
+        let x0 = boxes.first().map_or(0.0, |b| b.0[0]);
+        let wrap = |p: [f64; 2]| match layout.period_x {
+            Some(c) if c > 0.0 => [x0 + (p[0] - x0).rem_euclid(c), p[1]],
+            _ => p,
+        };
         let mut per_rect = vec![Vec::new(); boxes.len()];
         for (c, p) in imm.uv.iter().enumerate() {
+            let p = &wrap(*p);
             let hit = boxes.iter().position(|(a, b)| {
                 p[0] >= a[0] - eps && p[0] <= b[0] + eps && p[1] >= a[1] - eps && p[1] <= b[1] + eps
             });
@@ -154,8 +161,18 @@ impl FitContext<'_> {
         interior: Interior,
     ) -> Result<(Multipatch, usize), SplineMethodError> {
         let mut b = MultipatchBuilder::new();
-        for &p in &self.layout.nodes {
-            b.add_node(self.on_shell(p)?);
+        // Builder node of each layout node (glued copies share one) and its point.
+        let mut node_index: Vec<usize> = Vec::with_capacity(self.layout.nodes.len());
+        let mut node_point: Vec<[f64; 3]> = Vec::new();
+        for (i, &p) in self.layout.nodes.iter().enumerate() {
+            let glue = self.layout.node_glue.get(i).copied().unwrap_or(i);
+            if glue < i {
+                node_index.push(node_index[glue]);
+            } else {
+                let x = self.on_shell(p)?;
+                node_point.push(x);
+                node_index.push(b.add_node(x));
+            }
         }
         let mut arcs = Vec::with_capacity(self.layout.arcs.len());
         for (a, &[s, e]) in self.layout.arcs.iter().enumerate() {
@@ -168,6 +185,13 @@ impl FitContext<'_> {
                 .map(|i| i as f64 / (pts.len() - 1) as f64)
                 .collect();
             let curve = fit_curve(&pts, &params, spans)?;
+            // The ends on their nodes (a glued copy lies on its node only up to ψ's location error).
+            let (s, e) = (node_index[s], node_index[e]);
+            let mut control = curve.control_points().to_vec();
+            let last = control.len() - 1;
+            control[0] = node_point[s];
+            control[last] = node_point[e];
+            let curve = BSplineCurve::new(curve.knots().clone(), control)?;
             arcs.push(b.add_arc(s, e, &curve)?);
         }
         let mut fallbacks = 0;
