@@ -248,24 +248,7 @@ pub(crate) fn mesh_faces(
         for c in &changed {
             again.extend(curve_faces[c.idx()].iter().map(|f| f.idx()));
         }
-        // the growth bound: faces whose boundary gets finer are expected to
-        // grow with the square of their boundary's edge count
-        let edges = |p: &CurvePlan, f: usize| -> f64 {
-            model.faces[f]
-                .curve_uses()
-                .map(|u| 2.0 * p.counts[u.curve.idx()] as f64)
-                .sum()
-        };
-        let expected: f64 = (0..nf)
-            .map(|f| {
-                let q = quads_of[f] as f64;
-                if again.contains(&f) && edges(&plan, f) > 0.0 {
-                    q * (edges(&next, f) / edges(&plan, f)).powi(2)
-                } else {
-                    q
-                }
-            })
-            .sum();
+        let expected = expected_quads(model, &quads_of, &again, &plan, &next);
         if expected > MAX_GROWTH * first_quads as f64 {
             let (&f, (reason, _)) = failed.iter().next().ok_or(MeshError::NoFaces)?;
             let why = format!(
@@ -349,6 +332,37 @@ fn refine_near_spots(
         .collect()
 }
 
+/// The model's quads expected after a refinement round from `plan` to
+/// `next` (the growth bound of [`mesh_faces`]): `quads_of` per face as they
+/// are, but each face of `again` (meshed again) scaled by the square of the
+/// ratio of its boundary edge counts, next to now.
+fn expected_quads(
+    model: &Model,
+    quads_of: &[usize],
+    again: &BTreeSet<usize>,
+    plan: &CurvePlan,
+    next: &CurvePlan,
+) -> f64 {
+    let edges = |p: &CurvePlan, f: usize| -> f64 {
+        model.faces[f]
+            .curve_uses()
+            .map(|u| 2.0 * p.counts[u.curve.idx()] as f64)
+            .sum()
+    };
+    quads_of
+        .iter()
+        .enumerate()
+        .map(|(f, &q)| {
+            let q = q as f64;
+            if again.contains(&f) && edges(plan, f) > 0.0 {
+                q * (edges(next, f) / edges(plan, f)).powi(2)
+            } else {
+                q
+            }
+        })
+        .sum()
+}
+
 /// Builds the global mesh: corners (but the ones in `merged`, which no curve
 /// uses any more), then curve nodes by curve, then each face's interior
 /// nodes in face order; quads in face order.
@@ -428,4 +442,28 @@ pub(crate) fn assemble(
         }
     }
     Ok(m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::curves::curve_mesh::plan_curves;
+    use geometry::primitives;
+
+    /// A 4 × 4 square at coarse spacing 0.2: 4 × 20 coarse segments, 160
+    /// boundary edges. Doubling the bottom side's chord class (bottom and
+    /// top) makes 240: a face of 100 quads is expected at 100 × (240 /
+    /// 160)² = 225, and at 100 when it is not meshed again.
+    #[test]
+    fn expected_quads_grow_with_the_square_of_the_boundary() {
+        let m = primitives::square(4.0);
+        let plan = plan_curves(&m, 0.1);
+        let mut next = plan.clone();
+        assert_eq!(next.refine(CurveId(0)), vec![CurveId(0), CurveId(2)]);
+        let again: BTreeSet<usize> = [0].into_iter().collect();
+        let e = expected_quads(&m, &[100], &again, &plan, &next);
+        assert!((e - 225.0).abs() < 1e-9, "{e}");
+        let e = expected_quads(&m, &[100], &BTreeSet::new(), &plan, &next);
+        assert!((e - 100.0).abs() < 1e-9, "{e}");
+    }
 }
