@@ -55,12 +55,36 @@ impl LocalNode {
     }
 }
 
+/// An inverted quad of a failed face attempt: its centre and diameter (the
+/// largest distance between two of its corners).
+#[derive(Clone, Copy, Debug)]
+pub struct FailureSpot {
+    /// The mean of its four corners.
+    pub at: Vec3,
+    /// The largest distance between two of its corners.
+    pub diameter: f64,
+}
+
 /// Why a face could not be triangulated.
 #[derive(Clone, Debug)]
 pub enum FaceFailure {
     /// The boundary polygon is too coarse (self-intersecting, or its quads
     /// cannot be made valid): refining these curves may help.
     RefineCurves(Vec<CurveId>, String),
+    /// Quads stay inverted at `spots`, which refining the face's curves near
+    /// them may repair (the driver refines locally there first, and the
+    /// chord classes of `curves` as a last resort); the attempt had `quads`
+    /// quads.
+    InvertedAt {
+        /// The curves whose boundary edges touch the inverted quads.
+        curves: Vec<CurveId>,
+        /// The inverted quads, in quad order.
+        spots: Vec<FailureSpot>,
+        /// Quads of the failed attempt (for the driver's growth bound).
+        quads: usize,
+        /// What went wrong, for the error message.
+        reason: String,
+    },
     /// Nothing more can be done.
     Fatal(String),
 }

@@ -123,6 +123,96 @@ impl CurvePlan {
         }
         changed
     }
+
+    /// Refines curve `c` locally, alone (its chord class keeps its counts):
+    /// the coarse spacing at a point `x` of the curve becomes at most
+    /// `s + GRADING × max(0, |x − p| − r)` for every `(p, r, s)` of `near`,
+    /// where the current spacing is larger, and the count grows by the
+    /// segments that adds; the spacing elsewhere is kept. Returns whether the
+    /// curve changed. A degenerate curve, or one the spots ask nothing of,
+    /// is left alone.
+    pub fn refine_near(&mut self, model: &Model, c: CurveId, near: &[(Vec3, f64, f64)]) -> bool {
+        let i = c.idx();
+        let Some(prof) = self.profiles.get(i).and_then(|p| p.as_ref()) else {
+            return false;
+        };
+        let total = prof.budget.last().copied().unwrap_or(0.0);
+        if near.is_empty() || prof.ts.len() < 2 || !(total > 0.0) {
+            return false;
+        }
+        let ce = &model.curves[i];
+        let target = |x: Vec3| -> f64 {
+            near.iter()
+                .map(|&(p, r, s)| s + GRADING * (vec3::dist(x, p) - r).max(0.0))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let min_len = min_sample_length(model);
+        let mut ts = prof.ts.clone();
+        let mut budget = prof.budget.clone();
+        let mut pts: Vec<Vec3> = ts.iter().map(|&t| ce.eval(model, t)).collect();
+        // samples at least twice as fine as the target spacing, so that
+        // ∫ dl / spacing is integrated where the target is small; a new
+        // sample takes the budget interpolated in the parameter, as
+        // discretize_curve reads it
+        for _ in 0..SAMPLE_DEPTH {
+            if ts.len() > MAX_SIZED_SAMPLES {
+                break;
+            }
+            let mut changed = false;
+            let (mut nts, mut nb, mut npts) = (Vec::new(), Vec::new(), Vec::new());
+            for j in 0..ts.len() - 1 {
+                nts.push(ts[j]);
+                nb.push(budget[j]);
+                npts.push(pts[j]);
+                let len = vec3::dist(pts[j], pts[j + 1]);
+                if len > min_len && len > 0.5 * target(vec3::lerp(pts[j], pts[j + 1], 0.5)) {
+                    let tm = 0.5 * (ts[j] + ts[j + 1]);
+                    nts.push(tm);
+                    nb.push(0.5 * (budget[j] + budget[j + 1]));
+                    npts.push(ce.eval(model, tm));
+                    changed = true;
+                }
+            }
+            let last = ts.len() - 1;
+            nts.push(ts[last]);
+            nb.push(budget[last]);
+            npts.push(pts[last]);
+            (ts, budget, pts) = (nts, nb, npts);
+            if !changed {
+                break;
+            }
+        }
+        // segments per budget unit now: kept, so the spacing away from the
+        // spots stays as it is
+        let per_unit = self.counts[i] as f64 / total;
+        let mut nb = vec![0.0; ts.len()];
+        for j in 0..ts.len() - 1 {
+            let inc = budget[j + 1] - budget[j];
+            let len = vec3::dist(pts[j], pts[j + 1]);
+            let want = len / (per_unit * target(vec3::lerp(pts[j], pts[j + 1], 0.5)));
+            nb[j + 1] = nb[j] + if want.is_finite() { inc.max(want) } else { inc };
+        }
+        let new_total = nb.last().copied().unwrap_or(0.0);
+        if !(new_total > total * (1.0 + 1e-9)) {
+            return false;
+        }
+        let count = ((per_unit * new_total).round() as usize).clamp(self.counts[i], 1 << 20);
+        let cum = {
+            let mut cum = vec![0.0; pts.len()];
+            for j in 0..pts.len() - 1 {
+                cum[j + 1] = cum[j] + vec3::dist(pts[j], pts[j + 1]);
+            }
+            cum
+        };
+        self.counts[i] = count;
+        self.ideal[i] = new_total;
+        self.profiles[i] = Some(Profile {
+            ts,
+            cum,
+            budget: nb,
+        });
+        true
+    }
 }
 
 /// The shortest sample interval [`sample`] still splits: 1e-9 of the
@@ -652,6 +742,43 @@ mod tests {
         assert_eq!(c[0], 1);
         assert_eq!(c[2], 1);
         assert!(c[1] >= 15);
+    }
+
+    /// Local refinement (the driver's answer to inverted quads in a neck): a
+    /// spot in the middle of the bottom side of a 4 × 4 square (coarse
+    /// spacing 0.2) asks for 0.05 there, graded at 0.3; the extra budget is
+    /// 2 ∫₀^½ (1 / (0.05 + 0.3 x) − 1 / 0.2) dx = 2 (ln 4 / 0.3 − 2.5) = 4.24,
+    /// so 20 coarse segments become 24: edges of 0.025 at the spot, 0.1
+    /// beyond 1.5 from it. The top side (same chord class, 4 away) is left
+    /// alone.
+    #[test]
+    fn refine_near_refines_around_the_spot_only() {
+        let m = primitives::square(4.0);
+        let mut plan = plan_curves(&m, 0.1);
+        assert_eq!(plan.counts, vec![20; 4]);
+        let (bottom, top) = (CurveId(0), CurveId(2));
+        assert_eq!(plan.chord(bottom), plan.chord(top));
+        let spot = [(([2.0, 0.0, 0.0]), 0.0, 0.05)];
+        assert!(plan.refine_near(&m, bottom, &spot));
+        assert!(!plan.refine_near(&m, top, &spot));
+        assert_eq!(plan.counts, vec![24, 20, 20, 20]);
+        let cm = discretize_curve(&m, &plan, bottom);
+        assert_eq!(cm.points.len(), 49);
+        let (mut near, mut far) = (0, 0);
+        for w in cm.points.windows(2) {
+            let len = vec3::dist(w[0], w[1]);
+            let from_spot = (0.5 * (w[0][0] + w[1][0]) - 2.0).abs();
+            if from_spot < 0.02 {
+                near += 1;
+                assert!((len - 0.025).abs() < 0.003, "edge {len} at the spot");
+            } else if from_spot > 1.5 {
+                far += 1;
+                assert!((len - 0.1).abs() < 0.003, "edge {len} at {from_spot}");
+            }
+        }
+        assert!(near >= 1 && far >= 8, "{near} edges at the spot, {far} far");
+        let untouched = discretize_curve(&m, &plan, top);
+        assert_eq!(untouched.points.len(), 41);
     }
 
     #[test]

@@ -285,6 +285,7 @@ pub(crate) fn mesh_quasi_structured(
         plan,
         opts.progress.as_ref(),
         &face_mesher,
+        true,
         &mut times,
     )?;
     let t = Instant::now();
