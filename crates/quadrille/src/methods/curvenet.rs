@@ -119,6 +119,9 @@ pub struct CurvesReport {
     pub welded_nodes: usize,
     /// What the network stage did.
     pub network: super::curvenet_network::NetworkReport,
+    /// The output mesh's open edges, sorted by where they lie
+    /// (`methods::curvenet_seams`).
+    pub open_edges: super::curvenet_seams::OpenEdges,
 }
 
 /// Why a network could not be meshed.
@@ -231,6 +234,8 @@ pub fn mesh_curve_network(
         .collect();
     let (mesh, welded) = assemble(net, &meshed, &weld);
     report.welded_nodes = welded;
+    let cycles: Vec<usize> = meshed.iter().map(|(c, _)| *c).collect();
+    report.open_edges = super::curvenet_seams::classify_open_edges(net, &mesh, &cycles, weld.tolerance.max(1e-9 * net.diagonal()));
     Ok((mesh, report))
 }
 
