@@ -28,6 +28,7 @@ use super::curvenet_assemble::{assemble, Welder};
 use super::curvenet_facing::Facing;
 use super::curvenet_facing::unfolded;
 use crate::curvenet::cut::find_cut;
+use crate::curvenet::polyline::edges_along;
 pub use crate::curvenet::midpoint::midpoint_pairing;
 use crate::curvenet::ring::{pair_ring, split_annulus};
 use crate::curvenet::sample::quadrangulate_with_minimums;
@@ -462,7 +463,7 @@ fn mesh_part(
                 cut.from, cut.to
             ));
             for part in &cut.parts {
-                let kept = edges_in(&part.loops.outer.points, &opts.unsplittable_edges);
+                let kept = edges_along(&part.loops.outer.points, &opts.unsplittable_edges);
                 let o = PairingOptions { unsplittable_edges: kept, ..opts.clone() };
                 let part_loops = CycleLoops { surface: loops.surface.clone(), ..part.loops.clone() };
                 mesh_part(&part_loops, env, &o, true, depth + 1, leaves, summary)?;
@@ -537,17 +538,6 @@ fn split_holes(
             false
         }
     }
-}
-
-/// The edges of `edges` that are edges of the closed polyline (a cut part
-/// keeps its parent's connectors that fall in it).
-fn edges_in(points: &[Vec3], edges: &[[Vec3; 2]]) -> Vec<[Vec3; 2]> {
-    let n = points.len();
-    edges
-        .iter()
-        .filter(|e| (0..n).any(|i| points[i] == e[0] && points[(i + 1) % n] == e[1]))
-        .copied()
-        .collect()
 }
 
 /// Adds a part's summary figures (of the halves of a split annulus) to
