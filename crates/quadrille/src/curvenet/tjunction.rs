@@ -642,19 +642,33 @@ pub fn snap_secondary_vertices(
                 if segs.len() < 2 || total == 0 {
                     continue;
                 }
+                // Every secondary vertex's target first; then moves in
+                // passes until none succeeds: a vertex whose target lies
+                // past its neighbour waits until that neighbour has moved
+                // (a run of them sliding one way moves front first).
                 let mut count = 0;
+                let mut pending: Vec<(f64, f64)> = Vec::with_capacity(segs.len() - 1);
                 for pair in segs.windows(2) {
                     count += intervals(pair[0].leaf, pair[0].segment);
-                    let v = pair[0].hi();
-                    let target = a + (b - a) * count as f64 / total as f64;
-                    let Some((li, k, sign)) = vertex_start(sc, side, v, leaves, tol) else {
-                        continue;
-                    };
-                    if leaves[li].primary[k] || (target - v).abs() <= 1e-12 * sc.length {
-                        continue;
-                    }
-                    if move_start(&mut leaves[li], k, sign * (target - v)) {
-                        moved += 1;
+                    pending.push((pair[0].hi(), a + (b - a) * count as f64 / total as f64));
+                }
+                loop {
+                    let before = pending.len();
+                    pending.retain(|&(v, target)| {
+                        let Some((li, k, sign)) = vertex_start(sc, side, v, leaves, tol) else {
+                            return false;
+                        };
+                        if leaves[li].primary[k] || (target - v).abs() <= 1e-12 * sc.length {
+                            return false;
+                        }
+                        if move_start(&mut leaves[li], k, sign * (target - v)) {
+                            moved += 1;
+                            return false;
+                        }
+                        true
+                    });
+                    if pending.is_empty() || pending.len() == before {
+                        break;
                     }
                 }
             }

@@ -463,7 +463,14 @@ fn mesh_part(
                 cut.from, cut.to
             ));
             for part in &cut.parts {
-                let kept = edges_along(&part.loops.outer.points, &opts.unsplittable_edges);
+                let mut kept = edges_along(&part.loops.outer.points, &opts.unsplittable_edges);
+                // A part cut again keeps the earlier cut (its closing edge,
+                // the last segment) when it falls in a sub-part: split
+                // there, it would be sampled apart from its other side.
+                let last = paired.starts.len() - 1;
+                if closing && paired.unsplittable[last] && part.segments.contains(&last) {
+                    kept.push([paired.points[paired.starts[last]], paired.points[paired.starts[0]]]);
+                }
                 let o = PairingOptions { unsplittable_edges: kept, ..opts.clone() };
                 let part_loops = CycleLoops { surface: loops.surface.clone(), ..part.loops.clone() };
                 mesh_part(&part_loops, env, &o, true, depth + 1, leaves, summary)?;
