@@ -42,7 +42,12 @@ pub struct OpenEdges {
 
 /// Sorts the open edges of `mesh` (module docs). `cycles`: the meshed
 /// cycles; `tolerance`: the weld tolerance (nodes on a curve are within it).
-pub fn classify_open_edges(net: &CurveNetwork, mesh: &QuadMesh, cycles: &[usize], tolerance: f64) -> OpenEdges {
+pub fn classify_open_edges(
+    net: &CurveNetwork,
+    mesh: &QuadMesh,
+    cycles: &[usize],
+    tolerance: f64,
+) -> OpenEdges {
     let mut uses: HashMap<(u32, u32), (usize, usize)> = HashMap::new();
     for (qi, q) in mesh.quads.iter().enumerate() {
         for k in 0..4 {
@@ -63,8 +68,11 @@ pub fn classify_open_edges(net: &CurveNetwork, mesh: &QuadMesh, cycles: &[usize]
     };
     let mut out = OpenEdges::default();
     let mut per_cycle: BTreeMap<usize, (usize, usize)> = BTreeMap::new();
-    let mut open: Vec<((u32, u32), usize)> =
-        uses.into_iter().filter(|(_, (n, _))| *n != 2).map(|(e, (n, q))| (e, if n == 1 { q } else { usize::MAX })).collect();
+    let mut open: Vec<((u32, u32), usize)> = uses
+        .into_iter()
+        .filter(|(_, (n, _))| *n != 2)
+        .map(|(e, (n, q))| (e, if n == 1 { q } else { usize::MAX }))
+        .collect();
     open.sort_unstable();
     for ((a, b), quad) in open {
         if quad == usize::MAX {
@@ -161,7 +169,11 @@ mod tests {
     #[test]
     fn two_squares_sampled_alike_have_no_open_edge_between_them() {
         let net = parse_json(&two_squares(), None).unwrap();
-        let opts = CurvesOptions { size: Some(0.25), threads: Some(1), ..Default::default() };
+        let opts = CurvesOptions {
+            size: Some(0.25),
+            threads: Some(1),
+            ..Default::default()
+        };
         let (mesh, report) = mesh_curve_network(&net, &opts).unwrap();
         let o = classify_open_edges(&net, &mesh, &[0, 1], net.weld_tolerance());
         assert_eq!(o.between_cycles, 0, "{o:?} {:?}", report.network);
@@ -184,7 +196,11 @@ mod tests {
     #[test]
     fn a_shared_side_sampled_apart_counts_as_open_between_cycles() {
         let net = parse_json(&two_squares(), None).unwrap();
-        let opts = CurvesOptions { size: Some(0.25), threads: Some(1), ..Default::default() };
+        let opts = CurvesOptions {
+            size: Some(0.25),
+            threads: Some(1),
+            ..Default::default()
+        };
         let (mut mesh, _) = mesh_curve_network(&net, &opts).unwrap();
         // Unweld the shared side: the right square's quads get their own
         // copies of the nodes on x = 1, shifted along the side by 1/8 so
@@ -225,8 +241,14 @@ mod tests {
         let mut mesh = QuadMesh::default();
         // two quads of the left square meeting at x = 0.5, not welded
         mesh.nodes = vec![
-            [0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [0.5, 1.0, 0.0], [0.0, 1.0, 0.0],
-            [0.5, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.5, 1.0, 0.0],
+            [0.0, 0.0, 0.0],
+            [0.5, 0.0, 0.0],
+            [0.5, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.5, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.5, 1.0, 0.0],
         ];
         mesh.node_class = vec![mesh::NodeClass::Face(FaceId(0), None); 8];
         mesh.quads = vec![[0, 1, 2, 3], [4, 5, 6, 7]];
