@@ -232,6 +232,11 @@ fn summary_text(r: &CurvesReport, quads: usize) -> String {
         "network: {} shared curves, {} T-junctions merged, {} chords split, {} unresolved, {} secondary vertices ({} snapped), interval mismatch {}, intervals {:.3} s\n",
         tj.shared_curves, tj.merged, tj.split, tj.unresolved, tj.secondary, n.snapped, n.mismatch, n.interval_seconds
     );
+    let o = &r.open_edges;
+    s += &format!(
+        "open edges: {} ({} between cycles, {} inside cycles, {} on unshared curves), {} non-manifold\n",
+        o.total, o.between_cycles, o.inside_cycles, o.on_unshared_curves, o.non_manifold
+    );
     s += &format!(
         "{} cycles meshed, {} skipped, {} quads, edge length {:.4}\n",
         r.cycles.len(),
@@ -286,6 +291,16 @@ fn report_json(r: &CurvesReport, quads: usize) -> String {
             "interval_seconds": r.network.interval_seconds,
             "seconds": r.network.seconds,
         },
+        "open_edges": {
+            "total": r.open_edges.total,
+            "between_cycles": r.open_edges.between_cycles,
+            "on_unshared_curves": r.open_edges.on_unshared_curves,
+            "inside_cycles": r.open_edges.inside_cycles,
+            "non_manifold": r.open_edges.non_manifold,
+            "by_cycle": r.open_edges.by_cycle.iter().map(|(c, b, i)| serde_json::json!({"cycle": c, "between_cycles": b, "inside_cycles": i})).collect::<Vec<_>>(),
+        },
+        "open_edges_between_cycles": r.open_edges.between_cycles,
+        "open_edges_inside_cycles": r.open_edges.inside_cycles,
         "skipped": r.skipped.iter().map(|(c, why)| serde_json::json!({"cycle": c, "reason": why})).collect::<Vec<_>>(),
         "totals": {
             "cycles": r.cycles.len(),

@@ -40,6 +40,11 @@ fn two_squares_give_one_welded_mesh_layout_and_report() {
     assert_eq!(stats["quads"], 32);
     assert_eq!(stats["open_edges"], 24);
     assert_eq!(stats["inverted_quads_element_geometry"], 0);
+    // the report sorts them: all on curves one cycle uses, none on the
+    // shared side nor inside a square
+    let o = &report["open_edges"];
+    assert_eq!((o["total"].as_u64(), o["on_unshared_curves"].as_u64()), (Some(24), Some(24)), "{o}");
+    assert_eq!((o["between_cycles"].as_u64(), o["inside_cycles"].as_u64()), (Some(0), Some(0)), "{o}");
     // the layout: one quad per patch
     let l = std::fs::read_to_string(&layout).unwrap();
     assert_eq!(l.lines().filter(|x| x.starts_with("f ")).count(), 2);
@@ -119,20 +124,31 @@ fn rings_that_break_the_interval_program_are_split_by_two_connectors() {
         .and_then(|n| n.parse().ok())
         .unwrap_or_else(|| panic!("no ring mismatch line: {stderr}"));
     assert!(mismatch < with_rings, "interval mismatch {mismatch}, {with_rings} with every ring kept");
-    assert!(mismatch <= 8, "interval mismatch {mismatch}");
+    // 8 before the ends of cuts and connectors were pinned (moving them
+    // opened the seams inside cycles; pinned, fewer T-junctions merge): the
+    // open edges are the watertightness measure.
+    assert!(mismatch <= 15, "interval mismatch {mismatch}");
     assert!(!stderr.contains("the network stage's layout failed"), "{stderr}");
     let stats: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
     assert_eq!(stats["inverted_quads"], 0, "inverted by the CAD normals");
     assert_eq!(stats["inverted_quads_element_geometry"], 0);
     assert_eq!(stats["non_manifold_edges"], 0);
     let open = stats["open_edges"].as_u64().unwrap();
-    assert!(open <= 140, "open edges {open}");
+    assert!(open <= 80, "open edges {open}");
+    // every open edge is on a curve two meshed cycles share or inside a
+    // cycle (no cycle is skipped); the report counts them from the mesh
+    let o = &report["open_edges"];
+    assert_eq!(o["total"].as_u64(), Some(open), "{o}");
+    assert_eq!(o["on_unshared_curves"], 0, "{o}");
+    assert!(o["between_cycles"].as_u64().unwrap() <= 69, "{o}");
+    assert!(o["inside_cycles"].as_u64().unwrap() <= 11, "{o}");
 }
 
 /// i01o_m1: cycle 7 (a 16-curve outline with one round hole) was refused
 /// for 1 inverted quad of 90 in its layout; the quads around it are now
 /// untangled on the face, so it is meshed. Only the two 8- and 9-hole
-/// plates (cycles 2 and 3) are still skipped; open edges 412 → 356; no quad
+/// plates (cycles 2 and 3) are still skipped; open edges 412 → 356 → 360,
+/// all on the skipped plates' boundary now; no quad
 /// inverted by the CAD normals or element geometry, none non-manifold.
 #[test]
 fn a_layout_with_one_thin_inverted_quad_is_untangled_not_refused() {
@@ -156,7 +172,14 @@ fn a_layout_with_one_thin_inverted_quad_is_untangled_not_refused() {
     assert_eq!(stats["inverted_quads_element_geometry"], 0);
     assert_eq!(stats["non_manifold_edges"], 0);
     let open = stats["open_edges"].as_u64().unwrap();
-    assert!(open <= 356, "open edges {open}");
+    assert!(open <= 360, "open edges {open}");
+    // all of them on the boundary of the two skipped plates: the meshed
+    // cycles agree on every curve they share and inside (24 between and 3
+    // inside before the ends of cuts and connectors were pinned)
+    let o = &report["open_edges"];
+    assert_eq!(o["total"].as_u64(), Some(open), "{o}");
+    assert_eq!(o["between_cycles"], 0, "{o}");
+    assert_eq!(o["inside_cycles"], 0, "{o}");
 }
 
 #[test]

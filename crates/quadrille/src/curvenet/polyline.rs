@@ -17,6 +17,27 @@ pub fn angle(a: P3, b: P3) -> f64 {
 /// The distance from `p` to the straight segment `a`–`b`.
 pub use geometry::vec3::segment_distance as point_segment_distance;
 
+/// The edges of `edges` that the closed polyline `points` runs along: from
+/// a point equal to `e[0]` straight to the next point equal to `e[1]`, every
+/// point between on the segment (within 1e-9 of its length). A straight
+/// cut or connector densified by the pairing is still found in the parts
+/// made from it.
+pub fn edges_along(points: &[P3], edges: &[[P3; 2]]) -> Vec<[P3; 2]> {
+    let n = points.len();
+    edges
+        .iter()
+        .filter(|e| {
+            let tol = 1e-9 * dist(e[0], e[1]);
+            (0..n).filter(|&i| points[i] == e[0]).any(|i| {
+                (1..n).position(|t| points[(i + t) % n] == e[1]).is_some_and(|k| {
+                    (1..=k).all(|t| point_segment_distance(points[(i + t) % n], e[0], e[1]) <= tol)
+                })
+            })
+        })
+        .copied()
+        .collect()
+}
+
 /// The distance from `p` to an open polyline.
 pub fn point_polyline_distance(p: P3, line: &[P3]) -> f64 {
     match line {
@@ -217,5 +238,22 @@ mod tests {
         let (vals, vecs) = symmetric_eigen([[2.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 0.0, 5.0]]);
         assert!((vals[0] - 1.0).abs() < 1e-12 && (vals[1] - 3.0).abs() < 1e-12 && (vals[2] - 5.0).abs() < 1e-12);
         assert!((vecs[0][0] + vecs[0][1]).abs() < 1e-12 && vecs[0][2].abs() < 1e-12);
+    }
+
+    /// A connector densified into a run of points is still found; an
+    /// edge between two points whose run bends, or runs the other way, is not.
+    #[test]
+    fn a_densified_connector_is_found_along_the_polyline() {
+        // a square whose right side (the connector, (2,0) → (2,2)) is densified
+        let points = vec![[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 0.5, 0.0], [2.0, 1.0, 0.0], [2.0, 2.0, 0.0], [0.0, 2.0, 0.0]];
+        let connector = [[2.0, 0.0, 0.0], [2.0, 2.0, 0.0]];
+        let backwards = [[2.0, 2.0, 0.0], [2.0, 0.0, 0.0]];
+        let bent = [[2.0, 0.0, 0.0], [0.0, 2.0, 0.0]];
+        let single = [[0.0, 2.0, 0.0], [0.0, 0.0, 0.0]];
+        assert_eq!(edges_along(&points, &[connector, backwards, bent, single]), vec![connector, single]);
+        // a point off the straight edge inside the run
+        let mut off = points.clone();
+        off[2] = [2.1, 0.5, 0.0];
+        assert!(edges_along(&off, &[connector]).is_empty());
     }
 }

@@ -224,10 +224,7 @@ pub fn split_annulus(cycle: &CycleLoops, kept: &[[P3; 2]], opts: &PairingOptions
             fixed.dedup();
             let mut connectors =
                 vec![[points[last_outer], points[last_outer + 1]], [points[points.len() - 1], points[0]]];
-            let n = points.len();
-            connectors.extend(
-                kept.iter().filter(|e| (0..n).any(|i| points[i] == e[0] && points[(i + 1) % n] == e[1])).copied(),
-            );
+            connectors.extend(super::polyline::edges_along(&points, kept));
             let flat_half: Vec<[f64; 2]> = points.iter().map(|&p| frame.project(p)).collect();
             let holes = (1..dense.len())
                 .filter(|&u| u != t && inside(flat[u][0], &flat_half))

@@ -141,10 +141,22 @@ fn rebuild(paired: &PairedCycle, arcs: &Arcs, q: &[f64]) -> (Vec<Vec3>, Vec<usiz
     (points, starts)
 }
 
+/// True when segment start `k` of `leaf` ends or starts a cut or hole
+/// connector: the other part of the cycle holds the same end, so moving it
+/// here alone would open the seam between the parts.
+fn pinned(leaf: &NetLeaf, k: usize) -> bool {
+    let u = &leaf.paired.unsplittable;
+    let m = u.len();
+    m > 0 && (u[k % m] || u[(k + m - 1) % m])
+}
+
 /// Moves segment start `k` of `leaf` by `shift` along its boundary (it
-/// stays strictly between its neighbours, else nothing happens). Returns
-/// whether it moved.
+/// stays strictly between its neighbours, else nothing happens; an end of
+/// a cut or connector never moves, [`pinned`]). Returns whether it moved.
 fn move_start(leaf: &mut NetLeaf, k: usize, shift: f64) -> bool {
+    if pinned(leaf, k) {
+        return false;
+    }
     let arcs = Arcs::of(&leaf.paired.points);
     let mut q = start_positions(&leaf.paired, &arcs);
     let m = q.len();
@@ -565,12 +577,15 @@ fn resolve_one(
             if let Some(w) = near {
                 if let Some((lw, kw, sw)) = vertex_start(&sc, 1 - side, w, leaves, tol) {
                     let w_point = point_of(&leaves[lw], kw);
-                    // the moving vertex: a secondary one, else one that is no corner
-                    let move_mine = !v_primary || (fixed(w_point) && !fixed(here));
+                    // the moving vertex: a secondary one, else one that is
+                    // no corner and no end of a cut or connector
+                    let stays_mine = fixed(here) || pinned(&leaves[li], k);
+                    let stays_w = fixed(w_point) || pinned(&leaves[lw], kw);
+                    let move_mine = !v_primary || (stays_w && !stays_mine);
                     let moved = if move_mine {
-                        !fixed(here) && move_start(&mut leaves[li], k, sign * (w - v))
+                        !stays_mine && move_start(&mut leaves[li], k, sign * (w - v))
                     } else {
-                        !fixed(w_point) && move_start(&mut leaves[lw], kw, sw * (v - w))
+                        !stays_w && move_start(&mut leaves[lw], kw, sw * (v - w))
                     };
                     if moved {
                         leaves[if move_mine { li } else { lw }].primary
@@ -627,19 +642,33 @@ pub fn snap_secondary_vertices(
                 if segs.len() < 2 || total == 0 {
                     continue;
                 }
+                // Every secondary vertex's target first; then moves in
+                // passes until none succeeds: a vertex whose target lies
+                // past its neighbour waits until that neighbour has moved
+                // (a run of them sliding one way moves front first).
                 let mut count = 0;
+                let mut pending: Vec<(f64, f64)> = Vec::with_capacity(segs.len() - 1);
                 for pair in segs.windows(2) {
                     count += intervals(pair[0].leaf, pair[0].segment);
-                    let v = pair[0].hi();
-                    let target = a + (b - a) * count as f64 / total as f64;
-                    let Some((li, k, sign)) = vertex_start(sc, side, v, leaves, tol) else {
-                        continue;
-                    };
-                    if leaves[li].primary[k] || (target - v).abs() <= 1e-12 * sc.length {
-                        continue;
-                    }
-                    if move_start(&mut leaves[li], k, sign * (target - v)) {
-                        moved += 1;
+                    pending.push((pair[0].hi(), a + (b - a) * count as f64 / total as f64));
+                }
+                loop {
+                    let before = pending.len();
+                    pending.retain(|&(v, target)| {
+                        let Some((li, k, sign)) = vertex_start(sc, side, v, leaves, tol) else {
+                            return false;
+                        };
+                        if leaves[li].primary[k] || (target - v).abs() <= 1e-12 * sc.length {
+                            return false;
+                        }
+                        if move_start(&mut leaves[li], k, sign * (target - v)) {
+                            moved += 1;
+                            return false;
+                        }
+                        true
+                    });
+                    if pending.is_empty() || pending.len() == before {
+                        break;
                     }
                 }
             }
@@ -696,5 +725,22 @@ mod tests {
         assert_eq!(point_of(&leaf, 1), [0.75, 0.0, 0.0]);
         assert!(!move_start(&mut leaf, 1, 2.0));
         assert_eq!(leaf.paired.starts.len(), 6);
+    }
+
+    /// The ends of a cut or connector (segment 1, the right side, here)
+    /// never move: the cycle's other part holds the same ends. Start 1
+    /// begins it and start 2 ends it; start 3 is free.
+    #[test]
+    fn the_ends_of_a_connector_stay_put() {
+        let mut leaf = square_leaf();
+        leaf.paired.unsplittable[1] = true;
+        assert!(pinned(&leaf, 1) && pinned(&leaf, 2) && !pinned(&leaf, 3) && !pinned(&leaf, 0));
+        assert!(!move_start(&mut leaf, 1, -0.5));
+        assert!(!move_start(&mut leaf, 2, -0.5));
+        assert_eq!(point_of(&leaf, 1), [2.0, 0.0, 0.0]);
+        assert_eq!(point_of(&leaf, 2), [2.0, 1.0, 0.0]);
+        assert!(!leaf.changed);
+        assert!(move_start(&mut leaf, 3, -0.5));
+        assert_eq!(point_of(&leaf, 3), [0.5, 1.0, 0.0]);
     }
 }

@@ -28,6 +28,7 @@ use super::curvenet_assemble::{assemble, Welder};
 use super::curvenet_facing::Facing;
 use super::curvenet_facing::unfolded;
 use crate::curvenet::cut::find_cut;
+use crate::curvenet::polyline::edges_along;
 pub use crate::curvenet::midpoint::midpoint_pairing;
 use crate::curvenet::ring::{pair_ring, split_annulus};
 use crate::curvenet::sample::quadrangulate_with_minimums;
@@ -119,6 +120,9 @@ pub struct CurvesReport {
     pub welded_nodes: usize,
     /// What the network stage did.
     pub network: super::curvenet_network::NetworkReport,
+    /// The output mesh's open edges, sorted by where they lie
+    /// (`methods::curvenet_seams`).
+    pub open_edges: super::curvenet_seams::OpenEdges,
 }
 
 /// Why a network could not be meshed.
@@ -231,6 +235,8 @@ pub fn mesh_curve_network(
         .collect();
     let (mesh, welded) = assemble(net, &meshed, &weld);
     report.welded_nodes = welded;
+    let cycles: Vec<usize> = meshed.iter().map(|(c, _)| *c).collect();
+    report.open_edges = super::curvenet_seams::classify_open_edges(net, &mesh, &cycles, weld.tolerance.max(1e-9 * net.diagonal()));
     Ok((mesh, report))
 }
 
@@ -457,7 +463,14 @@ fn mesh_part(
                 cut.from, cut.to
             ));
             for part in &cut.parts {
-                let kept = edges_in(&part.loops.outer.points, &opts.unsplittable_edges);
+                let mut kept = edges_along(&part.loops.outer.points, &opts.unsplittable_edges);
+                // A part cut again keeps the earlier cut (its closing edge,
+                // the last segment) when it falls in a sub-part: split
+                // there, it would be sampled apart from its other side.
+                let last = paired.starts.len() - 1;
+                if closing && paired.unsplittable[last] && part.segments.contains(&last) {
+                    kept.push([paired.points[paired.starts[last]], paired.points[paired.starts[0]]]);
+                }
                 let o = PairingOptions { unsplittable_edges: kept, ..opts.clone() };
                 let part_loops = CycleLoops { surface: loops.surface.clone(), ..part.loops.clone() };
                 mesh_part(&part_loops, env, &o, true, depth + 1, leaves, summary)?;
@@ -532,17 +545,6 @@ fn split_holes(
             false
         }
     }
-}
-
-/// The edges of `edges` that are edges of the closed polyline (a cut part
-/// keeps its parent's connectors that fall in it).
-fn edges_in(points: &[Vec3], edges: &[[Vec3; 2]]) -> Vec<[Vec3; 2]> {
-    let n = points.len();
-    edges
-        .iter()
-        .filter(|e| (0..n).any(|i| points[i] == e[0] && points[(i + 1) % n] == e[1]))
-        .copied()
-        .collect()
 }
 
 /// Adds a part's summary figures (of the halves of a split annulus) to

@@ -27,6 +27,7 @@ pub mod curvenet;
 mod curvenet_assemble;
 mod curvenet_facing;
 pub mod curvenet_network;
+pub mod curvenet_seams;
 pub(crate) mod driver;
 pub(crate) mod guard;
 pub(crate) mod options;
