@@ -457,10 +457,11 @@ fn worst_edge_error(r: &Run) -> f64 {
     worst
 }
 
-/// Issue 31: a long thin torus strip (a fillet, 4 × 400 quads, about 31 × 1
-/// in ψ). Reading each new side's direction from placed positions compounded
-/// the flow's 1e-11 residue along the strip; carried as angles, every edge
-/// of Ω keeps its Ricci length and the strip is a rectangle.
+/// Issue 31's check on a long thin torus strip (a fillet, 4 × 400 quads,
+/// about 31 × 1 in ψ): every edge of Ω keeps its Ricci length within 1e-8
+/// and the strip is a rectangle. (This strip does not reproduce the issue:
+/// the old position-fed unfolding passes it too; the flange fillet in
+/// `crates/cli/tests/spline.rs` does.)
 #[test]
 fn a_long_fillet_strip_keeps_every_ricci_length() {
     let (n, m) = (400, 4);
