@@ -178,6 +178,28 @@ fn cad_face_written_as_step_reads_back_open_and_untrimmed() {
     }
 }
 
+/// Issue 31: the flange's torus fillet (face 2) at `--triangle-size 0.5`, a
+/// 338 × 5 strip in ψ, was refused ("a boundary loop in ψ bends 2.3e-4 × its
+/// size"): the unfolding compounded the Ricci residue. `immerse` now checks
+/// every edge of Ω against its Ricci length (1e-8 relative), so success means
+/// that check held; the loops lie on their lines and the seam closes.
+#[test]
+fn flange_fillet_at_half_millimetre_triangles_is_one_seamless_patch() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("fillet.step");
+    let model = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/industrial/blind_flange_1in_150.step");
+    let rep = run_json(&model, &out, &["--faces", "2", "--triangle-size", "0.5"]);
+    assert_eq!(rep["boundary_loops"], 2);
+    assert_eq!(rep["patches"], 1);
+    assert!(rep["triangles"].as_u64().unwrap() > 20_000, "{rep}");
+    assert!(rep["seam_rotation"].as_f64().unwrap() < 1e-8, "{rep}");
+    assert!(rep["boundary_deviation"].as_f64().unwrap() < 1e-9, "{rep}");
+    assert!(rep["min_scaled_jacobian"].as_f64().unwrap() > 0.0, "{rep}");
+    assert_eq!(rep["tolerance_met"], true);
+    assert!(out.exists());
+}
+
 #[test]
 fn washer_side_is_one_step_face_closed_along_its_seam() {
     let dir = tempfile::tempdir().unwrap();

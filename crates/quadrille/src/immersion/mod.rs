@@ -75,7 +75,34 @@ pub enum ImmersionError {
         /// Its lengths.
         lengths: [f64; 3],
     },
+    /// An edge of Ω whose length in ψ is not its Ricci length: the
+    /// unfolding reached a child vertex along two routes that disagree.
+    #[error(
+        "immersion: edge {a}–{b} (shell vertices) of triangle {face} is {planar:.6e} long in the plane but {metric:.6e} in the Ricci metric (relative {relative:.1e}, limit {INCONSISTENCY_LIMIT:.0e})"
+    )]
+    Inconsistent {
+        /// The triangle.
+        face: usize,
+        /// The edge's shell vertices.
+        a: usize,
+        /// The edge's other shell vertex.
+        b: usize,
+        /// Its length in the plane before scaling.
+        planar: f64,
+        /// Its Ricci length.
+        metric: f64,
+        /// |planar − metric| / metric.
+        relative: f64,
+    },
 }
+
+/// Largest relative difference between an edge's length in ψ and its Ricci
+/// length that [`immerse`] accepts. Not 1e-8: the flow stops at a residue
+/// of 1e-12–3e-11 per vertex (Newton's step fails below ~1e-12), and that
+/// residue, summed along a long strip's unfolding, leaves 1.1e-8 on the
+/// flange fillet's face 7 at 0.5 mm (2.0e-5 … 1.9e-1 when the unfolding was
+/// wrong, issue 31).
+pub const INCONSISTENCY_LIMIT: f64 = 1e-7;
 
 /// Angle at `p` of a triangle with sides `pq`, `pr`, `qr` (law of cosines).
 fn angle_at(pq: f64, pr: f64, qr: f64) -> Option<f64> {
@@ -108,6 +135,41 @@ fn wrap(angle: f64) -> f64 {
     a
 }
 
+/// The metric's angles at the corners of triangle `f` with side lengths `l`
+/// (side k from corner k to k + 1).
+fn corner_angles(f: usize, l: [f64; 3]) -> Result<[f64; 3], ImmersionError> {
+    let mut corner = [0.0; 3];
+    for (k, angle) in corner.iter_mut().enumerate() {
+        *angle =
+            angle_at(l[k], l[(k + 2) % 3], l[(k + 1) % 3]).ok_or(ImmersionError::Degenerate {
+                face: f,
+                lengths: l,
+            })?;
+    }
+    Ok(corner)
+}
+
+/// The directions of a counter-clockwise triangle's three sides when side
+/// `j` points along `first`: each next side turns by π minus the corner
+/// angle between them. Wrapped to (−π, π].
+fn side_angles(j: usize, first: f64, corner: [f64; 3]) -> [f64; 3] {
+    let mut side = [0.0; 3];
+    let mut angle = wrap(first);
+    for m in 0..3 {
+        let s = (j + m) % 3;
+        side[s] = angle;
+        let next = (s + 1) % 3;
+        angle = wrap(angle + std::f64::consts::PI - corner[next]);
+    }
+    side
+}
+
+/// `from` moved by `length` in direction `angle`.
+fn step(from: [f64; 2], length: f64, angle: f64) -> [f64; 2] {
+    let (s, c) = angle.sin_cos();
+    [from[0] + length * c, from[1] + length * s]
+}
+
 /// Lays Ω out in the plane with the Ricci lengths (spec §7).
 pub fn immerse(
     shell: &Shell,
@@ -136,17 +198,22 @@ pub fn immerse(
     let start = (0..nf)
         .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
         .unwrap_or(0);
+    // Side directions are carried from triangle to triangle as angles (the
+    // shared side reversed, then the metric's corner angles), never read back
+    // from placed positions: rounding and the flow's residue then add up
+    // along the unfolding instead of compounding (issue 31: reading each new
+    // side's direction from its two placed ends amplified the 1e-11 residue
+    // by ~10× per 100 triangles along a 338 × 5 strip, to 20 % at its far end).
     let mut uv = vec![[f64::NAN; 2]; nc];
     let mut placed = vec![false; nc];
-    let l = metric.triangle_lengths(topo, start);
+    let mut side_angle = vec![[f64::NAN; 3]; nf];
     let c = cut.corners[start];
-    let theta = angle_at(l[0], l[2], l[1]).ok_or(ImmersionError::Degenerate {
-        face: start,
-        lengths: l,
-    })?;
+    let l = metric.triangle_lengths(topo, start);
+    let corner = corner_angles(start, l)?;
+    side_angle[start] = side_angles(0, 0.0, corner);
     uv[c[0]] = [0.0, 0.0];
     uv[c[1]] = [l[0], 0.0];
-    uv[c[2]] = rotate([l[2], 0.0], theta);
+    uv[c[2]] = step(uv[c[1]], l[1], side_angle[start][1]);
     for &v in &c {
         placed[v] = true;
     }
@@ -166,33 +233,27 @@ pub fn immerse(
             }
             visited[g] = true;
             queue.push_back(g);
-            // In g the shared side runs b → a; place the third corner.
+            // In g the shared side j runs b → a, opposite to side k of f.
             let a = shell.triangles[f][k];
             let j = (0..3)
                 .position(|m| shell.triangles[g][m] == shell.triangles[f][(k + 1) % 3])
                 .unwrap_or(0);
             debug_assert_eq!(shell.triangles[g][(j + 1) % 3], a);
-            let gc = cut.corners[g];
-            let (p, q, r) = (gc[j], gc[(j + 1) % 3], gc[(j + 2) % 3]);
-            if placed[r] {
-                continue;
-            }
             let lg = metric.triangle_lengths(topo, g);
-            let (pq, qr, rp) = (lg[j], lg[(j + 1) % 3], lg[(j + 2) % 3]);
-            let theta = angle_at(pq, rp, qr).ok_or(ImmersionError::Degenerate {
-                face: g,
-                lengths: lg,
-            })?;
-            let d = [uv[q][0] - uv[p][0], uv[q][1] - uv[p][1]];
-            let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
-            let dir = rotate([d[0] / len * rp, d[1] / len * rp], theta);
-            uv[r] = [uv[p][0] + dir[0], uv[p][1] + dir[1]];
-            placed[r] = true;
+            let corner = corner_angles(g, lg)?;
+            side_angle[g] = side_angles(j, side_angle[f][k] + std::f64::consts::PI, corner);
+            let gc = cut.corners[g];
+            let (q, r) = (gc[(j + 1) % 3], gc[(j + 2) % 3]);
+            if !placed[r] {
+                uv[r] = step(uv[q], lg[(j + 1) % 3], side_angle[g][(j + 1) % 3]);
+                placed[r] = true;
+            }
         }
     }
     if let Some(face) = visited.iter().position(|v| !v) {
         return Err(ImmersionError::Unreached { face });
     }
+    check_lengths(shell, topo, cut, metric, &uv)?;
     // Axis alignment from the boundary edges of S.
     let boundary_edges: Vec<[usize; 2]> = topo
         .edges
@@ -287,6 +348,37 @@ pub fn immerse(
         loop_axis_spread,
         transitions,
     })
+}
+
+/// Every edge of Ω as long in the plane as in the metric (relative
+/// [`INCONSISTENCY_LIMIT`]); the first one that is not, as an error.
+fn check_lengths(
+    shell: &Shell,
+    topo: &ShellTopology,
+    cut: &CutMesh,
+    metric: &RicciMetric,
+    uv: &[[f64; 2]],
+) -> Result<(), ImmersionError> {
+    for (f, c) in cut.corners.iter().enumerate() {
+        for k in 0..3 {
+            let (p, q) = (uv[c[k]], uv[c[(k + 1) % 3]]);
+            let planar = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
+            let length = metric.lengths[topo.triangle_edges[f][k]];
+            let relative = (planar - length).abs() / length;
+            // NaN (an unplaced child) fails too.
+            if !(relative <= INCONSISTENCY_LIMIT) {
+                return Err(ImmersionError::Inconsistent {
+                    face: f,
+                    a: shell.triangles[f][k],
+                    b: shell.triangles[f][(k + 1) % 3],
+                    planar,
+                    metric: length,
+                    relative,
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The rotation and translation taking a path's left side to its right side.

@@ -442,3 +442,99 @@ fn a_plate_with_a_square_hole_and_an_interior_cone_pair_is_seamless() {
         .count();
     assert_eq!((loops, r.cut.branches.len()), (1, 3));
 }
+
+/// Largest |ψ length − Ricci length| / Ricci length over the edges of Ω.
+fn worst_edge_error(r: &Run) -> f64 {
+    let mut worst: f64 = 0.0;
+    for (f, c) in r.cut.corners.iter().enumerate() {
+        let l = r.metric.triangle_lengths(&r.topo, f);
+        for k in 0..3 {
+            let (p, q) = (r.immersion.uv[c[k]], r.immersion.uv[c[(k + 1) % 3]]);
+            let planar = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
+            worst = worst.max((planar / r.immersion.scale - l[k]).abs() / l[k]);
+        }
+    }
+    worst
+}
+
+/// Issue 31's check on a long thin torus strip (a fillet, 4 × 400 quads,
+/// about 31 × 1 in ψ): every edge of Ω keeps its Ricci length within 1e-8
+/// and the strip is a rectangle. (This strip does not reproduce the issue:
+/// the old position-fed unfolding passes it too; the flange fillet in
+/// `crates/cli/tests/spline.rs` does.)
+#[test]
+fn a_long_fillet_strip_keeps_every_ricci_length() {
+    let (n, m) = (400, 4);
+    let (major, minor) = (20.0, 2.0);
+    let mut vertices = Vec::new();
+    for j in 0..=m {
+        for i in 0..=n {
+            let a = 1.6 * i as f64 / n as f64;
+            let b = FRAC_PI_2 * j as f64 / m as f64;
+            let rr = major + minor * b.cos();
+            vertices.push([rr * a.cos(), rr * a.sin(), minor * b.sin()]);
+        }
+    }
+    let id = |i: usize, j: usize| j * (n + 1) + i;
+    let mut quads = Vec::new();
+    for j in 0..m {
+        for i in 0..n {
+            quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let shell = Shell::from_quad_mesh(vertices, &quads);
+    let cones: Vec<Cone> = [id(0, 0), id(n, 0), id(n, m), id(0, m)]
+        .iter()
+        .map(|&vertex| Cone { vertex, index: 1 })
+        .collect();
+    let r = run("fillet strip 4 × 400", &shell, &cones);
+    assert!(r.metric.max_error < 1e-9, "{}", r.metric.max_error);
+    let worst = worst_edge_error(&r);
+    assert!(worst < 1e-8, "worst edge error {worst:e}");
+    let area: f64 = r
+        .cut
+        .corners
+        .iter()
+        .map(|c| {
+            signed_area(
+                r.immersion.uv[c[0]],
+                r.immersion.uv[c[1]],
+                r.immersion.uv[c[2]],
+            )
+        })
+        .sum();
+    let b = bounding_box(&r.immersion.uv);
+    let (w, h) = (
+        (b[2] - b[0]).max(b[3] - b[1]),
+        (b[2] - b[0]).min(b[3] - b[1]),
+    );
+    assert!(w > 10.0 * h, "a long strip: {w} × {h}");
+    assert!(
+        ((b[2] - b[0]) * (b[3] - b[1]) - area).abs() < 1e-7 * area,
+        "{b:?} vs {area}"
+    );
+}
+
+/// A metric that is not flat at one interior vertex cannot be laid out:
+/// the check refuses it instead of returning a wrong layout.
+#[test]
+fn a_metric_with_a_bent_vertex_is_refused_by_the_length_check() {
+    let n = 8;
+    let shell = grid(n, |x, y| [x, y, 0.0]);
+    let cones = corner_cones(n);
+    let topo = shell.check().expect("a valid open shell");
+    let mut metric =
+        ricci_flow(&shell, &topo, &cones, &RicciOptions::default()).expect("Ricci converges");
+    let cut = cut_to_disk(&shell, &topo, &cones).expect("a disk");
+    assert!(immerse(&shell, &topo, &cut, &metric).is_ok());
+    // Lengthen one interior edge by 2 %: its ends are no longer flat.
+    let centre = (n / 2) * (n + 1) + n / 2;
+    let e = topo.edge(centre, centre + 1).expect("an interior edge");
+    metric.lengths[e] *= 1.02;
+    match immerse(&shell, &topo, &cut, &metric) {
+        Err(ImmersionError::Inconsistent { relative, .. }) => {
+            assert!(relative > INCONSISTENCY_LIMIT, "{relative}")
+        }
+        other => panic!("expected the length check to refuse, got {other:?}"),
+    }
+}
