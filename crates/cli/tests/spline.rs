@@ -428,34 +428,32 @@ fn an_l_plate_s_cone_file_holds_its_six_corners_and_reads_back_to_the_same_patch
     let moved = dir.path().join("moved.cones");
     std::fs::write(&moved, text.replace("10 10 5 -1", "7.4 7.6 5 -1")).unwrap();
     let bad = dir.path().join("c.json");
-    let r = quadrille(&[
-        "spline",
-        input.to_str().unwrap(),
-        "-o",
-        bad.to_str().unwrap(),
-        "--cones",
-        moved.to_str().unwrap(),
-    ]);
-    let err = assert_clean_failure(&r, "lplate.obj");
+    let err = refused_with_cones(&input, &bad, &moved);
     assert!(
         err.contains("S6–S7") && err.contains("1 interior cones (+1: 0, −1: 1"),
         "{err}"
     );
-    assert!(!bad.exists());
     // On the boundary but off the corner: boundary cones other than the corners.
     std::fs::write(&moved, text.replace("10 10 5 -1", "10 12.5 5 -1")).unwrap();
-    let r = quadrille(&[
-        "spline",
-        input.to_str().unwrap(),
-        "-o",
-        bad.to_str().unwrap(),
-        "--cones",
-        moved.to_str().unwrap(),
-    ]);
-    let err = assert_clean_failure(&r, "lplate.obj");
+    let err = refused_with_cones(&input, &bad, &moved);
     assert!(
         err.contains("boundary cones other than the shell's corners") && err.contains("S6–S7"),
         "{err}"
     );
-    assert!(!bad.exists());
+}
+
+/// `quadrille spline INPUT -o OUT --cones CONES`, which must fail cleanly
+/// (one line, no panic) and write no `OUT`; returns the error line.
+fn refused_with_cones(input: &Path, out: &Path, cones: &Path) -> String {
+    let r = quadrille(&[
+        "spline",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--cones",
+        cones.to_str().unwrap(),
+    ]);
+    let err = assert_clean_failure(&r, &input.file_name().unwrap().to_string_lossy());
+    assert!(!out.exists(), "{}", out.display());
+    err
 }

@@ -94,6 +94,21 @@ fn assert_converged(r: &Run) {
     }
 }
 
+/// The area of `r`'s flat image: its triangles' signed areas summed.
+fn flat_area(r: &Run) -> f64 {
+    r.cut
+        .corners
+        .iter()
+        .map(|c| {
+            signed_area(
+                r.immersion.uv[c[0]],
+                r.immersion.uv[c[1]],
+                r.immersion.uv[c[2]],
+            )
+        })
+        .sum()
+}
+
 fn bounding_box(uv: &[[f64; 2]]) -> [f64; 4] {
     let mut b = [
         f64::INFINITY,
@@ -165,18 +180,7 @@ fn curved_disk(name: &str, lift: impl Fn(f64, f64) -> [f64; 3]) {
         assert!((k - want).abs() < 1e-9, "vertex {v}: K = {k}");
     }
     // The flat image keeps the 3D area.
-    let area: f64 = r
-        .cut
-        .corners
-        .iter()
-        .map(|c| {
-            signed_area(
-                r.immersion.uv[c[0]],
-                r.immersion.uv[c[1]],
-                r.immersion.uv[c[2]],
-            )
-        })
-        .sum();
+    let area = flat_area(&r);
     assert!((area - shell.area()).abs() < 1e-9 * shell.area());
     // The image of a disk with four right-angle corners and straight sides
     // is a rectangle: its area equals its bounding box's.
@@ -491,18 +495,7 @@ fn a_long_fillet_strip_keeps_every_ricci_length() {
     assert!(r.metric.max_error < 1e-9, "{}", r.metric.max_error);
     let worst = worst_edge_error(&r);
     assert!(worst < 1e-8, "worst edge error {worst:e}");
-    let area: f64 = r
-        .cut
-        .corners
-        .iter()
-        .map(|c| {
-            signed_area(
-                r.immersion.uv[c[0]],
-                r.immersion.uv[c[1]],
-                r.immersion.uv[c[2]],
-            )
-        })
-        .sum();
+    let area = flat_area(&r);
     let b = bounding_box(&r.immersion.uv);
     let (w, h) = (
         (b[2] - b[0]).max(b[3] - b[1]),
