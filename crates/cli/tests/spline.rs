@@ -53,14 +53,7 @@ fn run_json(input: &Path, out: &Path, extra: &[&str]) -> serde_json::Value {
 #[test]
 fn l_plate_gives_three_watertight_flat_patches() {
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("lplate.obj");
-    // [0, 20]² without [10, 20]², in the plane z = 5
-    let obj = grid_obj(
-        8,
-        |i, j| !(i >= 4 && j >= 4),
-        |u, v| [20.0 * u, 20.0 * v, 5.0],
-    );
-    std::fs::write(&input, obj).unwrap();
+    let input = l_plate_obj(dir.path());
     let out = dir.path().join("lplate.json");
     let rep = run_json(&input, &out, &[]);
     assert_eq!(rep["corners"], 6);
@@ -377,13 +370,7 @@ fn cones_out_is_written_and_a_shell_with_interior_cones_is_refused_without_outpu
 #[test]
 fn an_l_plate_s_cone_file_holds_its_six_corners_and_reads_back_to_the_same_patches() {
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("lplate.obj");
-    let obj = grid_obj(
-        8,
-        |i, j| !(i >= 4 && j >= 4),
-        |u, v| [20.0 * u, 20.0 * v, 5.0],
-    );
-    std::fs::write(&input, obj).unwrap();
+    let input = l_plate_obj(dir.path());
     let cones = dir.path().join("lplate.cones");
     let out = dir.path().join("a.json");
     let rep = run_json(&input, &out, &["--cones-out", cones.to_str().unwrap()]);
@@ -456,4 +443,17 @@ fn refused_with_cones(input: &Path, out: &Path, cones: &Path) -> String {
     let err = assert_clean_failure(&r, &input.file_name().unwrap().to_string_lossy());
     assert!(!out.exists(), "{}", out.display());
     err
+}
+
+/// Writes `lplate.obj` in `dir`: [0, 20]² without [10, 20]², in the plane
+/// z = 5, as an 8 × 8 grid of quads less a quarter; returns its path.
+fn l_plate_obj(dir: &Path) -> std::path::PathBuf {
+    let input = dir.join("lplate.obj");
+    let obj = grid_obj(
+        8,
+        |i, j| !(i >= 4 && j >= 4),
+        |u, v| [20.0 * u, 20.0 * v, 5.0],
+    );
+    std::fs::write(&input, obj).unwrap();
+    input
 }
