@@ -10,27 +10,13 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use common::stats_json;
+use common::{json_number, stats_json};
 
 /// A part of `data/necks`.
 fn neck_part(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../data/necks")
         .join(name)
-}
-
-/// The number after `"key":` in a JSON text.
-fn json_number(json: &str, key: &str) -> f64 {
-    let at = json
-        .find(&format!("\"{key}\":"))
-        .unwrap_or_else(|| panic!("no {key} in {json}"));
-    json[at + key.len() + 3..]
-        .split([',', '}'])
-        .next()
-        .unwrap()
-        .trim()
-        .parse()
-        .unwrap_or_else(|_| panic!("{key} is not a number in {json}"))
 }
 
 #[test]

@@ -9,7 +9,7 @@ use std::path::Path;
 use std::process::Output;
 use std::time::Instant;
 
-use common::{assert_clean_failure, cad, quadrille};
+use common::{assert_clean_failure, cad, json_number, quadrille};
 
 /// `quadrille mesh MODEL -o OUT --quiet EXTRA…`.
 fn mesh(model: &Path, out: &Path, extra: &[&str]) -> Output {
@@ -111,17 +111,7 @@ fn the_suggested_size_is_accepted() {
         .lines()
         .find_map(|l| l.strip_prefix("timings:"))
         .unwrap_or_else(|| panic!("no timings: line\n{text}"));
-    let number = |key: &str| -> f64 {
-        let at = json
-            .find(&format!("\"{key}\":"))
-            .unwrap_or_else(|| panic!("{key}: {json}"));
-        json[at + key.len() + 3..]
-            .split([',', '}'])
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap()
-    };
+    let number = |key: &str| json_number(json, key);
     let (estimated, made) = (number("estimated_quads"), number("quads"));
     assert!(estimated <= 2000.0, "{json}");
     assert!((estimated / made - 1.0).abs() < 0.3, "{json}");

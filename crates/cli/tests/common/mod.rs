@@ -69,3 +69,17 @@ pub fn all_cad_models() -> Vec<PathBuf> {
     out.sort();
     out
 }
+
+/// The number after `"key":` in a JSON text.
+pub fn json_number(json: &str, key: &str) -> f64 {
+    let at = json
+        .find(&format!("\"{key}\":"))
+        .unwrap_or_else(|| panic!("no {key} in {json}"));
+    json[at + key.len() + 3..]
+        .split([',', '}'])
+        .next()
+        .unwrap()
+        .trim()
+        .parse()
+        .unwrap_or_else(|_| panic!("{key} is not a number in {json}"))
+}
