@@ -396,20 +396,28 @@ pub fn cone(r: f64, h: f64) -> Model {
         uv_bounds: s.uv_bounds(),
         surface: Arc::new(s),
         reversed: false,
-        loops: vec![Loop {
-            uses: vec![
-                line_use(0, true, [0.0, va], [1.0, 0.0], false),
-                line_use(1, true, [TAU, 0.0], [0.0, 1.0], true),
-                line_use(2, false, [0.0, 0.0], [1.0, 0.0], false),
-                line_use(1, false, [0.0, 0.0], [0.0, 1.0], true),
-            ],
-            outer: true,
-        }],
+        loops: vec![seam_band_loop(va, 0.0)],
     };
     Model {
         corners,
         curves,
         faces: vec![face],
+    }
+}
+
+/// The loop of a face periodic in u over [0, 2π] between v = `v_low` and
+/// `v_high`: curve 0 along v = `v_low` (u increasing), the seam (curve 1) at
+/// u = 2π upwards, curve 2 along v = `v_high` backwards, the seam again at
+/// u = 0 downwards (the cone's and the sphere's one face).
+fn seam_band_loop(v_low: f64, v_high: f64) -> Loop {
+    Loop {
+        uses: vec![
+            line_use(0, true, [0.0, v_low], [1.0, 0.0], false),
+            line_use(1, true, [TAU, 0.0], [0.0, 1.0], true),
+            line_use(2, false, [0.0, v_high], [1.0, 0.0], false),
+            line_use(1, false, [0.0, 0.0], [0.0, 1.0], true),
+        ],
+        outer: true,
     }
 }
 
@@ -457,15 +465,7 @@ pub fn sphere(r: f64) -> Model {
         uv_bounds: s.uv_bounds(),
         surface: Arc::new(s),
         reversed: false,
-        loops: vec![Loop {
-            uses: vec![
-                line_use(0, true, [0.0, -FRAC_PI_2], [1.0, 0.0], false),
-                line_use(1, true, [TAU, 0.0], [0.0, 1.0], true),
-                line_use(2, false, [0.0, FRAC_PI_2], [1.0, 0.0], false),
-                line_use(1, false, [0.0, 0.0], [0.0, 1.0], true),
-            ],
-            outer: true,
-        }],
+        loops: vec![seam_band_loop(-FRAC_PI_2, FRAC_PI_2)],
     };
     Model {
         corners,
