@@ -248,7 +248,10 @@ pub fn curve_node_is_irregular(
     per_face.values().any(|&n| n != expected)
 }
 
-fn edge_uses(mesh: &QuadMesh) -> HashMap<(u32, u32), u32> {
+/// Every edge of `mesh` (quads and triangles), as (smaller node, larger
+/// node), with the number of elements using it: 1 on an open edge, 2 inside
+/// a manifold mesh, more on a non-manifold edge.
+pub fn edge_uses(mesh: &QuadMesh) -> HashMap<(u32, u32), u32> {
     let mut uses: HashMap<(u32, u32), u32> =
         HashMap::with_capacity(2 * (mesh.quads.len() + mesh.triangles.len()));
     let mut add_edge = |a: u32, b: u32| *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;

@@ -595,8 +595,8 @@ mod tests {
     use geometry::vec3;
     use crate::curvenet::fixtures;
     use crate::curvenet::parse_json;
+    use mesh::stats::edge_uses;
 
-    /// Every edge of `mesh` with the number of quads using it.
     /// Total length of the mesh's open edges (on one quad), after checking
     /// that no edge is on more than two.
     fn open_length(mesh: &QuadMesh) -> f64 {
@@ -606,17 +606,6 @@ mod tests {
             .filter(|(_, &n)| n == 1)
             .map(|(&(a, b), _)| vec3::dist(mesh.nodes[a as usize], mesh.nodes[b as usize]))
             .sum()
-    }
-
-    fn edge_uses(mesh: &QuadMesh) -> BTreeMap<(u32, u32), usize> {
-        let mut uses = BTreeMap::new();
-        for q in &mesh.quads {
-            for k in 0..4 {
-                let (a, b) = (q[k], q[(k + 1) % 4]);
-                *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-            }
-        }
-        uses
     }
 
     /// The OBJ example of docs/curve-networks.md: two unit squares sharing

@@ -48,13 +48,7 @@ pub fn classify_open_edges(
     cycles: &[usize],
     tolerance: f64,
 ) -> OpenEdges {
-    let mut uses: HashMap<(u32, u32), (usize, usize)> = HashMap::new();
-    for (qi, q) in mesh.quads.iter().enumerate() {
-        for k in 0..4 {
-            let (a, b) = (q[k], q[(k + 1) % 4]);
-            uses.entry((a.min(b), a.max(b))).or_insert((0, qi)).0 += 1;
-        }
-    }
+    let uses = mesh::stats::edge_uses(mesh);
     let face_cycle: HashMap<FaceId, usize> = cycles
         .iter()
         .map(|&c| (net.cycles()[c].cad_face.unwrap_or(FaceId(c as u32)), c))
@@ -68,11 +62,22 @@ pub fn classify_open_edges(
     };
     let mut out = OpenEdges::default();
     let mut per_cycle: BTreeMap<usize, (usize, usize)> = BTreeMap::new();
+    // each edge off two quads with the quad of an open one (usize::MAX for
+    // a non-manifold edge)
     let mut open: Vec<((u32, u32), usize)> = uses
-        .into_iter()
-        .filter(|(_, (n, _))| *n != 2)
-        .map(|(e, (n, q))| (e, if n == 1 { q } else { usize::MAX }))
+        .iter()
+        .filter(|(_, &n)| n > 2)
+        .map(|(&e, _)| (e, usize::MAX))
         .collect();
+    for (qi, q) in mesh.quads.iter().enumerate() {
+        for k in 0..4 {
+            let (a, b) = (q[k], q[(k + 1) % 4]);
+            let e = (a.min(b), a.max(b));
+            if uses.get(&e) == Some(&1) {
+                open.push((e, qi));
+            }
+        }
+    }
     open.sort_unstable();
     for ((a, b), quad) in open {
         if quad == usize::MAX {
