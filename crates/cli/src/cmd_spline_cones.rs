@@ -5,7 +5,7 @@
 
 use anyhow::{anyhow, Context, Result};
 use quadrille::cones::{format_cones, parse_cones, propose_cones, write_cones, ConeSummary};
-use quadrille::methods::spline::ConeChoice;
+use quadrille::methods::spline::{is_cone_free, ConeChoice};
 use quadrille::ricci::boundary_corner_cones;
 use quadrille::shell::Shell;
 
@@ -37,13 +37,8 @@ pub fn choose_cones(args: &SplineArgs, shell: &Shell, name: &str) -> Result<Cone
         write_out(&cones)?;
         return Ok(ConeChoice::Given(cones));
     }
-    let corners = boundary_corner_cones(shell, &topo);
-    let corner_sum: i32 = corners.iter().map(|c| c.index).sum();
-    // the two cone-free shells: a disk whose corners sum to 4, an annulus
-    // with no corner (a flat cylinder)
-    let corner_disk = (topo.euler == 1 && corner_sum == 4)
-        || (topo.euler == 0 && topo.boundary_loops.len() == 2 && corners.is_empty());
-    if corner_disk && args.cones_out.is_none() {
+    let cone_free = is_cone_free(&topo, &boundary_corner_cones(shell, &topo));
+    if cone_free && args.cones_out.is_none() {
         return Ok(ConeChoice::CornersOnly);
     }
     let cones = propose_cones(shell, &topo).map_err(|e| anyhow!("{name}: {e}"))?;
@@ -52,7 +47,7 @@ pub fn choose_cones(args: &SplineArgs, shell: &Shell, name: &str) -> Result<Cone
     if summary.interior() == 0 {
         return Ok(ConeChoice::CornersOnly);
     }
-    if corner_disk {
+    if cone_free {
         eprintln!(
             "note: {name}: the cross field proposes {} interior cones (Σ I = {}); the shell needs none, so they are not used",
             summary.interior(),

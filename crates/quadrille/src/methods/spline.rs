@@ -209,6 +209,24 @@ enum ConeFree {
     Annulus,
 }
 
+/// Which cone-free shell `topo` is, given its boundary corner cones
+/// `corners` (`None`: it needs interior cones).
+fn cone_free_kind(topo: &ShellTopology, corners: &[crate::ricci::Cone]) -> Option<ConeFree> {
+    let sum: i32 = corners.iter().map(|c| c.index).sum();
+    match (topo.euler, topo.boundary_loops.len(), sum) {
+        (1, 1, 4) => Some(ConeFree::Disk),
+        (0, 2, 0) if corners.is_empty() => Some(ConeFree::Annulus),
+        _ => None,
+    }
+}
+
+/// Whether a shell of topology `topo` and boundary corner cones `corners`
+/// needs no interior cone: a disk whose corners sum to 4, or an annulus
+/// with no corner (the shells [`splines_from_shell`] takes without cones).
+pub fn is_cone_free(topo: &ShellTopology, corners: &[crate::ricci::Cone]) -> bool {
+    cone_free_kind(topo, corners).is_some()
+}
+
 /// Checks the shell is a single disk whose boundary corners' indices sum to
 /// 4 (Σ I = 4χ, χ = 1), or an annulus (two loops, χ = 0) without boundary
 /// corners, and returns its topology, cones and kind.
@@ -222,10 +240,9 @@ fn cone_free_shell(
     }
     let cones = boundary_corner_cones(shell, &topo);
     let sum: i32 = cones.iter().map(|c| c.index).sum();
-    let kind = match (topo.euler, loops, sum) {
-        (1, 1, 4) => ConeFree::Disk,
-        (0, 2, 0) if cones.is_empty() => ConeFree::Annulus,
-        _ => {
+    let kind = match cone_free_kind(&topo, &cones) {
+        Some(kind) => kind,
+        None => {
             let convex = cones.iter().filter(|c| c.index > 0).count();
             return Err(SplineMethodError::NeedsCones(format!(
                 "{loops} boundary loop(s), χ = {}, boundary corners {} ({convex} convex, {} reflex) with Σ I = {sum}; without interior cones only a disk (one loop, χ = 1) with Σ I = 4 or an annulus (two loops, χ = 0) with no boundary corner works",
