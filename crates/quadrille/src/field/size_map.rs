@@ -606,14 +606,20 @@ fn turn_floors(
     if opts.floor_turn.is_none() && !opts.floor_narrow {
         return None;
     }
-    let mut floors = vec![f64::INFINITY; graph.len()];
-    let mut lowered = false;
-    for (i, f) in faces.iter().enumerate() {
-        let by_turn = match (opts.floor_turn, f.curvature) {
+    let by_turn: Vec<f64> = faces
+        .iter()
+        .map(|f| match (opts.floor_turn, f.curvature) {
             (Some(turn), Some(k)) if k.is_finite() && k > 0.0 => turn / k,
             _ => f64::INFINITY,
-        };
-        let by_width = if opts.floor_narrow {
+        })
+        .collect();
+    let mut by_width: Vec<f64> = faces
+        .iter()
+        .zip(&by_turn)
+        .map(|(f, &by_turn)| {
+            if !opts.floor_narrow {
+                return f64::INFINITY;
+            }
             narrow::narrow_width(f.topo)
                 .filter(|&w| w >= NARROW_MIN_FRACTION * lo && w < lo.min(by_turn))
                 .filter(|&w| {
@@ -627,9 +633,12 @@ fn turn_floors(
                     loops == Some(1) && even.is_some_and(|e| e >= NARROW_EVENNESS)
                 })
                 .unwrap_or(f64::INFINITY)
-        } else {
-            f64::INFINITY
-        };
+        })
+        .collect();
+    narrow::keep_strips_off_wide_faces(graph, faces, lo, &mut by_width);
+    let mut floors = vec![f64::INFINITY; graph.len()];
+    let mut lowered = false;
+    for (i, (&by_turn, &by_width)) in by_turn.iter().zip(&by_width).enumerate() {
         let s = by_turn.min(by_width);
         if s < lo {
             lowered = true;
