@@ -12,8 +12,8 @@ use anyhow::{bail, Context, Result};
 use geometry::FaceId;
 use mesh::quadmesh::{NodeClass, QuadMesh};
 use quadrille::methods::spline::{
-    splines_from_checked_shell, Interior, Segments, SplineMethodError, SplineOptions,
-    SplineReport, SplineResult,
+    splines_from_checked_shell, Interior, Segments, SplineMethodError, SplineOptions, SplineReport,
+    SplineResult,
 };
 use quadrille::shell::shell_from_model;
 
@@ -101,7 +101,8 @@ pub fn run(args: &SplineArgs) -> Result<()> {
     let result = match splines_from_checked_shell(&shell, &topo, &opts) {
         Ok(r) => r,
         Err(e) => {
-            if let (true, SplineMethodError::NeedsLayoutEnergy { times: t, .. }) = (args.timings, &e)
+            if let (true, SplineMethodError::NeedsLayoutEnergy { times: t, .. }) =
+                (args.timings, &e)
             {
                 eprintln!(
                     "time: load+triangulate {t_load:.3} s, check {t_check:.3} s, cones {t_cones:.3} s, refine {:.3} s, ricci {:.3} s, cut {:.3} s, immersion {:.3} s (stopped: no layout energy)",
@@ -152,7 +153,11 @@ pub fn run(args: &SplineArgs) -> Result<()> {
     if args.json {
         println!(
             "{}",
-            report_json(r, shell.triangles.len(), [t_load, t_check, t_cones, t_write])
+            report_json(
+                r,
+                shell.triangles.len(),
+                [t_load, t_check, t_cones, t_write]
+            )
         );
     } else if !args.quiet {
         print!("{}{step_note}", summary_text(r));

@@ -50,8 +50,12 @@ pub fn with_basis_derivatives<R>(
         derivatives_into(kv, span, u, n, scratch, &mut ders[..rows]);
         f(&ders[..rows], w)
     } else {
-        let (mut ndu, mut left, mut right, mut a) =
-            (vec![0.0; w * w], vec![0.0; w], vec![0.0; w], vec![0.0; 2 * w]);
+        let (mut ndu, mut left, mut right, mut a) = (
+            vec![0.0; w * w],
+            vec![0.0; w],
+            vec![0.0; w],
+            vec![0.0; 2 * w],
+        );
         let mut ders = vec![0.0; (n + 1) * w];
         let scratch = Scratch {
             ndu: &mut ndu,
@@ -178,8 +182,15 @@ mod tests {
             let b = binom * u.powi(j as i32) * v.powi(9 - j as i32);
             // d/du: C(9, j) (j u^(j−1) v^(9−j) − (9−j) u^j v^(8−j))
             let db = binom
-                * (if j > 0 { j as f64 * u.powi(j as i32 - 1) * v.powi(9 - j as i32) } else { 0.0 }
-                    - if j < 9 { (9 - j) as f64 * u.powi(j as i32) * v.powi(8 - j as i32) } else { 0.0 });
+                * (if j > 0 {
+                    j as f64 * u.powi(j as i32 - 1) * v.powi(9 - j as i32)
+                } else {
+                    0.0
+                } - if j < 9 {
+                    (9 - j) as f64 * u.powi(j as i32) * v.powi(8 - j as i32)
+                } else {
+                    0.0
+                });
             assert!((d[0][j] - b).abs() < 1e-13, "{j}: {} vs {b}", d[0][j]);
             assert!((d[1][j] - db).abs() < 1e-11, "{j}: {} vs {db}", d[1][j]);
             binom = binom * (9 - j) as f64 / (j + 1) as f64;

@@ -93,11 +93,18 @@ mod tests {
         a[5 * n + 2] = 0.5;
         a[2 * n + 5] = 0.5;
         let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
-        let b: Vec<f64> = (0..n).map(|i| (0..n).map(|k| a[i * n + k] * x[k]).sum()).collect();
+        let b: Vec<f64> = (0..n)
+            .map(|i| (0..n).map(|k| a[i * n + k] * x[k]).sum())
+            .collect();
         let mut rhs = vec![b.clone()];
         cholesky_solve(a.clone(), n, &mut rhs).unwrap();
         for i in 0..n {
-            assert!((rhs[0][i] - x[i]).abs() < 1e-14, "{i}: {} vs {}", rhs[0][i], x[i]);
+            assert!(
+                (rhs[0][i] - x[i]).abs() < 1e-14,
+                "{i}: {} vs {}",
+                rhs[0][i],
+                x[i]
+            );
         }
         // The dense algorithm (every k, every row) on the same system.
         let mut l = a;

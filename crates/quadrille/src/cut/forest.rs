@@ -75,9 +75,7 @@ pub(super) fn grow_forest(
     let mut search = Search {
         adjacency,
         in_tree: vec![false; nv],
-        blocks: (0..nv)
-            .map(|v| is_cone[v] || topo.on_boundary[v])
-            .collect(),
+        blocks: (0..nv).map(|v| is_cone[v] || topo.on_boundary[v]).collect(),
         dist: vec![f64::INFINITY; nv],
         pred: vec![(NONE, NONE); nv],
         heap: BinaryHeap::new(),

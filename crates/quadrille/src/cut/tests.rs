@@ -265,7 +265,8 @@ fn assert_forest_is_reference(shell: &Shell, cones: &[Cone], loops: usize) {
     assert_eq!(cut.branches.len(), interior + loops - 1);
     assert_eq!(cut.branches, ref_branches);
     assert_eq!(cut.is_cut, ref_cut);
-    let total = |b: &[CutBranch]| -> f64 { b.iter().map(|b| path_length(shell, &b.vertices)).sum() };
+    let total =
+        |b: &[CutBranch]| -> f64 { b.iter().map(|b| path_length(shell, &b.vertices)).sum() };
     assert_eq!(total(&cut.branches), total(&ref_branches));
     assert_eq!(cut.euler, 1);
     // Every branch ends at its target and starts on the tree grown before it.
@@ -281,7 +282,9 @@ fn assert_forest_is_reference(shell: &Shell, cones: &[Cone], loops: usize) {
 #[test]
 fn forest_matches_one_dijkstra_per_target_on_a_regular_grid_with_holes() {
     // A regular grid: many equal distances, so the tie rules are exercised.
-    let shell = holed_grid(24, &[(5, 5), (17, 6), (8, 18), (19, 19)], |x, y| [x, y, 0.0]);
+    let shell = holed_grid(24, &[(5, 5), (17, 6), (8, 18), (19, 19)], |x, y| {
+        [x, y, 0.0]
+    });
     let topo = shell.check().unwrap();
     let cones = every_nth_interior(&topo, 13, 3);
     assert!(cones.len() > 30);
@@ -291,16 +294,20 @@ fn forest_matches_one_dijkstra_per_target_on_a_regular_grid_with_holes() {
 #[test]
 fn forest_matches_one_dijkstra_per_target_on_a_jittered_curved_shell() {
     let n = 30;
-    let shell = holed_grid(n, &[(4, 9), (20, 3), (12, 14), (25, 25), (7, 24)], |x, y| {
-        let k = ((y * n as f64).round() as usize) * (n + 1) + (x * n as f64).round() as usize;
-        let (dx, dy) = (0.3 * (jitter(2 * k) - 0.5), 0.3 * (jitter(2 * k + 1) - 0.5));
-        let on_edge = |t: f64| t == 0.0 || t == 1.0;
-        let (x, y) = (
-            if on_edge(x) { x } else { x + dx / n as f64 },
-            if on_edge(y) { y } else { y + dy / n as f64 },
-        );
-        [x, y, 0.3 * (3.0 * x).sin() * (2.0 * y).cos()]
-    });
+    let shell = holed_grid(
+        n,
+        &[(4, 9), (20, 3), (12, 14), (25, 25), (7, 24)],
+        |x, y| {
+            let k = ((y * n as f64).round() as usize) * (n + 1) + (x * n as f64).round() as usize;
+            let (dx, dy) = (0.3 * (jitter(2 * k) - 0.5), 0.3 * (jitter(2 * k + 1) - 0.5));
+            let on_edge = |t: f64| t == 0.0 || t == 1.0;
+            let (x, y) = (
+                if on_edge(x) { x } else { x + dx / n as f64 },
+                if on_edge(y) { y } else { y + dy / n as f64 },
+            );
+            [x, y, 0.3 * (3.0 * x).sin() * (2.0 * y).cos()]
+        },
+    );
     let topo = shell.check().unwrap();
     let cones = every_nth_interior(&topo, 7, 1);
     assert!(cones.len() > 100);
@@ -312,10 +319,16 @@ fn forest_reports_the_same_unreachable_cone_as_the_reference() {
     let shell = grid(6, |x, y| [x, y, 0.0]);
     let topo = shell.check().unwrap();
     // Vertex 24 is (3, 3): walled in by cones on its six neighbours.
-    let mut cones = vec![Cone { vertex: 24, index: 1 }];
+    let mut cones = vec![Cone {
+        vertex: 24,
+        index: 1,
+    }];
     for &[a, b] in &topo.edges {
         if a == 24 || b == 24 {
-            cones.push(Cone { vertex: a + b - 24, index: -1 });
+            cones.push(Cone {
+                vertex: a + b - 24,
+                index: -1,
+            });
         }
     }
     let reference = one_dijkstra_per_target(&shell, &topo, &cones).unwrap_err();
