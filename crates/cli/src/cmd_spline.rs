@@ -12,7 +12,8 @@ use anyhow::{bail, Context, Result};
 use geometry::FaceId;
 use mesh::quadmesh::{NodeClass, QuadMesh};
 use quadrille::methods::spline::{
-    splines_from_shell, Interior, Segments, SplineOptions, SplineReport, SplineResult,
+    splines_from_checked_shell, Interior, Segments, SplineMethodError, SplineOptions, SplineReport,
+    SplineResult,
 };
 use quadrille::shell::shell_from_model;
 
@@ -87,8 +88,30 @@ pub fn run(args: &SplineArgs) -> Result<()> {
     let shell =
         shell_from_model(&model, &faces, size).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     let t_load = t0.elapsed().as_secs_f64();
-    opts.cones = crate::cmd_spline_cones::choose_cones(args, &shell, &name)?;
-    let result = splines_from_shell(&shell, &opts).with_context(|| name.clone())?;
+    // One topology check: the cone choice and the spline stage share it.
+    let t_check = Instant::now();
+    let topo = shell
+        .check()
+        .map_err(SplineMethodError::from)
+        .with_context(|| name.clone())?;
+    let t_check = t_check.elapsed().as_secs_f64();
+    let t_cones = Instant::now();
+    opts.cones = crate::cmd_spline_cones::choose_cones(args, &shell, &topo, &name)?;
+    let t_cones = t_cones.elapsed().as_secs_f64();
+    let result = match splines_from_checked_shell(&shell, &topo, &opts) {
+        Ok(r) => r,
+        Err(e) => {
+            if let (true, SplineMethodError::NeedsLayoutEnergy { times: t, .. }) =
+                (args.timings, &e)
+            {
+                eprintln!(
+                    "time: load+triangulate {t_load:.3} s, check {t_check:.3} s, cones {t_cones:.3} s, refine {:.3} s, ricci {:.3} s, cut {:.3} s, immersion {:.3} s (stopped: no layout energy)",
+                    t.refine, t.ricci, t.cut, t.immersion
+                );
+            }
+            return Err(anyhow::Error::new(e).context(name.clone()));
+        }
+    };
     let t1 = Instant::now();
     let mp = &result.multipatch;
     let mut step_note = String::new();
@@ -128,14 +151,21 @@ pub fn run(args: &SplineArgs) -> Result<()> {
         );
     }
     if args.json {
-        println!("{}", report_json(r, shell.triangles.len()));
+        println!(
+            "{}",
+            report_json(
+                r,
+                shell.triangles.len(),
+                [t_load, t_check, t_cones, t_write]
+            )
+        );
     } else if !args.quiet {
         print!("{}{step_note}", summary_text(r));
     }
     if args.timings {
         eprintln!(
-            "time: load+triangulate {t_load:.3} s, shell {:.3} s, ricci {:.3} s, layout {:.3} s, splines {:.3} s, write {t_write:.3} s",
-            r.times.shell, r.times.ricci, r.times.layout, r.times.splines
+            "time: load+triangulate {t_load:.3} s, check {t_check:.3} s, cones {t_cones:.3} s, shell {:.3} s, ricci {:.3} s, cut {:.3} s, immersion {:.3} s, layout {:.3} s, splines {:.3} s, write {t_write:.3} s",
+            r.times.shell, r.times.ricci, r.times.cut, r.times.immersion, r.times.layout, r.times.splines
         );
     }
     Ok(())
@@ -172,8 +202,11 @@ fn summary_text(r: &SplineReport) -> String {
     )
 }
 
-/// The `--json` report.
-fn report_json(r: &SplineReport, triangles: usize) -> String {
+/// The `--json` report; `cli_times`: load+triangulate, topology check,
+/// cone choice and writing (seconds), measured here around the library's
+/// stages.
+fn report_json(r: &SplineReport, triangles: usize, cli_times: [f64; 4]) -> String {
+    let [load, check, cones, write] = cli_times;
     serde_json::to_string_pretty(&serde_json::json!({
         "triangles": triangles,
         "vertices": r.vertices,
@@ -201,10 +234,16 @@ fn report_json(r: &SplineReport, triangles: usize) -> String {
         "min_scaled_jacobian": r.min_scaled_jacobian,
         "coons_fallbacks": r.coons_fallbacks,
         "seconds": {
+            "load": load,
+            "check": check,
+            "cones": cones,
             "shell": r.times.shell,
             "ricci": r.times.ricci,
+            "cut": r.times.cut,
+            "immersion": r.times.immersion,
             "layout": r.times.layout,
             "splines": r.times.splines,
+            "write": write,
         },
     }))
     .unwrap_or_default()

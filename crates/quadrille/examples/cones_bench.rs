@@ -33,8 +33,8 @@ fn main() {
         }
         args.drain(..2);
     }
-    println!("| shell | triangles | χ | cones +1 / −1 / other / boundary | Σ I vs 4χ | proposal s | refined triangles | Ricci iterations | max abs(K̄−K) | cut paths | paths with k = 0/1/2/3 | max angle err | core s |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| shell | triangles | χ | cones +1 / −1 / other / boundary | Σ I vs 4χ | proposal s | refined triangles | Ricci iterations | max abs(K̄−K) | cut paths | paths with k = 0/1/2/3 | max angle err | core s | refine / ricci / cut / immersion s |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for pair in args.chunks(2) {
         let [file, faces] = pair else {
             eprintln!("usage: FILE FACES …");
@@ -97,7 +97,7 @@ fn main() {
         let t_prop = t0.elapsed().as_secs_f64();
         let s = ConeSummary::of(&topo, &cones);
         let t1 = Instant::now();
-        let core = cone_core(&shell, &cones);
+        let core = cone_core(&shell, &topo, &cones);
         let t_core = t1.elapsed().as_secs_f64();
         let head = format!(
             "| {name} | {} | {} | {} / {} / {} / {} | {} vs {} | {t_prop:.2} ",
@@ -135,15 +135,20 @@ fn main() {
                     .iter()
                     .map(|t| t.angle_error)
                     .fold(0.0, f64::max);
+                let t = c.times;
                 println!(
-                    "{head}| {} | {} | {:.1e} | {} | {turns:?} | {angle:.1e} | {t_core:.2} |",
+                    "{head}| {} | {} | {:.1e} | {} | {turns:?} | {angle:.1e} | {t_core:.2} | {:.2} / {:.2} / {:.2} / {:.2} |",
                     c.shell.triangles.len(),
                     c.metric.iterations,
                     c.metric.max_error,
-                    c.cut.paths.len()
+                    c.cut.paths.len(),
+                    t.refine,
+                    t.ricci,
+                    t.cut,
+                    t.immersion
                 );
             }
-            Err(e) => println!("{head}| core: {e} | | | | | | {t_core:.2} |"),
+            Err(e) => println!("{head}| core: {e} | | | | | | {t_core:.2} | |"),
         }
     }
 }

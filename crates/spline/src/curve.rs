@@ -1,7 +1,7 @@
 //! B-spline curves in space and their least-squares fit with the end points
 //! interpolated (spec §9.3).
 
-use crate::basis::{basis_derivatives, basis_functions};
+use crate::basis::{basis_functions, with_basis_derivatives};
 use crate::error::{Result, SplineError};
 use crate::knots::KnotVector;
 use crate::linalg::cholesky_solve;
@@ -53,14 +53,15 @@ impl BSplineCurve {
     pub fn eval_with_derivative(&self, u: f64) -> (Point3, Vec3) {
         let p = self.knots.degree();
         let span = self.knots.find_span(u);
-        let d = basis_derivatives(&self.knots, span, u, 1);
-        let (mut c, mut dc) = ([0.0; 3], [0.0; 3]);
-        for (j, (&n0, &n1)) in d[0].iter().zip(&d[1]).enumerate() {
-            let cp = self.control[span - p + j];
-            c = axpy(c, n0, cp);
-            dc = axpy(dc, n1, cp);
-        }
-        (c, dc)
+        with_basis_derivatives(&self.knots, span, u, 1, |d, w| {
+            let (mut c, mut dc) = ([0.0; 3], [0.0; 3]);
+            for (j, (&n0, &n1)) in d[..w].iter().zip(&d[w..]).enumerate() {
+                let cp = self.control[span - p + j];
+                c = axpy(c, n0, cp);
+                dc = axpy(dc, n1, cp);
+            }
+            (c, dc)
+        })
     }
 
     /// The same curve traversed the other way (mirrored knots, reversed control points).

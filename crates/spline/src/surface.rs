@@ -1,6 +1,6 @@
 //! Tensor-product B-spline patches: evaluation, partial derivatives, normal.
 
-use crate::basis::basis_derivatives;
+use crate::basis::with_basis_derivatives;
 use crate::curve::BSplineCurve;
 use crate::error::{Result, SplineError};
 use crate::knots::KnotVector;
@@ -75,20 +75,23 @@ impl BSplinePatch {
     pub fn derivatives(&self, s: f64, t: f64) -> (Point3, Vec3, Vec3) {
         let (p, q) = (self.knots_s.degree(), self.knots_t.degree());
         let (ss, st) = (self.knots_s.find_span(s), self.knots_t.find_span(t));
-        let bs = basis_derivatives(&self.knots_s, ss, s, 1);
-        let bt = basis_derivatives(&self.knots_t, st, t, 1);
         let ns = self.n_s();
-        let (mut x, mut xs, mut xt) = ([0.0; 3], [0.0; 3], [0.0; 3]);
-        for (b, (&t0, &t1)) in bt[0].iter().zip(&bt[1]).enumerate() {
-            let j = st - q + b;
-            for (a, (&s0, &s1)) in bs[0].iter().zip(&bs[1]).enumerate() {
-                let cp = self.control[j * ns + ss - p + a];
-                x = axpy(x, s0 * t0, cp);
-                xs = axpy(xs, s1 * t0, cp);
-                xt = axpy(xt, s0 * t1, cp);
-            }
-        }
-        (x, xs, xt)
+        // Values and first derivatives, each as two rows of one flat buffer.
+        with_basis_derivatives(&self.knots_s, ss, s, 1, |bs, ws| {
+            with_basis_derivatives(&self.knots_t, st, t, 1, |bt, wt| {
+                let (mut x, mut xs, mut xt) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+                for (b, (&t0, &t1)) in bt[..wt].iter().zip(&bt[wt..]).enumerate() {
+                    let j = st - q + b;
+                    for (a, (&s0, &s1)) in bs[..ws].iter().zip(&bs[ws..]).enumerate() {
+                        let cp = self.control[j * ns + ss - p + a];
+                        x = axpy(x, s0 * t0, cp);
+                        xs = axpy(xs, s1 * t0, cp);
+                        xt = axpy(xt, s0 * t1, cp);
+                    }
+                }
+                (x, xs, xt)
+            })
+        })
     }
 
     /// The unit normal S_s × S_t / |S_s × S_t|, `None` where the patch is

@@ -85,7 +85,7 @@ fn fig_3_8_an_annulus_with_cones_plus_and_minus_one_converges_with_quarter_turn_
     ];
     let s = check_cones(&shell, &topo, &cones, "test").unwrap();
     assert_eq!((s.plus, s.minus, s.boundary, s.index_sum()), (1, 1, 0, 0));
-    let core = cone_core(&shell, &cones).unwrap();
+    let core = cone_core(&shell, &topo, &cones).unwrap();
     eprintln!("Fig. 3/8: {}", core.describe());
     assert!(core.metric.max_error < 1e-9, "{}", core.metric.max_error);
     assert!(core.metric.iterations <= 100);
@@ -141,7 +141,7 @@ fn fig_10_a_plate_with_a_hole_and_cones_minus_one_minus_one_minus_two_gets_hol_1
     for c in &corners {
         assert!(cones.contains(c), "{c:?}");
     }
-    let core = cone_core(&shell, &cones).unwrap();
+    let core = cone_core(&shell, &topo, &cones).unwrap();
     eprintln!("Fig. 10: {}", core.describe());
     assert!(core.metric.max_error < 1e-9 && core.metric.iterations <= 100);
     assert_eq!(core.cut.euler, 1);
@@ -307,7 +307,7 @@ fn the_proposal_on_the_torus_tube_and_drilled_cylinder_sums_to_four_chi() {
     eprintln!("n10o faces 5, 7: {} triangles, {s}", shell.triangles.len());
     assert_eq!(s.index_sum(), -4);
     assert!(s.interior() > 0);
-    let core = cone_core(&shell, &cones).unwrap();
+    let core = cone_core(&shell, &topo, &cones).unwrap();
     eprintln!("n10o faces 5, 7: {}", core.describe());
     assert!(core.metric.max_error < 1e-9 && core.metric.iterations <= 100);
     for t in &core.immersion.transitions {

@@ -1,13 +1,11 @@
 //! S4 of `quadrille spline` (spec ricci-flow-iga-reconstruction §6): the
 //! cutting graph G and the cut mesh Ω = S − G. A multi-source Dijkstra
-//! forest grows from the longest boundary loop and adds, nearest first, a
+//! forest (`forest.rs`: one search whose sources grow with the tree) grows
+//! from the longest boundary loop and adds, nearest first, a
 //! shortest path to every other boundary loop (b − 1 loop cuts) and to every
 //! interior cone (cuts go *to* cones, never through them). Ω gets one child
 //! vertex per wedge of triangles between cut edges, and G is split into cut
 //! paths β whose two sides the immersion compares.
-
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
 
 use thiserror::Error;
 
@@ -105,125 +103,7 @@ pub fn cut_to_disk(
         }
         c
     };
-    // Adjacency over interior edges (never along the boundary).
-    let mut adjacency: Vec<Vec<(usize, usize)>> = vec![Vec::new(); nv];
-    for (e, &[a, b]) in topo.edges.iter().enumerate() {
-        if !topo.is_boundary_edge(e) {
-            adjacency[a].push((b, e));
-            adjacency[b].push((a, e));
-        }
-    }
-    let loop_length = |l: &Vec<usize>| -> f64 {
-        (0..l.len())
-            .map(|i| shell.edge_length(l[i], l[(i + 1) % l.len()]))
-            .sum()
-    };
-    let loops = &topo.boundary_loops;
-    let mut outer = 0;
-    for (i, l) in loops.iter().enumerate() {
-        if loop_length(l) > loop_length(&loops[outer]) {
-            outer = i;
-        }
-    }
-    let mut loop_of = vec![usize::MAX; nv];
-    for (i, l) in loops.iter().enumerate() {
-        for &v in l {
-            loop_of[v] = i;
-        }
-    }
-    let mut in_tree = vec![false; nv];
-    for &v in &loops[outer] {
-        in_tree[v] = true;
-    }
-    let mut pending_loop: Vec<bool> = (0..loops.len()).map(|i| i != outer).collect();
-    let mut pending_cone = vec![false; nv];
-    for v in 0..nv {
-        pending_cone[v] = is_cone[v] && !topo.on_boundary[v];
-    }
-    let mut is_cut = vec![false; topo.edges.len()];
-    let mut branches = Vec::new();
-    loop {
-        let remaining = pending_loop.iter().any(|&p| p) || pending_cone.iter().any(|&p| p);
-        if !remaining {
-            break;
-        }
-        let mut dist = vec![f64::INFINITY; nv];
-        let mut pred = vec![(usize::MAX, usize::MAX); nv];
-        let mut heap = BinaryHeap::new();
-        for v in 0..nv {
-            if in_tree[v] {
-                dist[v] = 0.0;
-                heap.push(Reverse((OrdF64(0.0), v)));
-            }
-        }
-        let mut found = None;
-        while let Some(Reverse((OrdF64(d), v))) = heap.pop() {
-            if d > dist[v] {
-                continue;
-            }
-            if !in_tree[v] {
-                let hits_loop = loop_of[v] != usize::MAX && pending_loop[loop_of[v]];
-                if pending_cone[v] || hits_loop {
-                    found = Some(v);
-                    break;
-                }
-                // Cones and other boundary vertices are never passed through.
-                if is_cone[v] || topo.on_boundary[v] {
-                    continue;
-                }
-            }
-            for &(w, e) in &adjacency[v] {
-                let nd = d + shell.edge_length(v, w);
-                if nd < dist[w] {
-                    dist[w] = nd;
-                    pred[w] = (v, e);
-                    heap.push(Reverse((OrdF64(nd), w)));
-                }
-            }
-        }
-        let Some(target_vertex) = found else {
-            let (what, v) = match pending_cone.iter().position(|&p| p) {
-                Some(v) => (format!("the cone on vertex {v}"), v),
-                None => {
-                    let l = pending_loop.iter().position(|&p| p).unwrap_or(0);
-                    (format!("boundary loop {l}"), loops[l][0])
-                }
-            };
-            return Err(CutError::Unreachable {
-                what,
-                position: shell.vertices[v],
-            });
-        };
-        let mut path = vec![target_vertex];
-        let mut v = target_vertex;
-        while !in_tree[v] {
-            let (p, e) = pred[v];
-            is_cut[e] = true;
-            path.push(p);
-            v = p;
-        }
-        path.reverse();
-        let target = if pending_cone[target_vertex] {
-            pending_cone[target_vertex] = false;
-            CutTarget::Cone(target_vertex)
-        } else {
-            let l = loop_of[target_vertex];
-            pending_loop[l] = false;
-            for &w in &loops[l] {
-                in_tree[w] = true;
-            }
-            CutTarget::Loop(l)
-        };
-        for &w in &path {
-            if !is_cone[w] {
-                in_tree[w] = true;
-            }
-        }
-        branches.push(CutBranch {
-            vertices: path,
-            target,
-        });
-    }
+    let forest::Forest { is_cut, branches } = forest::grow_forest(shell, topo, &is_cone)?;
     let (corners, parent) = split_wedges(shell, topo, &is_cut);
     let paths = cut_paths(shell, topo, &is_cut, &is_cone, &corners);
     let cut_count = is_cut.iter().filter(|&&c| c).count() as i64;
@@ -381,6 +261,8 @@ impl Ord for OrdF64 {
         self.0.total_cmp(&other.0)
     }
 }
+
+mod forest;
 
 #[cfg(test)]
 mod tests;

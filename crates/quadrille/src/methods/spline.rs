@@ -33,7 +33,7 @@ use crate::shell::{Shell, ShellError, ShellTopology};
 
 mod cones;
 mod fit;
-pub use cones::{cone_core, refuse_unless_corner_cones, ConeChoice, ConeCore};
+pub use cones::{cone_core, refuse_unless_corner_cones, ConeChoice, ConeCore, CoreTimes};
 pub use fit::{Interior, Segments, SEGMENT_CHOICES};
 
 /// ψ's boundary runs must be straight and axis-aligned within this share of
@@ -79,10 +79,21 @@ pub struct SplineTimes {
     pub shell: f64,
     /// Ricci flow.
     pub ricci: f64,
-    /// Cut, immersion, boundary check and tracing.
+    /// Cut graph and cut mesh Ω.
+    pub cut: f64,
+    /// Immersion ψ_R.
+    pub immersion: f64,
+    /// Boundary check and tracing.
     pub layout: f64,
     /// Arc fits, patches, distances, refinement and the Jacobian check.
     pub splines: f64,
+}
+
+impl SplineTimes {
+    /// The sum of the stages.
+    pub fn total(&self) -> f64 {
+        self.shell + self.ricci + self.cut + self.immersion + self.layout + self.splines
+    }
 }
 
 /// What [`splines_from_shell`] did, with the figures of the report.
@@ -167,8 +178,13 @@ pub enum SplineMethodError {
     #[error("{0}")]
     Cones(#[from] crate::cones::ConeError),
     /// Cones were placed, but their layout needs S6–S7.
-    #[error("{0}")]
-    NeedsLayoutEnergy(String),
+    #[error("{message}")]
+    NeedsLayoutEnergy {
+        /// What was placed and why it stops.
+        message: String,
+        /// Stage times of the core run with the cones.
+        times: CoreTimes,
+    },
     /// The shell falls apart.
     #[error("the shell has {0} connected components; give the faces of one with --faces")]
     Components(usize),
@@ -227,20 +243,20 @@ pub fn is_cone_free(topo: &ShellTopology, corners: &[crate::ricci::Cone]) -> boo
     cone_free_kind(topo, corners).is_some()
 }
 
-/// Checks the shell is a single disk whose boundary corners' indices sum to
-/// 4 (Σ I = 4χ, χ = 1), or an annulus (two loops, χ = 0) without boundary
-/// corners, and returns its topology, cones and kind.
+/// Checks the shell of topology `topo` is a single disk whose boundary
+/// corners' indices sum to 4 (Σ I = 4χ, χ = 1), or an annulus (two loops,
+/// χ = 0) without boundary corners, and returns its cones and kind.
 fn cone_free_shell(
     shell: &Shell,
-) -> Result<(ShellTopology, Vec<crate::ricci::Cone>, ConeFree), SplineMethodError> {
-    let topo = shell.check()?;
+    topo: &ShellTopology,
+) -> Result<(Vec<crate::ricci::Cone>, ConeFree), SplineMethodError> {
     let loops = topo.boundary_loops.len();
     if topo.components != 1 {
         return Err(SplineMethodError::Components(topo.components));
     }
-    let cones = boundary_corner_cones(shell, &topo);
+    let cones = boundary_corner_cones(shell, topo);
     let sum: i32 = cones.iter().map(|c| c.index).sum();
-    let kind = match cone_free_kind(&topo, &cones) {
+    let kind = match cone_free_kind(topo, &cones) {
         Some(kind) => kind,
         None => {
             let convex = cones.iter().filter(|c| c.index > 0).count();
@@ -252,7 +268,7 @@ fn cone_free_shell(
             )));
         }
     };
-    Ok((topo, cones, kind))
+    Ok((cones, kind))
 }
 
 /// The flat layout of a cone-free shell: the cut, ψ (rotated to the layout
@@ -266,6 +282,10 @@ struct FlatLayout {
     boundary_deviation: f64,
     /// The rotation between the loop cut's two sides (annuli).
     seam_rotation: Option<f64>,
+    /// Wall time of the cut (seconds).
+    cut_time: f64,
+    /// Wall time of the immersion (seconds).
+    immersion_time: f64,
 }
 
 /// Cut, immersion and layout (S4–S8) of a cone-free shell: the rectangles
@@ -278,8 +298,12 @@ fn flat_layout(
     metric: &crate::ricci::RicciMetric,
     kind: ConeFree,
 ) -> Result<FlatLayout, SplineMethodError> {
+    let t0 = Instant::now();
     let cut = cut_to_disk(shell, topo, cones)?;
+    let cut_time = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
     let imm = immerse(shell, topo, &cut, metric)?;
+    let immersion_time = t1.elapsed().as_secs_f64();
     if !(imm.min_signed_area > 0.0) {
         return Err(SplineMethodError::Layout(LayoutError::NotOrthogonal(
             format!(
@@ -300,6 +324,8 @@ fn flat_layout(
                 locator,
                 boundary_deviation: poly.max_deviation / poly.size,
                 seam_rotation: None,
+                cut_time,
+                immersion_time,
             })
         }
         ConeFree::Annulus => {
@@ -312,6 +338,8 @@ fn flat_layout(
                 locator,
                 boundary_deviation: a.max_deviation / a.size,
                 seam_rotation: Some(a.seam_rotation),
+                cut_time,
+                immersion_time,
             })
         }
     }
@@ -329,10 +357,26 @@ fn diagonal(points: &[[f64; 3]]) -> f64 {
     geometry::vec3::dist(lo, hi)
 }
 
-/// Runs the cone-free path on a shell: corners, Ricci flow, immersion,
-/// layout, splines (see the module docs).
+/// Runs the cone-free path on a shell: topology check, then
+/// [`splines_from_checked_shell`].
 pub fn splines_from_shell(
     shell: &Shell,
+    opts: &SplineOptions,
+) -> Result<SplineResult, SplineMethodError> {
+    let t0 = Instant::now();
+    let topo = shell.check()?;
+    let t_check = t0.elapsed().as_secs_f64();
+    let mut result = splines_from_checked_shell(shell, &topo, opts)?;
+    result.report.times.shell += t_check;
+    Ok(result)
+}
+
+/// Runs the cone-free path on a shell whose [`Shell::check`] gave `topo`
+/// (the caller checked it once, e.g. to choose cones): corners, Ricci flow,
+/// cut, immersion, layout, splines (see the module docs).
+pub fn splines_from_checked_shell(
+    shell: &Shell,
+    topo: &ShellTopology,
     opts: &SplineOptions,
 ) -> Result<SplineResult, SplineMethodError> {
     if opts.refine == 0 {
@@ -349,9 +393,9 @@ pub fn splines_from_shell(
     }
     let t0 = Instant::now();
     if let ConeChoice::Given(given) = &opts.cones {
-        refuse_unless_corner_cones(shell, given)?;
+        refuse_unless_corner_cones(shell, topo, given)?;
     }
-    let (topo, cones, kind) = cone_free_shell(shell)?;
+    let (cones, kind) = cone_free_shell(shell, topo)?;
     let diag = diagonal(&shell.vertices);
     let tolerance = opts.tolerance.unwrap_or(DEFAULT_TOLERANCE_SHARE * diag);
     if !(tolerance > 0.0 && tolerance.is_finite()) {
@@ -361,10 +405,10 @@ pub fn splines_from_shell(
     }
     let t_shell = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
-    let metric = ricci_flow(shell, &topo, &cones, &RicciOptions::default())?;
+    let metric = ricci_flow(shell, topo, &cones, &RicciOptions::default())?;
     let t_ricci = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
-    let flat = flat_layout(shell, &topo, &cones, &metric, kind)?;
+    let flat = flat_layout(shell, topo, &cones, &metric, kind)?;
     let FlatLayout {
         cut,
         imm,
@@ -457,7 +501,9 @@ pub fn splines_from_shell(
         times: SplineTimes {
             shell: t_shell,
             ricci: t_ricci,
-            layout: t_layout,
+            cut: flat.cut_time,
+            immersion: flat.immersion_time,
+            layout: t_layout - flat.cut_time - flat.immersion_time,
             splines: t_splines,
         },
     };
@@ -471,7 +517,8 @@ pub fn splines_from_shell(
 /// The layout of `shell` alone (for tests and pictures): corners, flow,
 /// immersion, boundary check and tracing.
 pub fn layout_of_shell(shell: &Shell) -> Result<Layout, SplineMethodError> {
-    let (topo, cones, kind) = cone_free_shell(shell)?;
+    let topo = shell.check()?;
+    let (cones, kind) = cone_free_shell(shell, &topo)?;
     let metric = ricci_flow(shell, &topo, &cones, &RicciOptions::default())?;
     Ok(flat_layout(shell, &topo, &cones, &metric, kind)?.layout)
 }

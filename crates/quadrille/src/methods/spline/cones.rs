@@ -3,6 +3,8 @@
 //! the cut transitions), and the refusal of the spline output while the
 //! seamless layout energy (S6–S7) is not built.
 
+use std::time::Instant;
+
 use super::SplineMethodError;
 use crate::cones::{check_cones, ConeSummary};
 use crate::cut::{cut_to_disk, CutMesh, CutTarget};
@@ -41,6 +43,21 @@ pub struct ConeCore {
     pub cut: CutMesh,
     /// ψ_R with one transition per cut path.
     pub immersion: Immersion,
+    /// Wall times of its stages.
+    pub times: CoreTimes,
+}
+
+/// Wall times (seconds) of the stages of [`cone_core`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CoreTimes {
+    /// Cone checks and the refinement of the cones' one-rings.
+    pub refine: f64,
+    /// Ricci flow.
+    pub ricci: f64,
+    /// Cut graph and cut mesh Ω.
+    pub cut: f64,
+    /// Immersion with the cut transitions.
+    pub immersion: f64,
 }
 
 impl ConeCore {
@@ -91,27 +108,44 @@ impl ConeCore {
     }
 }
 
-/// Runs the core with `cones` (checked by [`check_cones`]): interior cones'
-/// one-rings refined ([`refine_cone_rings`]), Ricci flow, cut to a disk
-/// (cuts to every interior cone), immersion with the cut transitions.
-pub fn cone_core(shell: &Shell, cones: &[Cone]) -> Result<ConeCore, SplineMethodError> {
-    let topo = shell.check()?;
+/// Runs the core with `cones` (checked by [`check_cones`]) on `shell` of
+/// topology `topo` (its [`Shell::check`]): interior cones' one-rings refined
+/// ([`refine_cone_rings`]), Ricci flow, cut to a disk (cuts to every
+/// interior cone), immersion with the cut transitions.
+pub fn cone_core(
+    shell: &Shell,
+    topo: &ShellTopology,
+    cones: &[Cone],
+) -> Result<ConeCore, SplineMethodError> {
+    let t0 = Instant::now();
     if topo.components != 1 {
         return Err(SplineMethodError::Components(topo.components));
     }
-    check_cones(shell, &topo, cones, "cones")?;
+    check_cones(shell, topo, cones, "cones")?;
     let interior: Vec<usize> = cones
         .iter()
         .filter(|c| c.index != 0 && !topo.on_boundary[c.vertex])
         .map(|c| c.vertex)
         .collect();
-    let refined = refine_cone_rings(shell, &topo, &interior);
+    let refined = refine_cone_rings(shell, topo, &interior);
     let rtopo = refined.check()?;
     let cones: Vec<Cone> = cones.iter().copied().filter(|c| c.index != 0).collect();
     let summary = check_cones(&refined, &rtopo, &cones, "cones")?;
+    let refine = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
     let metric = ricci_flow(&refined, &rtopo, &cones, &RicciOptions::default())?;
+    let ricci = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
     let cut = cut_to_disk(&refined, &rtopo, &cones)?;
+    let cut_time = t2.elapsed().as_secs_f64();
+    let t3 = Instant::now();
     let immersion = immerse(&refined, &rtopo, &cut, &metric)?;
+    let times = CoreTimes {
+        refine,
+        ricci,
+        cut: cut_time,
+        immersion: t3.elapsed().as_secs_f64(),
+    };
     Ok(ConeCore {
         shell: refined,
         topo: rtopo,
@@ -120,32 +154,39 @@ pub fn cone_core(shell: &Shell, cones: &[Cone]) -> Result<ConeCore, SplineMethod
         metric,
         cut,
         immersion,
+        times,
     })
 }
 
-/// `Ok` when `cones` are exactly the boundary corners of `shell` (the
-/// cone-free path can go on); otherwise runs [`cone_core`] with them and
-/// refuses with one line saying what was placed and that the seamless
-/// layout energy (S6–S7) is not built yet.
-pub fn refuse_unless_corner_cones(shell: &Shell, cones: &[Cone]) -> Result<(), SplineMethodError> {
-    let topo = shell.check()?;
+/// `Ok` when `cones` are exactly the boundary corners of `shell` (of
+/// topology `topo`; the cone-free path can go on); otherwise runs
+/// [`cone_core`] with them and refuses with one line saying what was placed
+/// and that the seamless layout energy (S6–S7) is not built yet.
+pub fn refuse_unless_corner_cones(
+    shell: &Shell,
+    topo: &ShellTopology,
+    cones: &[Cone],
+) -> Result<(), SplineMethodError> {
     let mut given: Vec<Cone> = cones.iter().copied().filter(|c| c.index != 0).collect();
     given.sort_by_key(|c| c.vertex);
-    let mut corners = boundary_corner_cones(shell, &topo);
+    let mut corners = boundary_corner_cones(shell, topo);
     corners.sort_by_key(|c| c.vertex);
     if given == corners {
         return Ok(());
     }
-    let core = cone_core(shell, &given)?;
+    let core = cone_core(shell, topo, &given)?;
     let what = if core.summary.interior() > 0 {
         "interior cones"
     } else {
         "boundary cones other than the shell's corners"
     };
-    Err(SplineMethodError::NeedsLayoutEnergy(format!(
-        "{what}: {}; patches on these cones need the seamless layout energy (S6–S7), which is not built yet (boundary Σ I = {}, interior Σ I = {})",
-        core.describe(),
-        core.summary.boundary_sum,
-        core.summary.interior_sum,
-    )))
+    Err(SplineMethodError::NeedsLayoutEnergy {
+        message: format!(
+            "{what}: {}; patches on these cones need the seamless layout energy (S6–S7), which is not built yet (boundary Σ I = {}, interior Σ I = {})",
+            core.describe(),
+            core.summary.boundary_sum,
+            core.summary.interior_sum,
+        ),
+        times: core.times,
+    })
 }

@@ -36,6 +36,24 @@ pub(crate) fn l_plate(n: usize) -> Shell {
 }
 
 #[test]
+fn the_checked_entry_uses_the_callers_topology_and_gives_the_same_patches() {
+    let shell = l_plate(12);
+    let topo = shell.check().unwrap();
+    let opts = SplineOptions::default();
+    let checked = splines_from_checked_shell(&shell, &topo, &opts).unwrap();
+    let whole = splines_from_shell(&shell, &opts).unwrap();
+    assert_eq!(checked.multipatch.points(), whole.multipatch.points());
+    assert_eq!(checked.report.patches, 3);
+    assert_eq!(
+        (checked.report.control_points, checked.report.boundary_loops),
+        (whole.report.control_points, 1)
+    );
+    // The cut and the immersion are timed on their own.
+    let t = &checked.report.times;
+    assert!(t.cut > 0.0 && t.immersion > 0.0, "{t:?}");
+}
+
+#[test]
 fn l_plate_gives_three_watertight_flat_patches() {
     let shell = l_plate(12);
     let r = splines_from_shell(&shell, &SplineOptions::default()).unwrap();
