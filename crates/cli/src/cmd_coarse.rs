@@ -195,6 +195,8 @@ fn json_report(r: &CoarseReport, s: &HighOrderStats, t_load: f64) -> serde_json:
         "ilp_seconds": l.ilp_seconds,
         "rounds": l.rounds,
         "refused": l.refused,
+        "round_figures": l.round_figures,
+        "first_round_causes": l.first_round_causes,
         "predicted_blocks": l.predicted_blocks,
         "order": s.order,
         "invalid_elements": s.invalid_elements,

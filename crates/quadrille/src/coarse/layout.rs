@@ -11,6 +11,7 @@
 //! inside the block's face.
 
 use super::block_layout::{Block, BlockLayout, LayoutEdge};
+use super::centres::{deficits, recentre};
 use super::connectivity::Connectivity;
 use super::tmesh::{PatchShape, SideArc, TMesh};
 use geometry::{vec3, CurveId, FaceId};
@@ -31,6 +32,19 @@ pub(crate) struct LayoutFailure {
     /// length ≥ 1 next round, which un-merges the group (ours: gentler than
     /// holding whole patches, whose input lengths spread along their chords).
     pub separate: HashSet<u32>,
+    /// Failures by cause (for the log): `deficit at a regular curve node`
+    /// (two interior block sides end at a curve node with one interior input
+    /// edge into the face), `deficit elsewhere`, `path at a merged group`,
+    /// `path elsewhere`, `merge` (corners, curves, repeated vertices, edges
+    /// bounding three blocks, corner valence).
+    pub causes: BTreeMap<&'static str, usize>,
+}
+
+impl LayoutFailure {
+    /// Counts one failure of cause `c`.
+    fn cause(&mut self, c: &'static str) {
+        *self.causes.entry(c).or_insert(0) += 1;
+    }
 }
 
 /// The anchor of a point that stands for no input node of its own.
@@ -264,6 +278,13 @@ fn assemble(
         let r = c.points.map(|p| pts.find(p));
         roots_of_cells.push(r);
     }
+    // the groups a collapsed arc merged (for the failure causes)
+    let mut merged_roots: HashSet<u32> = HashSet::new();
+    for (a, arc) in tm.arcs.iter().enumerate() {
+        if q[a] == 0 {
+            merged_roots.insert(pts.find(pts.node_point[&arc.nodes[0]]));
+        }
+    }
     let mut members: HashMap<u32, Vec<u32>> = HashMap::new();
     for p in 0..pts.parent.len() as u32 {
         let r = pts.find(p);
@@ -286,6 +307,7 @@ fn assemble(
             }
             Err(why) => {
                 fail.reasons.push(why);
+                fail.cause("merge");
                 for &a in &anchors {
                     arcs_at_node(tm, a, &mut fail.arcs);
                 }
@@ -295,6 +317,11 @@ fn assemble(
             }
         }
     }
+    let mut root_of_vertex = vec![0u32; layout.vertex_node.len()];
+    for (&r, &v) in &vertex_of_root {
+        root_of_vertex[v as usize] = r;
+    }
+    let merged = |v: u32| merged_roots.contains(&root_of_vertex[v as usize]);
     let group_anchors = |v: u32| -> Vec<u32> {
         let root = vertex_of_root.iter().find(|(_, &x)| x == v).map(|(&r, _)| r);
         root.and_then(|r| members.get(&r))
@@ -318,6 +345,7 @@ fn assemble(
                 continue;
             }
             fail.reasons.push(format!("a block with corners {corners:?} repeats a vertex"));
+            fail.cause("merge");
             patch_arcs(c.patch, &mut fail);
             for v in corners {
                 separate(&group_anchors(v), &mut fail);
@@ -347,6 +375,7 @@ fn assemble(
         let bad = uses.len() > 2 || (uses.len() == 2 && uses[0].1 == uses[1].1);
         if bad {
             fail.reasons.push(format!("layout edge {e} bounds {} blocks", uses.len()));
+            fail.cause("merge");
             for &(ci, _) in uses {
                 patch_arcs(cells[ci as usize].patch, &mut fail);
             }
@@ -356,6 +385,8 @@ fn assemble(
         }
     }
     for v in corner_valences(mesh, &layout) {
+        fail.reasons.push(format!("the CAD corner at node {} loses its valence", layout.vertex_node[v as usize]));
+        fail.cause("merge");
         let anchors = group_anchors(v);
         for &a in &anchors {
             arcs_at_node(tm, a, &mut fail.arcs);
@@ -365,10 +396,27 @@ fn assemble(
     if !fail.reasons.is_empty() {
         return Err(fail);
     }
+    let moved = recentre(mesh, conn, &mut layout, &edge_curve, &edge_face, &group_anchors);
+    let short = deficits(mesh, conn, &layout, &edge_curve, &edge_face);
+    if moved > 0 || !short.is_empty() {
+        tracing::debug!("coarse: {moved} layout vertices re-centred, {} still short of input edges", short.len());
+    }
     let failed = edge_paths(mesh, conn, &mut layout, &edge_curve, &edge_face, &mut fail);
     // hold the arcs of the patches the failed edges' blocks came from, and
     // the arcs through the nodes their ends merged
     for e in failed {
+        let ends = layout.edges[e].ends;
+        match short.iter().find(|s| ends.contains(&s.0)) {
+            Some(&(v, k, m)) => {
+                let node = layout.vertex_node[v as usize];
+                tracing::debug!("coarse: edge {e}: its vertex at node {node} has {k} interior block sides, {m} interior input edges");
+                let on_curve = matches!(mesh.node_class[node as usize], NodeClass::Curve(..));
+                fail.cause(if on_curve && m == 1 { "deficit at a regular curve node" } else { "deficit elsewhere" });
+            }
+            None => {
+                fail.cause(if ends.iter().any(|&v| merged(v)) { "path at a merged group" } else { "path elsewhere" });
+            }
+        }
         for &(ci, _) in &edge_uses[e] {
             patch_arcs(cells[ci as usize].patch, &mut fail);
         }
@@ -497,6 +545,20 @@ fn edge_paths(
                 edge.path = p;
             }
             None => {
+                if tracing::enabled!(tracing::Level::DEBUG) {
+                    let open = |u: u32, v: u32| match edge_curve[e] {
+                        Some(c) => conn.edge_curve(u, v) == Some(c),
+                        None => conn.edge_curve(u, v).is_none(),
+                    };
+                    let walls = shortest_path(mesh, conn, a, b, |u, v| open(u, v) && (v == b || !vertex_nodes.contains(&v)))
+                        .map(|p| p.len() - 1);
+                    let any = shortest_path(mesh, conn, a, b, open).map(|p| p.len() - 1);
+                    let hops = shortest_path(mesh, conn, a, b, |_, _| true).map(|p| p.len() - 1);
+                    tracing::debug!(
+                        "coarse: edge {e} has no path: {:?} to {:?}, face {:?}, curve {:?}; avoiding only vertices {:?} edges, ignoring them {:?}, any edge {:?}",
+                        mesh.node_class[a as usize], mesh.node_class[b as usize], edge_face[e], edge_curve[e], walls, any, hops
+                    );
+                }
                 fail.reasons.push(format!("no free input path for layout edge {e} ({a} to {b})"));
                 failed.push(e);
             }

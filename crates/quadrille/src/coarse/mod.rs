@@ -9,7 +9,8 @@
 //! - [`traces`]: the traces and their crossings (§III.A);
 //! - [`tmesh`]: arcs and patches (§III.A);
 //! - [`ilp`]: the integer program and its solve (§III.B–C);
-//! - [`layout`]: splitting, merging, placement (§IV.A–C);
+//! - [`layout`]: splitting, merging, placement (§IV.A–C), with [`centres`]
+//!   (group centres with an input edge per block side; ours);
 //! - [`block_layout`]: the coarse layout placed on the input mesh — the
 //!   hand-over between the layout stages and the geometry stages;
 //! - [`layout_check`]: the identity layout (every input quad a block, q = l)
@@ -27,6 +28,7 @@
 //! transfinite interpolation).
 
 pub(crate) mod block_layout;
+pub(crate) mod centres;
 pub(crate) mod connectivity;
 pub(crate) mod face_patches;
 pub(crate) mod fine_mesh;
@@ -109,6 +111,11 @@ pub struct LayoutReport {
     pub rounds: usize,
     /// Why earlier rounds' layouts were refused.
     pub refused: Vec<String>,
+    /// Per solve round: (blocks Eq. (5) predicts, problems the placement
+    /// found; 0 for the round that placed).
+    pub round_figures: Vec<(usize, usize)>,
+    /// The first round's problems by cause ([`layout::LayoutFailure::causes`]).
+    pub first_round_causes: BTreeMap<String, usize>,
     /// Seconds for the traces, T-mesh, program and layout (solver excluded).
     pub layout_seconds: f64,
 }
@@ -148,6 +155,8 @@ pub(crate) fn coarse_layout(
         blocks: 0,
         rounds: 0,
         refused: Vec::new(),
+        round_figures: Vec::new(),
+        first_round_causes: BTreeMap::new(),
         layout_seconds: 0.0,
     };
     let mut fixed: HashSet<u32> = HashSet::new();
@@ -193,11 +202,23 @@ pub(crate) fn coarse_layout(
         let identity_now = matches!(solve.status, SolveStatus::Identity(_));
         match layout::build_layout(mesh, &conn, &tm, &q) {
             Ok(l) => {
+                report.round_figures.push((report.predicted_blocks, 0));
                 result = Some(l);
                 break;
             }
             Err(f) => {
-                tracing::info!("coarse: layout of round {} refused: {}", round + 1, f.reasons.join("; "));
+                tracing::info!(
+                    "coarse: layout of round {} ({} blocks predicted) refused, {} problems {:?}: {}",
+                    round + 1,
+                    report.predicted_blocks,
+                    f.reasons.len(),
+                    f.causes,
+                    f.reasons.join("; ")
+                );
+                report.round_figures.push((report.predicted_blocks, f.reasons.len()));
+                if round == 0 {
+                    report.first_round_causes = f.causes.iter().map(|(k, &n)| (k.to_string(), n)).collect();
+                }
                 report.refused.extend(f.reasons.into_iter().take(5));
                 if identity_now {
                     return Err(MeshError::Coarse(

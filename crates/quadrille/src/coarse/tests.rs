@@ -244,3 +244,41 @@ fn m1_input_lengths_meet_every_row_and_eq_5_counts_the_blocks() {
         assert_eq!(input, blocks);
     }
 }
+
+/// A merged group's centre with fewer interior input edges than block sides
+/// ending there is moved to a member with enough (the valence-5 node of a
+/// rotated edge), and only to one with enough.
+#[test]
+fn a_group_centre_moves_to_a_node_with_an_edge_per_block_side() {
+    use super::block_layout::{BlockLayout, LayoutEdge};
+    use super::centres::{deficits, recentre};
+    let model = square_model();
+    let mut mesh = lattice_mesh(&model, &cells(8, |_, _| true), 0.125);
+    rotate_edge(&mut mesh, 3 + 8 * 3, 4 + 8 * 3);
+    let conn = Connectivity::new(&mesh).unwrap();
+    let c = mesh.quads[3 + 8 * 3][2]; // gained the rotated edge: valence 5
+    let f = mesh.quads[4 + 8 * 3][1]; // untouched: valence 4
+    let valence = |v: u32| conn.neighbours(&mesh, v).0.len();
+    assert_eq!((valence(c), valence(f)), (5, 4));
+    // vertex 0 on f, five interior block sides to five face nodes far off
+    let far: Vec<u32> = [0, 6, 48, 54, 9].iter().map(|&q| mesh.quads[q][2]).collect();
+    assert_eq!(far.len(), 5);
+    let mut layout = BlockLayout { vertex_node: vec![f], ..Default::default() };
+    for &n in &far {
+        layout.vertex_node.push(n);
+        let v = layout.vertex_node.len() as u32 - 1;
+        layout.edges.push(LayoutEdge { ends: [0, v], path: Vec::new(), curve: None });
+    }
+    let (curves, faces) = (vec![None; 5], vec![FaceId(0); 5]);
+    assert_eq!(deficits(&mesh, &conn, &layout, &curves, &faces), vec![(0, 5, 4)]);
+    // a group of f and another valence-4 node: nowhere to go
+    let other = mesh.quads[5 + 8 * 3][1];
+    assert_eq!(valence(other), 4);
+    let mut stuck = layout.clone();
+    let moved = recentre(&mesh, &conn, &mut stuck, &curves, &faces, |v| if v == 0 { vec![f, other] } else { vec![] });
+    assert_eq!((moved, stuck.vertex_node[0]), (0, f));
+    // a group of f and c: moves to c, and the deficit is gone
+    let moved = recentre(&mesh, &conn, &mut layout, &curves, &faces, |v| if v == 0 { vec![other, c, f] } else { vec![] });
+    assert_eq!((moved, layout.vertex_node[0]), (1, c));
+    assert!(deficits(&mesh, &conn, &layout, &curves, &faces).is_empty());
+}
