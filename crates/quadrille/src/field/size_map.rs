@@ -647,7 +647,7 @@ fn turn_floors(
                 "turn rule: face {} curvature {:.4} lowers the floor {lo:.4} to {by_turn:.4}{}",
                 f.face.idx() + 1,
                 f.curvature.unwrap_or(0.0),
-                if by_turn <= TURN_MIN_FRACTION * lo { " (bounded)" } else { "" }
+                if by_turn == TURN_MIN_FRACTION * lo { " (bounded: a band)" } else { "" }
             );
         }
         let by_width = if opts.floor_narrow {
