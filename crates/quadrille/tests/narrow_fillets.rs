@@ -11,9 +11,10 @@
 
 use std::path::PathBuf;
 
+use geometry::vec3::{self, Vec3};
 use geometry::FaceId;
-use mesh::stats::quad_sicn_values;
-use quadrille::{mesh_model, MeshOptions};
+use mesh::stats::{quad_element_sicn_values, quad_sicn_values};
+use quadrille::{default_size, mesh_model, MeshOptions};
 
 #[test]
 fn root_fillets_of_a_spur_gear_get_quads_as_long_as_the_fillet_is_wide() {
@@ -61,4 +62,82 @@ fn root_fillets_of_a_spur_gear_get_quads_as_long_as_the_fillet_is_wide() {
     // the whole gear: 0.738 with the old floor, Gmsh quadqs 0.88
     let whole = sicn.iter().sum::<f64>() / sicn.len() as f64;
     assert!(whole >= 0.85, "average SICN of the gear {whole}");
+}
+
+/// A turned shaft (radii 4.79, 4.92 and 5.29, a 2.05 bore) whose three
+/// fillets of revolution have radius 0.025, under a size floor of half the
+/// default size (0.67): the turn rule would lower the floor on them to
+/// their 90° arc, 0.04, and each fillet circle got 834 edges, which the
+/// cylinders and discs beside them carried over their whole area (187,390
+/// quads). On a band the lowered floor stops at a quarter of the floor
+/// (`field::size_map::TURN_MIN_FRACTION`), so no size is below it: the
+/// quads are bounded by the surface area over that size squared, and each
+/// fillet has two quads across by at most its circumference over that
+/// size (with a quarter for the curve planner's rounding and balancing).
+#[test]
+fn tiny_fillets_of_revolution_do_not_refine_the_whole_shaft() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/necks/turned_shaft_tiny_fillets.step");
+    let model = occt::load(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    // the fillets: faces of curvature 1 / 0.0253 at the middle of their box
+    let fillets: Vec<FaceId> = (0..model.faces.len())
+        .filter(|&f| {
+            let face = &model.faces[f];
+            let b = &face.uv_bounds;
+            let mid = [0.5 * (b.umin + b.umax), 0.5 * (b.vmin + b.vmax)];
+            face.max_curvature(mid).is_some_and(|k| k > 30.0)
+        })
+        .map(|f| FaceId(f as u32))
+        .collect();
+    assert_eq!(fillets.len(), 3, "three tiny fillets");
+    let opts = MeshOptions {
+        threads: Some(1),
+        ..Default::default()
+    };
+    let mesh = mesh_model(&model, &opts).expect("the shaft meshes");
+    // the size map's floor at the default size is half of it
+    // (`methods::quasi_structured::SIZE_MAP_MIN`), bounded at a quarter
+    let smallest = 0.25 * 0.5 * default_size(&model);
+    let quad_area = |q: &[u32; 4]| {
+        let p = q.map(|i| mesh.nodes[i as usize]);
+        let tri = |a: Vec3, b: Vec3, c: Vec3| {
+            0.5 * vec3::norm(vec3::cross(vec3::sub(b, a), vec3::sub(c, a)))
+        };
+        tri(p[0], p[1], p[2]) + tri(p[0], p[2], p[3])
+    };
+    let area: f64 = mesh.quads.iter().map(quad_area).sum();
+    let bound = area / (smallest * smallest);
+    assert!(
+        (mesh.quads.len() as f64) <= bound,
+        "{} quads, at most {bound:.0} (area {area:.1}, smallest size {smallest:.3})",
+        mesh.quads.len()
+    );
+    for &f in &fillets {
+        let quads: Vec<usize> = (0..mesh.quads.len())
+            .filter(|&q| mesh.quad_face[q] == f)
+            .collect();
+        // the fillet's radius about the shaft's axis (z), largest
+        let radius = quads
+            .iter()
+            .flat_map(|&q| mesh.quads[q])
+            .map(|i| {
+                let p = mesh.nodes[i as usize];
+                p[0].hypot(p[1])
+            })
+            .fold(0.0f64, f64::max);
+        let along = std::f64::consts::TAU * radius / smallest;
+        assert!(
+            (quads.len() as f64) <= 2.0 * 1.25 * along,
+            "fillet {}: {} quads, at most 2 × 1.25 × {along:.0}",
+            f.idx() + 1,
+            quads.len()
+        );
+    }
+    let cad = quad_sicn_values(&mesh, Some(&model));
+    let element = quad_element_sicn_values(&mesh);
+    assert!(cad.iter().all(|&s| s > 0.0), "inverted by CAD normals");
+    assert!(
+        element.iter().all(|&s| s > 0.0),
+        "inverted by element geometry"
+    );
 }

@@ -490,6 +490,49 @@ fn a_narrow_curved_face_lowers_the_floor_to_its_turn() {
     assert_eq!(map(0.5, Some(turn)).size, map(0.5, None).size);
 }
 
+/// The turn rule never lowers the floor of a band below
+/// [`TURN_MIN_FRACTION`] of it: the cylinder of radius 0.5 (two loops) (90° arc π/4 = 0.785, curvature size
+/// 2π · 0.5 / 16 = 0.196) under a floor of 4 gets exactly 4 / 4 = 1 on its
+/// vertices, not 0.785 (a fillet 5 times narrower than the floor gets quads
+/// longer along it than wide rather than tiny squares). Under a floor of 2
+/// the quarter, 0.5, is below the arc, which the cylinder keeps.
+#[test]
+fn the_turn_rule_lowers_the_floor_to_at_most_a_quarter() {
+    let model = primitives::cylinder(0.5, 3.0);
+    let turn = std::f64::consts::FRAC_PI_2;
+    let side = |min_size: f64| -> (f64, f64) {
+        let m = fields(
+            &model,
+            1.0,
+            SizeMapOptions {
+                small_features: false,
+                quads_per_turn: Some(16.0),
+                min_size: Some(min_size),
+                floor_turn: Some(turn),
+                ..Default::default()
+            },
+        )
+        .size_map
+        .expect("size map");
+        m.graph.face_vertices[0]
+            .iter()
+            .map(|&g| m.size[g as usize])
+            .fold((f64::INFINITY, 0.0f64), |(a, b), s| (a.min(s), b.max(s)))
+    };
+    let (lo, hi) = side(4.0);
+    assert!(
+        (lo - 1.0).abs() < 1e-12 && (hi - 1.0).abs() < 1e-12,
+        "bounded: {lo} .. {hi}, want {}",
+        TURN_MIN_FRACTION * 4.0
+    );
+    let arc = turn / 2.0;
+    let (lo, hi) = side(2.0);
+    assert!(
+        (lo - arc).abs() < 1e-12 && (hi - arc).abs() < 1e-12,
+        "not bounded: {lo} .. {hi}, want {arc}"
+    );
+}
+
 /// A strip narrower than the floor lowers it to its width
 /// ([`SizeMapOptions::floor_narrow`]): the 10 × 0.1 rectangle has width
 /// 2 A / P = 2 · 1 / 20.2 = 0.099, and a floor of 0.3 held every size at
