@@ -164,8 +164,9 @@ pub fn run(args: &SplineArgs) -> Result<()> {
     }
     if args.timings {
         eprintln!(
-            "time: load+triangulate {t_load:.3} s, check {t_check:.3} s, cones {t_cones:.3} s, shell {:.3} s, ricci {:.3} s, cut {:.3} s, immersion {:.3} s, layout {:.3} s, splines {:.3} s, write {t_write:.3} s",
-            r.times.shell, r.times.ricci, r.times.cut, r.times.immersion, r.times.layout, r.times.splines
+            "time: load+triangulate {t_load:.3} s, check {t_check:.3} s, cones {t_cones:.3} s, shell {:.3} s, ricci {:.3} s, cut {:.3} s, immersion {:.3} s, layout {:.3} s, splines {:.3} s (stages {:.3} s), write {t_write:.3} s",
+            r.times.shell, r.times.ricci, r.times.cut, r.times.immersion, r.times.layout, r.times.splines,
+            r.times.total()
         );
     }
     Ok(())
@@ -243,6 +244,7 @@ fn report_json(r: &SplineReport, triangles: usize, cli_times: [f64; 4]) -> Strin
             "immersion": r.times.immersion,
             "layout": r.times.layout,
             "splines": r.times.splines,
+            "stages": r.times.total(),
             "write": write,
         },
     }))

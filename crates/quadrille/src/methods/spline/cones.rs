@@ -85,12 +85,7 @@ impl ConeCore {
 
     /// One line: cones, flow, cut paths and their quarter turns.
     pub fn describe(&self) -> String {
-        let turns: Vec<u8> = self
-            .immersion
-            .transitions
-            .iter()
-            .map(|t| t.quarter_turns)
-            .collect();
+        let turns = quarter_turn_list(self.immersion.transitions.iter().map(|t| t.quarter_turns));
         let angle = self
             .immersion
             .transitions
@@ -98,7 +93,7 @@ impl ConeCore {
             .map(|t| t.angle_error)
             .fold(0.0, f64::max);
         format!(
-            "placed {}; Ricci converged in {} iterations (max |K̄−K| {:.1e}) on {} triangles; {} cut paths, quarter turns {turns:?} (max angle error {angle:.1e})",
+            "placed {}; Ricci converged in {} iterations (max |K̄−K| {:.1e}) on {} triangles; {} cut paths, quarter turns {turns} (max angle error {angle:.1e})",
             self.summary,
             self.metric.iterations,
             self.metric.max_error,
@@ -107,6 +102,32 @@ impl ConeCore {
         )
     }
 }
+
+/// The cut paths' quarter turns for one line: listed when there are at most
+/// [`LISTED_TURNS`], else counted per value (a shell with 800 cones has as
+/// many paths; the list made a 5,000-character error line).
+fn quarter_turn_list(turns: impl Iterator<Item = u8>) -> String {
+    let turns: Vec<u8> = turns.collect();
+    if turns.len() <= LISTED_TURNS {
+        return format!("{turns:?}");
+    }
+    let mut counts = [0usize; 4];
+    for &k in &turns {
+        counts[usize::from(k % 4)] += 1;
+    }
+    format!(
+        "0: {}, 1: {}, 2: {}, 3: {} (of {})",
+        counts[0],
+        counts[1],
+        counts[2],
+        counts[3],
+        turns.len()
+    )
+}
+
+/// Quarter turns listed one by one in [`ConeCore::describe`] up to this
+/// many paths; more are counted.
+pub const LISTED_TURNS: usize = 12;
 
 /// Runs the core with `cones` (checked by [`check_cones`]) on `shell` of
 /// topology `topo` (its [`Shell::check`]): interior cones' one-rings refined
@@ -189,4 +210,19 @@ pub fn refuse_unless_corner_cones(
         ),
         times: core.times,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A few paths are listed; many are counted per quarter turn, so the
+    /// refusal line stays short.
+    #[test]
+    fn quarter_turns_are_listed_or_counted() {
+        assert_eq!(quarter_turn_list([1u8, 3, 0].into_iter()), "[1, 3, 0]");
+        let many = (0..LISTED_TURNS as u8 + 8).map(|i| i % 3);
+        // 20 paths: i % 3 gives 0 seven times, 1 seven times, 2 six times
+        assert_eq!(quarter_turn_list(many), "0: 7, 1: 7, 2: 6, 3: 0 (of 20)");
+    }
 }
