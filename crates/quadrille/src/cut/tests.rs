@@ -1,5 +1,5 @@
 use super::*;
-use crate::shell::tests::grid;
+use crate::shell::tests::{grid, holed_grid};
 
 #[test]
 fn a_cone_walled_in_by_other_cones_is_unreachable() {
@@ -203,26 +203,6 @@ fn one_dijkstra_per_target(
     Ok((is_cut, branches))
 }
 
-/// A grid of n × n cells mapped by `lift`, without the cells in `holes`
-/// (each hole a single cell, apart from the others: one more loop each).
-fn holed_grid(n: usize, holes: &[(usize, usize)], lift: impl Fn(f64, f64) -> [f64; 3]) -> Shell {
-    let mut vertices = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            vertices.push(lift(i as f64 / n as f64, j as f64 / n as f64));
-        }
-    }
-    let id = |i: usize, j: usize| j * (n + 1) + i;
-    let mut quads = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            if !holes.contains(&(i, j)) {
-                quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
-            }
-        }
-    }
-    Shell::from_quad_mesh(vertices, &quads)
-}
 
 /// A reproducible number in [0, 1) from an index.
 fn jitter(k: usize) -> f64 {

@@ -2,6 +2,16 @@ use super::*;
 
 /// An n×n grid of unit squares over [0, n]², lifted by `lift`, quads split.
 pub(crate) fn grid(n: usize, lift: impl Fn(f64, f64) -> [f64; 3]) -> Shell {
+    holed_grid(n, &[], lift)
+}
+
+/// [`grid`] without the cells in `holes` (each hole a single cell, apart
+/// from the others: one more loop each).
+pub(crate) fn holed_grid(
+    n: usize,
+    holes: &[(usize, usize)],
+    lift: impl Fn(f64, f64) -> [f64; 3],
+) -> Shell {
     let mut vertices = Vec::new();
     for j in 0..=n {
         for i in 0..=n {
@@ -12,7 +22,9 @@ pub(crate) fn grid(n: usize, lift: impl Fn(f64, f64) -> [f64; 3]) -> Shell {
     let mut quads = Vec::new();
     for j in 0..n {
         for i in 0..n {
-            quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            if !holes.contains(&(i, j)) {
+                quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
         }
     }
     Shell::from_quad_mesh(vertices, &quads)

@@ -433,6 +433,33 @@ fn typical_curvature_of_a_sphere_and_a_plane() {
     assert_eq!(k, Some(0.0));
 }
 
+/// The size map of a cylinder of radius 0.5 and height 3 (κ = 2) with 16
+/// quads per turn, floor `min_size` and turn floor `floor_turn`, without
+/// small features (the turn-rule tests).
+fn cylinder_turn_map(min_size: f64, floor_turn: Option<f64>) -> SizeMap {
+    fields(
+        &primitives::cylinder(0.5, 3.0),
+        1.0,
+        SizeMapOptions {
+            small_features: false,
+            quads_per_turn: Some(16.0),
+            min_size: Some(min_size),
+            floor_turn,
+            ..Default::default()
+        },
+    )
+    .size_map
+    .expect("size map")
+}
+
+/// The smallest and largest size on the first face's vertices.
+fn side(m: &SizeMap) -> (f64, f64) {
+    m.graph.face_vertices[0]
+        .iter()
+        .map(|&g| m.size[g as usize])
+        .fold((f64::INFINITY, 0.0f64), |(a, b), s| (a.min(s), b.max(s)))
+}
+
 /// A curved face whose curvature size falls below the floor lowers the floor
 /// to `floor_turn / κ` ([`SizeMapOptions::floor_turn`]): a cylinder of
 /// radius 0.5 (κ = 2) with 16 quads per turn asks for 0.196, which a floor
@@ -442,29 +469,8 @@ fn typical_curvature_of_a_sphere_and_a_plane() {
 /// is already below `turn / κ` nothing changes.
 #[test]
 fn a_narrow_curved_face_lowers_the_floor_to_its_turn() {
-    let model = primitives::cylinder(0.5, 3.0);
     let turn = std::f64::consts::FRAC_PI_2;
-    let map = |min_size: f64, floor_turn: Option<f64>| {
-        fields(
-            &model,
-            1.0,
-            SizeMapOptions {
-                small_features: false,
-                quads_per_turn: Some(16.0),
-                min_size: Some(min_size),
-                floor_turn,
-                ..Default::default()
-            },
-        )
-        .size_map
-        .expect("size map")
-    };
-    let side = |m: &SizeMap| -> (f64, f64) {
-        m.graph.face_vertices[0]
-            .iter()
-            .map(|&g| m.size[g as usize])
-            .fold((f64::INFINITY, 0.0f64), |(a, b), s| (a.min(s), b.max(s)))
-    };
+    let map = cylinder_turn_map;
     let floor = turn / 2.0;
     let (lo, hi) = side(&map(1.0, None));
     assert!(lo >= 1.0 && hi <= 1.0 + 1e-12, "clamped: {lo} .. {hi}");
@@ -498,35 +504,16 @@ fn a_narrow_curved_face_lowers_the_floor_to_its_turn() {
 /// the quarter, 0.5, is below the arc, which the cylinder keeps.
 #[test]
 fn the_turn_rule_lowers_the_floor_to_at_most_a_quarter() {
-    let model = primitives::cylinder(0.5, 3.0);
     let turn = std::f64::consts::FRAC_PI_2;
-    let side = |min_size: f64| -> (f64, f64) {
-        let m = fields(
-            &model,
-            1.0,
-            SizeMapOptions {
-                small_features: false,
-                quads_per_turn: Some(16.0),
-                min_size: Some(min_size),
-                floor_turn: Some(turn),
-                ..Default::default()
-            },
-        )
-        .size_map
-        .expect("size map");
-        m.graph.face_vertices[0]
-            .iter()
-            .map(|&g| m.size[g as usize])
-            .fold((f64::INFINITY, 0.0f64), |(a, b), s| (a.min(s), b.max(s)))
-    };
-    let (lo, hi) = side(4.0);
+    let band = |min_size: f64| side(&cylinder_turn_map(min_size, Some(turn)));
+    let (lo, hi) = band(4.0);
     assert!(
         (lo - 1.0).abs() < 1e-12 && (hi - 1.0).abs() < 1e-12,
         "bounded: {lo} .. {hi}, want {}",
         TURN_MIN_FRACTION * 4.0
     );
     let arc = turn / 2.0;
-    let (lo, hi) = side(2.0);
+    let (lo, hi) = band(2.0);
     assert!(
         (lo - arc).abs() < 1e-12 && (hi - arc).abs() < 1e-12,
         "not bounded: {lo} .. {hi}, want {arc}"
