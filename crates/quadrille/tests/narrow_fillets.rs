@@ -16,22 +16,27 @@ use geometry::FaceId;
 use mesh::stats::{quad_element_sicn_values, quad_sicn_values};
 use quadrille::{default_size, mesh_model, MeshOptions};
 
+/// The faces whose largest principal curvature at the middle of their
+/// (u, v) box satisfies `pick`.
+fn faces_curved(model: &geometry::Model, pick: impl Fn(f64) -> bool) -> Vec<FaceId> {
+    (0..model.faces.len())
+        .filter(|&f| {
+            let face = &model.faces[f];
+            let b = &face.uv_bounds;
+            let mid = [0.5 * (b.umin + b.umax), 0.5 * (b.vmin + b.vmax)];
+            face.max_curvature(mid).is_some_and(&pick)
+        })
+        .map(|f| FaceId(f as u32))
+        .collect()
+}
+
 #[test]
 fn root_fillets_of_a_spur_gear_get_quads_as_long_as_the_fillet_is_wide() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../data/industrial/spur_gear_m1_z20.step");
     let model = occt::load(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     // the root fillets: faces of curvature 1 / 0.2 at the middle of their (u, v) box
-    let fillets: Vec<FaceId> = (0..model.faces.len())
-        .filter(|&f| {
-            let face = &model.faces[f];
-            let b = &face.uv_bounds;
-            let mid = [0.5 * (b.umin + b.umax), 0.5 * (b.vmin + b.vmax)];
-            face.max_curvature(mid)
-                .is_some_and(|k| (k - 5.0).abs() < 0.05)
-        })
-        .map(|f| FaceId(f as u32))
-        .collect();
+    let fillets = faces_curved(&model, |k| (k - 5.0).abs() < 0.05);
     assert_eq!(fillets.len(), 40, "two root fillets per tooth");
     let opts = MeshOptions {
         threads: Some(1),
@@ -80,15 +85,7 @@ fn tiny_fillets_of_revolution_do_not_refine_the_whole_shaft() {
         .join("../../data/necks/turned_shaft_tiny_fillets.step");
     let model = occt::load(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     // the fillets: faces of curvature 1 / 0.0253 at the middle of their box
-    let fillets: Vec<FaceId> = (0..model.faces.len())
-        .filter(|&f| {
-            let face = &model.faces[f];
-            let b = &face.uv_bounds;
-            let mid = [0.5 * (b.umin + b.umax), 0.5 * (b.vmin + b.vmax)];
-            face.max_curvature(mid).is_some_and(|k| k > 30.0)
-        })
-        .map(|f| FaceId(f as u32))
-        .collect();
+    let fillets = faces_curved(&model, |k| k > 30.0);
     assert_eq!(fillets.len(), 3, "three tiny fillets");
     let opts = MeshOptions {
         threads: Some(1),
