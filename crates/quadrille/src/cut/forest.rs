@@ -94,17 +94,7 @@ pub(super) fn grow_forest(
             .filter(|&v| search.dist[v].is_finite())
             .min_by(|&a, &b| search.dist[a].total_cmp(&search.dist[b]).then(a.cmp(&b)));
         let Some(target_vertex) = nearest else {
-            let (what, v) = match pending_cone.iter().position(|&p| p) {
-                Some(v) => (format!("the cone on vertex {v}"), v),
-                None => {
-                    let l = pending_loop.iter().position(|&p| p).unwrap_or(0);
-                    (format!("boundary loop {l}"), loops[l][0])
-                }
-            };
-            return Err(CutError::Unreachable {
-                what,
-                position: shell.vertices[v],
-            });
+            return Err(unreachable(shell, loops, &pending_cone, &pending_loop));
         };
         let mut path = vec![target_vertex];
         let mut v = target_vertex;
@@ -194,5 +184,26 @@ impl Search {
                 }
             }
         }
+    }
+}
+
+/// The error for targets no search reaches: the first pending cone, else
+/// the first pending boundary loop (its first vertex).
+pub(super) fn unreachable(
+    shell: &Shell,
+    loops: &[Vec<usize>],
+    pending_cone: &[bool],
+    pending_loop: &[bool],
+) -> CutError {
+    let (what, v) = match pending_cone.iter().position(|&p| p) {
+        Some(v) => (format!("the cone on vertex {v}"), v),
+        None => {
+            let l = pending_loop.iter().position(|&p| p).unwrap_or(0);
+            (format!("boundary loop {l}"), loops[l][0])
+        }
+    };
+    CutError::Unreachable {
+        what,
+        position: shell.vertices[v],
     }
 }

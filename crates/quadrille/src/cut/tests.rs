@@ -158,17 +158,7 @@ fn one_dijkstra_per_target(
             }
         }
         let Some(target_vertex) = found else {
-            let (what, v) = match pending_cone.iter().position(|&p| p) {
-                Some(v) => (format!("the cone on vertex {v}"), v),
-                None => {
-                    let l = pending_loop.iter().position(|&p| p).unwrap_or(0);
-                    (format!("boundary loop {l}"), loops[l][0])
-                }
-            };
-            return Err(CutError::Unreachable {
-                what,
-                position: shell.vertices[v],
-            });
+            return Err(super::forest::unreachable(shell, loops, &pending_cone, &pending_loop));
         };
         let mut path = vec![target_vertex];
         let mut v = target_vertex;
