@@ -8,9 +8,8 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-use common::{json_number, stats_json};
+use common::{json_number, mesh_logged, stats_json};
 
 /// A part of `data/necks`.
 fn neck_part(name: &str) -> PathBuf {
@@ -24,19 +23,7 @@ fn a_neck_between_two_loops_is_refined_locally_and_stays_bounded() {
     let model = neck_part("blind_flange_6in_150.step");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("flange.msh");
-    let r = Command::new(env!("CARGO_BIN_EXE_quadrille"))
-        .args([
-            "mesh",
-            model.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--threads",
-            "1",
-            "--timings",
-        ])
-        .env("QUADRILLE_LOG", "quadrille::methods::driver=debug")
-        .output()
-        .unwrap();
+    let r = mesh_logged(&model, &out, "quadrille::methods::driver=debug", &["--timings"]);
     let text = String::from_utf8_lossy(&r.stderr).into_owned();
     assert!(r.status.success(), "{text}");
     // the first round fails in the necks and local rounds follow

@@ -10,9 +10,8 @@
 mod common;
 
 use std::path::Path;
-use std::process::Command;
 
-use common::{json_number, stats_json};
+use common::{json_number, mesh_logged, stats_json};
 
 #[test]
 fn strips_along_straight_sides_keep_the_floor() {
@@ -20,12 +19,7 @@ fn strips_along_straight_sides_keep_the_floor() {
         .join("../../data/strips/thin_plate_edge_fillets.step");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("plate.msh");
-    let r = Command::new(env!("CARGO_BIN_EXE_quadrille"))
-        .args(["mesh", model.to_str().unwrap(), "-o", out.to_str().unwrap()])
-        .args(["--threads", "1", "--quiet"])
-        .env("QUADRILLE_LOG", "quadrille::field::size_map=debug")
-        .output()
-        .unwrap();
+    let r = mesh_logged(&model, &out, "quadrille::field::size_map=debug", &["--quiet"]);
     let log = String::from_utf8_lossy(&r.stderr).into_owned();
     assert!(r.status.success(), "{log}");
     // the four edge fillets and the four side walls are strips the rule

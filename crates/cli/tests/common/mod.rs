@@ -20,6 +20,18 @@ pub fn quadrille(args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// `quadrille mesh MODEL -o OUT --threads 1 EXTRA...` with `QUADRILLE_LOG`
+/// set to `log` (the tests that read the mesher's debug lines).
+pub fn mesh_logged(model: &Path, out: &Path, log: &str, extra: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_quadrille"))
+        .args(["mesh", model.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .args(["--threads", "1"])
+        .args(extra)
+        .env("QUADRILLE_LOG", log)
+        .output()
+        .unwrap()
+}
+
 /// Checks the failure contract of a command: exit code 1, one `error: ` line,
 /// no panic, the message naming `name`; returns stderr.
 pub fn assert_clean_failure(r: &Output, name: &str) -> String {

@@ -96,15 +96,7 @@ pub(super) fn grow_forest(
         let Some(target_vertex) = nearest else {
             return Err(unreachable(shell, loops, &pending_cone, &pending_loop));
         };
-        let mut path = vec![target_vertex];
-        let mut v = target_vertex;
-        while !search.in_tree[v] {
-            let (p, e) = search.pred[v];
-            is_cut[e] = true;
-            path.push(p);
-            v = p;
-        }
-        path.reverse();
+        let path = walk_back(target_vertex, &search.in_tree, &search.pred, &mut is_cut);
         let target = if pending_cone[target_vertex] {
             pending_cone[target_vertex] = false;
             CutTarget::Cone(target_vertex)
@@ -185,6 +177,27 @@ impl Search {
             }
         }
     }
+}
+
+/// The path from the tree to `target` along the predecessors `pred`
+/// (vertex, edge) up to the first vertex `in_tree`, tree end first; its
+/// edges are marked in `is_cut`.
+pub(super) fn walk_back(
+    target: usize,
+    in_tree: &[bool],
+    pred: &[(usize, usize)],
+    is_cut: &mut [bool],
+) -> Vec<usize> {
+    let mut path = vec![target];
+    let mut v = target;
+    while !in_tree[v] {
+        let (p, e) = pred[v];
+        is_cut[e] = true;
+        path.push(p);
+        v = p;
+    }
+    path.reverse();
+    path
 }
 
 /// The error for targets no search reaches: the first pending cone, else

@@ -160,15 +160,7 @@ fn one_dijkstra_per_target(
         let Some(target_vertex) = found else {
             return Err(super::forest::unreachable(shell, loops, &pending_cone, &pending_loop));
         };
-        let mut path = vec![target_vertex];
-        let mut v = target_vertex;
-        while !in_tree[v] {
-            let (p, e) = pred[v];
-            is_cut[e] = true;
-            path.push(p);
-            v = p;
-        }
-        path.reverse();
+        let path = super::forest::walk_back(target_vertex, &in_tree, &pred, &mut is_cut);
         let target = if pending_cone[target_vertex] {
             pending_cone[target_vertex] = false;
             CutTarget::Cone(target_vertex)

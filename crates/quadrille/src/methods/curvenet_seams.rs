@@ -149,7 +149,7 @@ fn curve_along(net: &CurveNetwork, p: Vec3, q: Vec3, tolerance: f64) -> Option<u
 mod tests {
     use super::*;
     use crate::curvenet::parse_json;
-    use crate::methods::curvenet::{mesh_curve_network, CurvesOptions};
+    use crate::methods::curvenet::{mesh_curve_network, CurvesOptions, CurvesReport};
 
     /// Two unit squares side by side sharing the curve x = 1 (curve 2),
     /// each made of its own three outer curves plus the shared one; the
@@ -168,11 +168,8 @@ mod tests {
         .to_string()
     }
 
-    /// The shared side sampled alike by both squares: no open edge
-    /// between cycles, none inside; the open edges are the outline (6 sides
-    /// of the two squares at h = 0.25: 24 edges).
-    #[test]
-    fn two_squares_sampled_alike_have_no_open_edge_between_them() {
+    /// The two squares parsed and meshed at h = 0.25, one thread.
+    fn two_squares_meshed() -> (CurveNetwork, QuadMesh, CurvesReport) {
         let net = parse_json(&two_squares(), None).unwrap();
         let opts = CurvesOptions {
             size: Some(0.25),
@@ -180,6 +177,15 @@ mod tests {
             ..Default::default()
         };
         let (mesh, report) = mesh_curve_network(&net, &opts).unwrap();
+        (net, mesh, report)
+    }
+
+    /// The shared side sampled alike by both squares: no open edge
+    /// between cycles, none inside; the open edges are the outline (6 sides
+    /// of the two squares at h = 0.25: 24 edges).
+    #[test]
+    fn two_squares_sampled_alike_have_no_open_edge_between_them() {
+        let (net, mesh, report) = two_squares_meshed();
         let o = classify_open_edges(&net, &mesh, &[0, 1], net.weld_tolerance());
         assert_eq!(o.between_cycles, 0, "{o:?} {:?}", report.network);
         assert_eq!(o.inside_cycles, 0, "{o:?}");
@@ -200,13 +206,7 @@ mod tests {
     /// cycles, counted per cycle; the outline unchanged.
     #[test]
     fn a_shared_side_sampled_apart_counts_as_open_between_cycles() {
-        let net = parse_json(&two_squares(), None).unwrap();
-        let opts = CurvesOptions {
-            size: Some(0.25),
-            threads: Some(1),
-            ..Default::default()
-        };
-        let (mut mesh, _) = mesh_curve_network(&net, &opts).unwrap();
+        let (net, mut mesh, _) = two_squares_meshed();
         // Unweld the shared side: the right square's quads get their own
         // copies of the nodes on x = 1, shifted along the side by 1/8 so
         // that they sample it differently (still on the curve).
