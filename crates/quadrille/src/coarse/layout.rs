@@ -317,14 +317,14 @@ fn assemble(
             }
         }
     }
-    let mut root_of_vertex = vec![0u32; layout.vertex_node.len()];
+    let mut root_of_vertex: Vec<Option<u32>> = vec![None; layout.vertex_node.len()];
     for (&r, &v) in &vertex_of_root {
-        root_of_vertex[v as usize] = r;
+        root_of_vertex[v as usize] = Some(r);
     }
-    let merged = |v: u32| merged_roots.contains(&root_of_vertex[v as usize]);
+    let merged = |v: u32| root_of_vertex[v as usize].is_some_and(|r| merged_roots.contains(&r));
     let group_anchors = |v: u32| -> Vec<u32> {
-        let root = vertex_of_root.iter().find(|(_, &x)| x == v).map(|(&r, _)| r);
-        root.and_then(|r| members.get(&r))
+        root_of_vertex[v as usize]
+            .and_then(|r| members.get(&r))
             .into_iter()
             .flatten()
             .map(|&p| pts.anchor[p as usize])
