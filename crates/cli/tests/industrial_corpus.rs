@@ -209,3 +209,20 @@ fn the_threaded_rods_narrow_lens_faces_get_two_rows_of_quads() {
     assert!(s["sicn"]["avg"].as_f64().unwrap() > 0.7, "{s}");
     assert!(s["irregular_percent"].as_f64().unwrap() < 15.0, "{s}");
 }
+
+#[test]
+fn a_hex_nuts_faces_are_ring_grids_despite_their_sliver_corners() {
+    // each end face of the unchamfered nut is an annulus between a hexagon
+    // and the bore; the across-corners cylinder turns each hex corner into
+    // two 150° junctions with an arc of 0.004 between them, and the hexagon
+    // wants three times the bore's count. The curve plan raises the bore to
+    // the hexagon's count (`ANNULUS_RAISE_RATIO`) and the ring grid holds
+    // the quads at the arcs to validity only: no irregular vertex in the
+    // part (before: 64 on the two end faces; Gmsh: 3.2 %).
+    let model = industrial("unchamfered_hex_nut_m6.step");
+    let dir = tempfile::tempdir().unwrap();
+    let s = meshed_regular_and_valid(&model, &dir.path().join("nut.msh"), "nut");
+    assert!(s["quads"].as_u64().unwrap() > 1000, "{s}");
+    // away from the sliver arcs the ring's cells are near square
+    assert!(s["sicn"]["avg"].as_f64().unwrap() > 0.9, "{s}");
+}

@@ -6,7 +6,7 @@
 use geometry::vec3;
 use geometry::Model;
 
-use crate::curves::curve_chords::{annulus_loops, CHORD_TOLERANCE};
+use crate::curves::curve_chords::{annulus_counts_agree, annulus_loops};
 
 /// (u, v) samples per direction for the mean widths of [`balance_seam_grids`].
 const WIDTH_SAMPLES: usize = 16;
@@ -131,7 +131,7 @@ pub(crate) fn balance_band_seams(model: &Model, ideal: &mut [f64], lengths: &[f6
 /// `direct::ring_face`) needs one count on both loops; the chord of its two
 /// curves would take their mean, which coarsens the longer loop below the
 /// size map. Here both ideal counts are raised to the larger one, when they
-/// are close enough to join a chord at all ([`CHORD_TOLERANCE`]), so the
+/// are within [`crate::curves::curve_chords::ANNULUS_RAISE_RATIO`], so the
 /// ring's cells are at most the size map's along both loops.
 pub(crate) fn balance_annuli(model: &Model, ideal: &mut [f64]) {
     for face in &model.faces {
@@ -143,7 +143,7 @@ pub(crate) fn balance_annuli(model: &Model, ideal: &mut [f64]) {
         };
         let (a, b) = (*a, *b);
         let top = ideal[a].max(ideal[b]);
-        if (ideal[a] - ideal[b]).abs() <= CHORD_TOLERANCE * top {
+        if annulus_counts_agree(ideal[a], ideal[b]) {
             ideal[a] = top;
             ideal[b] = top;
         }

@@ -16,6 +16,20 @@ use crate::core::valence::ideal_corner_valence;
 /// more than a 2:1 ratio).
 pub const CHORD_TOLERANCE: f64 = 0.5;
 
+/// An annulus's two loops are raised to one count when the larger ideal
+/// count is at most this many times the smaller (a wider band than
+/// [`CHORD_TOLERANCE`]'s 2 : 1): its ring grid then has no irregular vertex,
+/// where unequal loops leave pairs of valence-3 and -5 vertices between them
+/// (a hex nut's face around its bore: loops 3 : 1). The smaller loop only
+/// gets finer.
+pub const ANNULUS_RAISE_RATIO: f64 = 3.1;
+
+/// Whether an annulus's loops of ideal counts `a` and `b` get one count
+/// (the larger, see [`ANNULUS_RAISE_RATIO`]).
+pub fn annulus_counts_agree(a: f64, b: f64) -> bool {
+    a > 0.0 && b > 0.0 && a.max(b) <= ANNULUS_RAISE_RATIO * a.min(b)
+}
+
 /// The curves of each 4-sided face taken as opposite pairs: faces with one
 /// loop of exactly four uses, none of them a degenerate curve, and faces
 /// with such a loop around a hole bounded by one closed curve (the
@@ -203,11 +217,26 @@ pub fn convex_sides(model: &Model, face: &Face) -> Option<Vec<Vec<usize>>> {
     )
 }
 
+/// Smallest interior angle of a loop corner that a ring grid takes
+/// ([`ring_junction`]): the grid line from the corner splits it into two
+/// quad corners of at least 57.5° each (a hexagon's 120° corners: two of
+/// 60°, the SICN of the one 120° corner its ideal valence asks for).
+pub const RING_CORNER_MIN_ANGLE: f64 = 115.0 * std::f64::consts::PI / 180.0;
+
+/// Whether a loop junction of interior angle `angle` (radians) can be a node
+/// of a ring grid, where every loop node has two quads: a flat junction
+/// (ideal valence 2) or an obtuse corner of at least [`RING_CORNER_MIN_ANGLE`].
+pub fn ring_junction(angle: f64) -> bool {
+    ideal_corner_valence(angle) == 2
+        || (angle >= RING_CORNER_MIN_ANGLE && angle < std::f64::consts::PI)
+}
+
 /// The curves of each loop of an annulus meshed as a ring grid
 /// (`direct::ring_face`): a face with two loops, every junction of either
-/// flat (smooth loops: a circle, or a circle split into arcs), no
-/// degenerate curve, on a surface that is not periodic (a periodic band
-/// has a seam and is a 4-sided grid instead). `None` for any other face.
+/// flat (smooth loops: a circle, or a circle split into arcs) or an obtuse
+/// corner ([`ring_junction`]: a hex nut's face), no degenerate curve, on a
+/// surface that is not periodic (a periodic band has a seam and is a
+/// 4-sided grid instead). `None` for any other face.
 pub fn annulus_loops(model: &Model, face: &Face) -> Option<[Vec<usize>; 2]> {
     let [l0, l1] = face.loops.as_slice() else {
         return None;
@@ -218,7 +247,7 @@ pub fn annulus_loops(model: &Model, face: &Face) -> Option<[Vec<usize>; 2]> {
     let curves = |lp: &Loop| -> Option<Vec<usize>> {
         for (k, u) in lp.uses.iter().enumerate() {
             if model.curves[u.curve.idx()].degenerate
-                || ideal_corner_valence(use_start_angle(model, face, lp, k)?) != 2
+                || !ring_junction(use_start_angle(model, face, lp, k)?)
             {
                 return None;
             }
@@ -251,12 +280,13 @@ pub fn balance_composite_sides(
 ) {
     // an annulus whose loops are one curve and several arcs is balanced
     // like two opposite sides (its other two "sides" empty)
-    let sided: Vec<[Vec<usize>; 4]> = model
+    // (true: an annulus)
+    let sided: Vec<([Vec<usize>; 4], bool)> = model
         .faces
         .iter()
         .filter_map(|f| {
-            four_sides(model, f).or_else(|| {
-                annulus_loops(model, f).map(|[a, b]| [a, Vec::new(), b, Vec::new()])
+            four_sides(model, f).map(|s| (s, false)).or_else(|| {
+                annulus_loops(model, f).map(|[a, b]| ([a, Vec::new(), b, Vec::new()], true))
             })
         })
         .collect();
@@ -271,15 +301,15 @@ pub fn balance_composite_sides(
 pub const BALANCE_PASSES: usize = 8;
 
 /// One pass of [`balance_composite_sides`] over the four-sided faces'
-/// `sided`; true when a count changed.
+/// `sided` (flagged true for an annulus); true when a count changed.
 fn balance_pass(
-    sided: &[[Vec<usize>; 4]],
+    sided: &[([Vec<usize>; 4], bool)],
     ideal: &[f64],
     counts: &mut [usize],
     members: &impl Fn(usize) -> Vec<usize>,
 ) -> bool {
     let mut changed = false;
-    for sides in sided {
+    for (sides, annulus) in sided {
         for (a, b) in [(0, 2), (2, 0), (1, 3), (3, 1)] {
             let ([single], many) = (sides[a].as_slice(), &sides[b]) else {
                 continue;
@@ -293,8 +323,12 @@ fn balance_pass(
             }
             let sum: usize = many.iter().map(|&c| counts[c]).sum();
             let ideal_sum: f64 = many.iter().map(|&c| ideal[c]).sum();
+            // an annulus's single curve may be raised farther, never lowered
             let agree = (ideal[*single] - ideal_sum).abs()
-                <= CHORD_TOLERANCE * ideal[*single].max(ideal_sum);
+                <= CHORD_TOLERANCE * ideal[*single].max(ideal_sum)
+                || (*annulus
+                    && sum > counts[*single]
+                    && annulus_counts_agree(ideal[*single], ideal_sum));
             if counts[*single] != sum && agree {
                 for c in chord {
                     counts[c] = sum;
@@ -489,6 +523,29 @@ pub fn balance_for_patterns(
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn ring_junctions_are_flat_or_obtuse_corners() {
+        let deg = |d: f64| d.to_radians();
+        // a hexagon's 120° corner: two quads of 60°; a square's 90° and a
+        // 110° corner: one quad each; flat and slightly reflex: two quads
+        assert!(super::ring_junction(deg(120.0)));
+        assert!(super::ring_junction(deg(115.0)));
+        assert!(!super::ring_junction(deg(110.0)));
+        assert!(!super::ring_junction(deg(90.0)));
+        assert!(super::ring_junction(deg(180.0)));
+        assert!(super::ring_junction(deg(220.0)));
+        // a reflex corner wants three quads
+        assert!(!super::ring_junction(deg(250.0)));
+    }
+
+    #[test]
+    fn annulus_loops_agree_up_to_the_raise_ratio() {
+        assert!(super::annulus_counts_agree(36.0, 108.0));
+        assert!(super::annulus_counts_agree(108.0, 36.0));
+        assert!(!super::annulus_counts_agree(10.0, 32.0));
+        assert!(!super::annulus_counts_agree(0.0, 4.0));
+    }
+
     use super::*;
     use geometry::primitives;
 

@@ -219,7 +219,7 @@ pub fn mesh_holed_face(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<
         })
         .collect();
     harmonic_uv(&grid.quads, &mut uv, &fixed);
-    two_loop_patch(face, outer, hole, &uv, &fixed, &mut local, &grid.quads, HOLED_GRID)
+    two_loop_patch(face, outer, hole, &uv, &fixed, &mut local, &grid.quads, HOLED_GRID, false)
 }
 
 #[cfg(test)]

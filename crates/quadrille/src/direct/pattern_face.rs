@@ -483,7 +483,9 @@ pub(crate) fn needs_reversal(face: &geometry::Face, quads: &[[u32; 4]], uv: &[[f
 /// first local nodes): the grid's vertices not `fixed` placed at `uv` on the
 /// surface, its `quads` (grid vertex ids, mapped through `local`) turned to
 /// run counter-clockwise about the face normal, smoothed and checked
-/// ([`smooth_and_check`], naming `pattern`). Shared by
+/// ([`smooth_and_check`], naming `pattern`; with `excuse_short_edges`, a
+/// quad on a loop edge shorter than [`SHORT_LOOP_EDGE`] of its loop's mean
+/// edge, or beside one, need only be valid, see [`short_loop_edge_nodes`]). Shared by
 /// [`crate::direct::holed_face`] and [`crate::direct::ring_face`].
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn two_loop_patch(
@@ -495,6 +497,7 @@ pub(crate) fn two_loop_patch(
     local: &mut [u32],
     quads: &[[u32; 4]],
     pattern: &str,
+    excuse_short_edges: bool,
 ) -> Result<QuadPatch, String> {
     let mut nodes: Vec<LocalNode> = outer.nodes.iter().chain(&hole.nodes).copied().collect();
     let mut pos: Vec<Vec3> = outer.pos.iter().chain(&hole.pos).copied().collect();
@@ -510,7 +513,42 @@ pub(crate) fn two_loop_patch(
             l
         })
         .collect();
-    smooth_and_check(face, nodes, pos, quads, pattern)
+    let short = if excuse_short_edges {
+        short_loop_edge_nodes(&[&outer.pos, &hole.pos])
+    } else {
+        Vec::new()
+    };
+    smooth_and_check_excusing(face, nodes, pos, quads, pattern, MIN_PATTERN_SICN, &short)
+}
+
+/// A loop edge shorter than this share of its loop's mean edge length is a
+/// sliver of the CAD (a curve of a few thousandths of the cell size, as
+/// where a hex nut's corner is turned off by its across-corners cylinder):
+/// the quad on it is as thin as the edge, whatever the pattern.
+pub const SHORT_LOOP_EDGE: f64 = 0.1;
+
+/// Share of the floor that the quads not at a sliver edge must reach when
+/// the loops hold one ([`smooth_and_check_excusing`]).
+pub const SLIVER_FLOOR_SHARE: f64 = 0.5;
+
+/// The pairs of local node ids (the closed loops' points numbered
+/// `loops[0]` first, as in [`two_loop_patch`]) joined by a loop edge shorter
+/// than [`SHORT_LOOP_EDGE`] × its loop's mean edge.
+pub(crate) fn short_loop_edge_nodes(loops: &[&[Vec3]]) -> Vec<[u32; 2]> {
+    let mut pairs = Vec::new();
+    let mut first = 0usize;
+    for pos in loops {
+        let n = pos.len();
+        let length = |k: usize| vec3::norm(vec3::sub(pos[(k + 1) % n], pos[k]));
+        let mean = (0..n).map(length).sum::<f64>() / n.max(1) as f64;
+        for k in 0..n {
+            if length(k) < SHORT_LOOP_EDGE * mean {
+                pairs.push([(first + k) as u32, (first + (k + 1) % n) as u32]);
+            }
+        }
+        first += n;
+    }
+    pairs
 }
 
 /// A patch from a pattern's quads (counter-clockwise about the face normal)
@@ -537,6 +575,24 @@ pub(crate) fn smooth_and_check_above(
     pattern: &str,
     min_sicn: f64,
 ) -> Result<QuadPatch, String> {
+    smooth_and_check_excusing(face, nodes, pos, quads, pattern, min_sicn, &[])
+}
+
+/// [`smooth_and_check_above`], where a quad at a node of a pair of
+/// `short_edges` (the ends of a CAD sliver curve, see [`SHORT_LOOP_EDGE`])
+/// need only be valid (SICN above 0), and the others, when there are such
+/// edges, [`SLIVER_FLOOR_SHARE`] of `min_sicn`: the grid lines from a
+/// sliver's two ends stay close for a few cells, so its neighbours are thin
+/// too (a hex nut's ring grid: 0.295 two cells in, 0.73 at worst by angle).
+pub(crate) fn smooth_and_check_excusing(
+    face: &geometry::Face,
+    nodes: Vec<LocalNode>,
+    pos: Vec<Vec3>,
+    quads: Vec<[u32; 4]>,
+    pattern: &str,
+    min_sicn: f64,
+    short_edges: &[[u32; 2]],
+) -> Result<QuadPatch, String> {
     let mut patch = QuadPatch {
         quad_tri: (0..quads.len() as u32).collect(),
         nodes,
@@ -548,13 +604,19 @@ pub(crate) fn smooth_and_check_above(
         &mut patch,
         &crate::smoothing::OptimizeOptions::default(),
     );
-    let worst = patch
-        .quads
-        .iter()
-        .map(|q| quad_quality(face, &patch.nodes, &patch.pos, q))
-        .fold(f64::INFINITY, f64::min);
-    if !(worst >= min_sicn) {
-        return Err(format!("pattern {pattern} gives a quad of SICN {worst:.3}"));
+    let at_short_edge = |q: &[u32; 4]| q.iter().any(|v| short_edges.iter().any(|e| e.contains(v)));
+    for q in &patch.quads {
+        let sicn = quad_quality(face, &patch.nodes, &patch.pos, q);
+        let floor = if at_short_edge(q) {
+            0.0
+        } else if short_edges.is_empty() {
+            min_sicn
+        } else {
+            SLIVER_FLOOR_SHARE * min_sicn
+        };
+        if !(sicn > floor || (floor > 0.0 && sicn >= floor)) {
+            return Err(format!("pattern {pattern} gives a quad of SICN {sicn:.3}"));
+        }
     }
     Ok(patch)
 }
@@ -582,6 +644,41 @@ pub(crate) fn uv_centroid(nodes: &[LocalNode]) -> [f64; 2] {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_loop_edge_far_below_its_loops_mean_is_a_sliver() {
+        // a unit square's outer loop with one corner cut off by an edge of
+        // 0.014 (its loop's mean edge 0.8), and a hole of four equal edges:
+        // only the cut is short
+        let outer = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 0.99, 0.0],
+            [0.99, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let hole = [
+            [0.4, 0.4, 0.0],
+            [0.6, 0.4, 0.0],
+            [0.6, 0.6, 0.0],
+            [0.4, 0.6, 0.0],
+        ];
+        assert_eq!(super::short_loop_edge_nodes(&[&outer, &hole]), vec![[2, 3]]);
+        // the hole's edges (0.2) are short beside the outer loop's but not
+        // beside their own loop's mean: loops are judged apart; a hole with
+        // one short edge is numbered after the outer loop's five points
+        let hole_cut = [
+            [0.4, 0.4, 0.0],
+            [0.6, 0.4, 0.0],
+            [0.6, 0.599, 0.0],
+            [0.599, 0.6, 0.0],
+            [0.4, 0.6, 0.0],
+        ];
+        assert_eq!(
+            super::short_loop_edge_nodes(&[&outer, &hole_cut]),
+            vec![[2, 3], [7, 8]]
+        );
+    }
+
     use super::*;
     use crate::direct::O_GRID;
     use crate::curves::curve_mesh::{discretize_all, plan_curves};

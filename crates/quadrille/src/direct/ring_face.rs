@@ -17,8 +17,7 @@ use geometry::vec3::{self, Vec3};
 use geometry::{FaceId, Model};
 
 use crate::core::patch::QuadPatch;
-use crate::curves::curve_chords::annulus_loops;
-use crate::core::valence::ideal_corner_valence;
+use crate::curves::curve_chords::{annulus_loops, ring_junction};
 use crate::curves::curve_mesh::CurveMesh;
 use crate::direct::pattern_face::{loop_ring, ring_step, two_loop_patch, uv_area, Ring};
 
@@ -74,7 +73,7 @@ pub fn mesh_ring_face(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Q
         if r.nodes.iter().any(|n| n.pole.is_some()) {
             return Err("a pole on a loop".into());
         }
-        if let Some(&(_, a)) = r.corners.iter().find(|c| ideal_corner_valence(c.1) != 2) {
+        if let Some(&(_, a)) = r.corners.iter().find(|c| !ring_junction(c.1)) {
             return Err(format!("a corner of {:.0}° on a loop", a.to_degrees()));
         }
     }
@@ -143,7 +142,7 @@ pub fn mesh_ring_face(model: &Model, fid: FaceId, cms: &[CurveMesh]) -> Result<Q
             })
         })
         .collect();
-    two_loop_patch(face, outer, hole, &uv, &fixed, &mut local, &grid, RING_GRID)
+    two_loop_patch(face, outer, hole, &uv, &fixed, &mut local, &grid, RING_GRID, true)
 }
 
 #[cfg(test)]
