@@ -6,7 +6,7 @@
 use geometry::vec3;
 use geometry::Model;
 
-use crate::curves::curve_chords::{annulus_counts_agree, annulus_loops};
+use crate::curves::curve_chords::{annulus_loops, CHORD_TOLERANCE};
 
 /// (u, v) samples per direction for the mean widths of [`balance_seam_grids`].
 const WIDTH_SAMPLES: usize = 16;
@@ -131,7 +131,7 @@ pub(crate) fn balance_band_seams(model: &Model, ideal: &mut [f64], lengths: &[f6
 /// `direct::ring_face`) needs one count on both loops; the chord of its two
 /// curves would take their mean, which coarsens the longer loop below the
 /// size map. Here both ideal counts are raised to the larger one, when they
-/// are within [`crate::curves::curve_chords::ANNULUS_RAISE_RATIO`], so the
+/// are close enough to join a chord at all ([`CHORD_TOLERANCE`]), so the
 /// ring's cells are at most the size map's along both loops.
 pub(crate) fn balance_annuli(model: &Model, ideal: &mut [f64]) {
     for face in &model.faces {
@@ -143,7 +143,7 @@ pub(crate) fn balance_annuli(model: &Model, ideal: &mut [f64]) {
         };
         let (a, b) = (*a, *b);
         let top = ideal[a].max(ideal[b]);
-        if annulus_counts_agree(ideal[a], ideal[b]) {
+        if (ideal[a] - ideal[b]).abs() <= CHORD_TOLERANCE * top {
             ideal[a] = top;
             ideal[b] = top;
         }
@@ -163,16 +163,23 @@ const BAND_ASPECT_TOLERANCE: f64 = 1.3;
 /// falls (2 : 1 gives 0.8). Here S, which bounds only this band and is in
 /// no chord with another curve, is given the count that makes the cells
 /// square on average, when they would otherwise be more than
-/// [`BAND_ASPECT_TOLERANCE`] times longer one way than the other.
+/// [`BAND_ASPECT_TOLERANCE`] times longer one way than the other. A band
+/// whose A was `raised` beyond the chord tolerance by a contained annulus
+/// (`curve_chords::balance_composite_sides`: a hex nut's bore, raised to
+/// the hexagon's count) keeps its seam count: squaring would multiply the
+/// band's quads by the raise again.
 pub(crate) fn square_band_seams(
     model: &Model,
     counts: &mut [usize],
     members: &impl Fn(usize) -> Vec<usize>,
     lengths: &[f64],
+    raised: &[bool],
 ) {
     let curve_faces = model.curve_faces();
     for (fi, _, _, [s, a, b]) in seam_bands(model) {
         let band = counts[a] == counts[b]
+            && !raised[a]
+            && !raised[b]
             && curve_faces[s].as_slice() == [geometry::FaceId(fi as u32)]
             && members(s) == [s]
             && !model.curves[a].degenerate

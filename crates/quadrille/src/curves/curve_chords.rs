@@ -271,45 +271,146 @@ pub fn four_sides(model: &Model, face: &Face) -> Option<[Vec<usize>; 4]> {
 /// Passes over the faces repeat while they change something (a face's
 /// balance can move a curve of another face's side), at most
 /// [`BALANCE_PASSES`] times: conflicting constraints are left as the last
-/// pass sets them.
+/// pass sets them. An annulus (hole and outer loop as opposite sides) with a
+/// cornered loop is balanced only when [`raise_contained`]; such a contained
+/// annulus may also raise its single curve up to [`ANNULUS_RAISE_RATIO`].
+/// Returns, per curve, whether such a raise beyond [`CHORD_TOLERANCE`] set
+/// its count (its bands' seams are left at their own count, see
+/// `count_balance::square_band_seams`).
 pub fn balance_composite_sides(
     model: &Model,
     ideal: &[f64],
     counts: &mut [usize],
     members: &impl Fn(usize) -> Vec<usize>,
-) {
+) -> Vec<bool> {
     // an annulus whose loops are one curve and several arcs is balanced
     // like two opposite sides (its other two "sides" empty)
-    // (true: an annulus)
-    let sided: Vec<([Vec<usize>; 4], bool)> = model
+    let sides_of: Vec<Option<([Vec<usize>; 4], bool)>> = model
         .faces
         .iter()
-        .filter_map(|f| {
+        .map(|f| {
             four_sides(model, f).map(|s| (s, false)).or_else(|| {
                 annulus_loops(model, f).map(|[a, b]| ([a, Vec::new(), b, Vec::new()], true))
             })
         })
         .collect();
+    let curve_faces = model.curve_faces();
+    let sided: Vec<([Vec<usize>; 4], Option<AnnulusRaise>)> = sides_of
+        .iter()
+        .enumerate()
+        .filter_map(|(f, s)| s.as_ref().map(|s| (f, s)))
+        .map(|(f, (s, annulus))| {
+            let raise = annulus.then(|| AnnulusRaise {
+                cornered: loops_have_corner(model, &model.faces[f]),
+                contained: raise_contained(model, s, &sides_of, &curve_faces, ideal, members),
+            });
+            (s.clone(), raise)
+        })
+        .collect();
+    let mut raised_to = vec![None; counts.len()];
     for _ in 0..BALANCE_PASSES {
-        if !balance_pass(&sided, ideal, counts, members) {
-            return;
+        if !balance_pass(&sided, ideal, counts, members, &mut raised_to) {
+            break;
         }
     }
+    // a later pass may have set the chord again (a face of the chain
+    // balanced to another count): only the counts a raise still holds
+    (0..counts.len()).map(|c| raised_to[c] == Some(counts[c])).collect()
+}
+
+/// What [`balance_pass`] may do to an annulus's single-curve loop.
+#[derive(Clone, Copy, Debug)]
+struct AnnulusRaise {
+    /// A loop has a corner (a hex nut's face, see [`ring_junction`]): its
+    /// loop's count moves only when the raise is `contained`.
+    cornered: bool,
+    /// [`raise_contained`]: the loop may also be raised beyond
+    /// [`CHORD_TOLERANCE`], up to [`ANNULUS_RAISE_RATIO`].
+    contained: bool,
+}
+
+/// Whether a loop of `face` has a junction that is not flat (ideal valence
+/// other than 2, as a hexagon's corners).
+fn loops_have_corner(model: &Model, face: &Face) -> bool {
+    face.loops.iter().any(|lp| {
+        (0..lp.uses.len()).any(|k| {
+            use_start_angle(model, face, lp, k).is_some_and(|a| ideal_corner_valence(a) != 2)
+        })
+    })
+}
+
+/// Whether raising the single-curve loop of an annulus with loops `sides`
+/// (`[outer or hole, -, the other, -]`, see [`balance_composite_sides`]) to
+/// its other loop's count stays in the annulus's own band chain: every face
+/// that a curve of the single curve's chord bounds (`curve_faces`, faces'
+/// sides in `sides_of`) is a band passing the chord on (a 4-sided face whose
+/// side of that curve and the opposite side are single curves of the
+/// chord: a bore's cylinder, a chamfer's cone) or an annulus whose loop of
+/// that curve is single and whose other loop has several curves of about
+/// the same ideal total (within [`CHORD_TOLERANCE`]: the opposite end face
+/// of a hex nut). A chord reaching any other face (a screw's shank running
+/// on into its end face or thread) would carry the finer count there.
+fn raise_contained(
+    model: &Model,
+    sides: &[Vec<usize>; 4],
+    sides_of: &[Option<([Vec<usize>; 4], bool)>],
+    curve_faces: &[Vec<geometry::FaceId>],
+    ideal: &[f64],
+    members: &impl Fn(usize) -> Vec<usize>,
+) -> bool {
+    let total = |s: &[usize]| s.iter().map(|&c| ideal[c]).sum::<f64>();
+    let (single, many) = match (sides[0].as_slice(), sides[2].as_slice()) {
+        ([c], m) if m.len() >= 2 => (*c, m),
+        (m, [c]) if m.len() >= 2 => (*c, m),
+        _ => return false,
+    };
+    let want = total(many);
+    let chord = members(single);
+    chord.iter().all(|&m| {
+        curve_faces[m].iter().all(|f| {
+            let Some((s, annulus)) = &sides_of[f.idx()] else {
+                // a band with a seam: one loop of four uses, the chord's
+                // curve facing another of the chord
+                let [lp] = model.faces[f.idx()].loops.as_slice() else {
+                    return false;
+                };
+                let n = lp.uses.len();
+                return n == 4
+                    && (0..n).all(|k| {
+                        lp.uses[k].curve.idx() != m
+                            || chord.contains(&lp.uses[(k + 2) % n].curve.idx())
+                    });
+            };
+            let Some(k) = s.iter().position(|side| side.as_slice() == [m]) else {
+                return false;
+            };
+            let opposite = &s[(k + 2) % 4];
+            if *annulus {
+                opposite.len() >= 2
+                    && (total(opposite) - want).abs() <= CHORD_TOLERANCE * total(opposite).max(want)
+            } else {
+                matches!(opposite.as_slice(), [o] if chord.contains(o))
+            }
+        })
+    })
 }
 
 /// Passes of [`balance_composite_sides`], at most.
 pub const BALANCE_PASSES: usize = 8;
 
 /// One pass of [`balance_composite_sides`] over the four-sided faces'
-/// `sided` (flagged true for an annulus); true when a count changed.
+/// `sided` (an annulus flagged with its [`AnnulusRaise`]), noting in
+/// `raised_to` the count a raise beyond [`CHORD_TOLERANCE`] set on each of
+/// its curves; true when a count changed.
 fn balance_pass(
-    sided: &[([Vec<usize>; 4], bool)],
+    sided: &[([Vec<usize>; 4], Option<AnnulusRaise>)],
     ideal: &[f64],
     counts: &mut [usize],
     members: &impl Fn(usize) -> Vec<usize>,
+    raised_to: &mut [Option<usize>],
 ) -> bool {
     let mut changed = false;
-    for (sides, annulus) in sided {
+    for (sides, raise) in sided {
         for (a, b) in [(0, 2), (2, 0), (1, 3), (3, 1)] {
             let ([single], many) = (sides[a].as_slice(), &sides[b]) else {
                 continue;
@@ -323,15 +424,28 @@ fn balance_pass(
             }
             let sum: usize = many.iter().map(|&c| counts[c]).sum();
             let ideal_sum: f64 = many.iter().map(|&c| ideal[c]).sum();
-            // an annulus's single curve may be raised farther, never lowered
-            let agree = (ideal[*single] - ideal_sum).abs()
-                <= CHORD_TOLERANCE * ideal[*single].max(ideal_sum)
-                || (*annulus
-                    && sum > counts[*single]
-                    && annulus_counts_agree(ideal[*single], ideal_sum));
+            let within = (ideal[*single] - ideal_sum).abs()
+                <= CHORD_TOLERANCE * ideal[*single].max(ideal_sum);
+            // a contained annulus's single curve may be raised farther,
+            // never lowered; a cornered annulus's moves only when contained
+            let (agree, beyond) = match raise {
+                None => (within, false),
+                Some(r) => {
+                    let farther = r.contained
+                        && sum > counts[*single]
+                        && annulus_counts_agree(ideal[*single], ideal_sum);
+                    (
+                        (within && (!r.cornered || r.contained)) || farther,
+                        farther && !within,
+                    )
+                }
+            };
             if counts[*single] != sum && agree {
                 for c in chord {
                     counts[c] = sum;
+                    if beyond {
+                        raised_to[c] = Some(sum);
+                    }
                 }
                 changed = true;
             }
@@ -548,6 +662,87 @@ mod tests {
 
     use super::*;
     use geometry::primitives;
+
+    /// Sides of a nut-like chain: annulus 0 (hexagon curves 0–2 around the
+    /// bore curve 3), band 1 (curve 3 facing curve 5, seam 4), annulus 2
+    /// (hexagon 6–8 around curve 5), and band 3 (curve 5 facing curve 9,
+    /// seam 10) when `shank`: the bore's chord {3, 5} runs on into it.
+    #[allow(clippy::type_complexity)]
+    fn nut_chain(
+        shank: bool,
+    ) -> (Vec<Option<([Vec<usize>; 4], bool)>>, Vec<Vec<geometry::FaceId>>) {
+        use geometry::FaceId;
+        let mut sides = vec![
+            Some(([vec![0, 1, 2], vec![], vec![3], vec![]], true)),
+            Some(([vec![3], vec![4], vec![5], vec![4]], false)),
+            Some(([vec![6, 7, 8], vec![], vec![5], vec![]], true)),
+        ];
+        let mut faces: Vec<Vec<FaceId>> = vec![Vec::new(); 11];
+        for (c, f) in [(0, 0), (1, 0), (2, 0), (3, 0), (3, 1), (4, 1), (5, 1), (5, 2), (6, 2), (7, 2), (8, 2)] {
+            faces[c].push(FaceId(f));
+        }
+        if shank {
+            sides.push(Some(([vec![5], vec![10], vec![9], vec![10]], false)));
+            faces[5].push(FaceId(3));
+        }
+        (sides, faces)
+    }
+
+    #[test]
+    fn an_annulus_raise_is_contained_only_inside_its_band_chain() {
+        // hexagons of ideal total 36 around bores of 12 (3 : 1)
+        let mut ideal = vec![12.0; 11];
+        let members = |c: usize| if c == 3 || c == 5 { vec![3, 5] } else { vec![c] };
+        let model = primitives::square(1.0);
+        let (sides, faces) = nut_chain(false);
+        let s0 = sides[0].clone().unwrap().0;
+        assert!(raise_contained(&model, &s0, &sides, &faces, &ideal, &members));
+        // the chord reaches a band whose far side (9) is not in the chord
+        let (sides_s, faces_s) = nut_chain(true);
+        assert!(!raise_contained(&model, &s0, &sides_s, &faces_s, &ideal, &members));
+        // the far end face's hexagon (total 9) would not want the raise
+        for c in 6..9 {
+            ideal[c] = 3.0;
+        }
+        assert!(!raise_contained(&model, &s0, &sides, &faces, &ideal, &members));
+    }
+
+    #[test]
+    fn a_contained_cornered_annulus_raises_its_bore_and_an_uncontained_one_keeps_it() {
+        let ideal = vec![12.0; 11];
+        let members = |c: usize| if c == 3 || c == 5 { vec![3, 5] } else { vec![c] };
+        let (sides, _) = nut_chain(false);
+        let sided = |cornered: bool, contained: bool| -> Vec<([Vec<usize>; 4], Option<AnnulusRaise>)> {
+            sides
+                .iter()
+                .flatten()
+                .map(|(s, a)| (s.clone(), a.then_some(AnnulusRaise { cornered, contained })))
+                .collect()
+        };
+        let mut counts = vec![12usize; 11];
+        let mut raised = vec![None; 11];
+        assert!(balance_pass(&sided(true, true), &ideal, &mut counts, &members, &mut raised));
+        assert_eq!((counts[3], counts[5]), (36, 36));
+        assert_eq!(raised.iter().filter(|r| r.is_some()).count(), 2);
+        assert_eq!((raised[3], raised[5]), (Some(36), Some(36)));
+        // hexagons of ideal total 18 around bores of 12 agree within the
+        // tolerance: a smooth annulus balances (bore 18, as on main), a
+        // cornered one whose raise is not contained keeps its bore at 12
+        let mut ideal = ideal;
+        for c in [0, 1, 2, 6, 7, 8] {
+            ideal[c] = 6.0;
+        }
+        for (cornered, want) in [(false, 18usize), (true, 12)] {
+            let mut counts = vec![6usize; 11];
+            counts[3] = 12;
+            counts[5] = 12;
+            let mut raised = vec![None; 11];
+            balance_pass(&sided(cornered, false), &ideal, &mut counts, &members, &mut raised);
+            assert_eq!((counts[3], counts[5]), (want, want), "cornered {cornered}");
+            assert!(raised.iter().all(Option::is_none));
+        }
+    }
+
 
     /// The paper's example: ideal counts [9.4, 4.1, 10.6, 3.9] on a
     /// rectangle give [10, 4, 10, 4], where plain rounding gives [9, 4, 11, 4].

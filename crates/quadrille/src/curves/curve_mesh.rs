@@ -564,11 +564,12 @@ fn plan_curves_with(
     }
     let members = |c: usize| plan_chords[chords[c]].clone();
     // a side of several curves facing one curve: equal totals
-    balance_composite_sides(model, &ideal, &mut counts, &members);
+    let raised = balance_composite_sides(model, &ideal, &mut counts, &members);
     enforce_minimum_counts(model, &mut counts, &members, &lengths);
     // the minimums may have raised a curve of a composite side: balance
     // again (the minimums then hold unless a balance undid one)
-    balance_composite_sides(model, &ideal, &mut counts, &members);
+    let raised_again = balance_composite_sides(model, &ideal, &mut counts, &members);
+    let raised: Vec<bool> = raised.iter().zip(&raised_again).map(|(a, b)| *a || *b).collect();
     enforce_minimum_counts(model, &mut counts, &members, &lengths);
     // counts nudged so that more faces fit a pattern (§6.1.2)
     let min_count = |c: usize| {
@@ -580,7 +581,7 @@ fn plan_curves_with(
         }
     };
     balance_for_patterns(model, &ideal, &mut counts, &members, &min_count);
-    square_band_seams(model, &mut counts, &members, &lengths);
+    square_band_seams(model, &mut counts, &members, &lengths, &raised);
     enforce_minimum_counts(model, &mut counts, &members, &lengths);
     CurvePlan {
         counts,
