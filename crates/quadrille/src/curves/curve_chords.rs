@@ -315,7 +315,9 @@ pub fn balance_composite_sides(
     }
     // a later pass may have set the chord again (a face of the chain
     // balanced to another count): only the counts a raise still holds
-    (0..counts.len()).map(|c| raised_to[c] == Some(counts[c])).collect()
+    (0..counts.len())
+        .map(|c| raised_to[c] == Some(counts[c]))
+        .collect()
 }
 
 /// What [`balance_pass`] may do to an annulus's single-curve loop.
@@ -670,7 +672,10 @@ mod tests {
     #[allow(clippy::type_complexity)]
     fn nut_chain(
         shank: bool,
-    ) -> (Vec<Option<([Vec<usize>; 4], bool)>>, Vec<Vec<geometry::FaceId>>) {
+    ) -> (
+        Vec<Option<([Vec<usize>; 4], bool)>>,
+        Vec<Vec<geometry::FaceId>>,
+    ) {
         use geometry::FaceId;
         let mut sides = vec![
             Some(([vec![0, 1, 2], vec![], vec![3], vec![]], true)),
@@ -678,7 +683,19 @@ mod tests {
             Some(([vec![6, 7, 8], vec![], vec![5], vec![]], true)),
         ];
         let mut faces: Vec<Vec<FaceId>> = vec![Vec::new(); 11];
-        for (c, f) in [(0, 0), (1, 0), (2, 0), (3, 0), (3, 1), (4, 1), (5, 1), (5, 2), (6, 2), (7, 2), (8, 2)] {
+        for (c, f) in [
+            (0, 0),
+            (1, 0),
+            (2, 0),
+            (3, 0),
+            (3, 1),
+            (4, 1),
+            (5, 1),
+            (5, 2),
+            (6, 2),
+            (7, 2),
+            (8, 2),
+        ] {
             faces[c].push(FaceId(f));
         }
         if shank {
@@ -692,36 +709,69 @@ mod tests {
     fn an_annulus_raise_is_contained_only_inside_its_band_chain() {
         // hexagons of ideal total 36 around bores of 12 (3 : 1)
         let mut ideal = vec![12.0; 11];
-        let members = |c: usize| if c == 3 || c == 5 { vec![3, 5] } else { vec![c] };
+        let members = |c: usize| {
+            if c == 3 || c == 5 {
+                vec![3, 5]
+            } else {
+                vec![c]
+            }
+        };
         let model = primitives::square(1.0);
         let (sides, faces) = nut_chain(false);
         let s0 = sides[0].clone().unwrap().0;
-        assert!(raise_contained(&model, &s0, &sides, &faces, &ideal, &members));
+        assert!(raise_contained(
+            &model, &s0, &sides, &faces, &ideal, &members
+        ));
         // the chord reaches a band whose far side (9) is not in the chord
         let (sides_s, faces_s) = nut_chain(true);
-        assert!(!raise_contained(&model, &s0, &sides_s, &faces_s, &ideal, &members));
+        assert!(!raise_contained(
+            &model, &s0, &sides_s, &faces_s, &ideal, &members
+        ));
         // the far end face's hexagon (total 9) would not want the raise
         for c in 6..9 {
             ideal[c] = 3.0;
         }
-        assert!(!raise_contained(&model, &s0, &sides, &faces, &ideal, &members));
+        assert!(!raise_contained(
+            &model, &s0, &sides, &faces, &ideal, &members
+        ));
     }
 
     #[test]
     fn a_contained_cornered_annulus_raises_its_bore_and_an_uncontained_one_keeps_it() {
         let ideal = vec![12.0; 11];
-        let members = |c: usize| if c == 3 || c == 5 { vec![3, 5] } else { vec![c] };
-        let (sides, _) = nut_chain(false);
-        let sided = |cornered: bool, contained: bool| -> Vec<([Vec<usize>; 4], Option<AnnulusRaise>)> {
-            sides
-                .iter()
-                .flatten()
-                .map(|(s, a)| (s.clone(), a.then_some(AnnulusRaise { cornered, contained })))
-                .collect()
+        let members = |c: usize| {
+            if c == 3 || c == 5 {
+                vec![3, 5]
+            } else {
+                vec![c]
+            }
         };
+        let (sides, _) = nut_chain(false);
+        let sided =
+            |cornered: bool, contained: bool| -> Vec<([Vec<usize>; 4], Option<AnnulusRaise>)> {
+                sides
+                    .iter()
+                    .flatten()
+                    .map(|(s, a)| {
+                        (
+                            s.clone(),
+                            a.then_some(AnnulusRaise {
+                                cornered,
+                                contained,
+                            }),
+                        )
+                    })
+                    .collect()
+            };
         let mut counts = vec![12usize; 11];
         let mut raised = vec![None; 11];
-        assert!(balance_pass(&sided(true, true), &ideal, &mut counts, &members, &mut raised));
+        assert!(balance_pass(
+            &sided(true, true),
+            &ideal,
+            &mut counts,
+            &members,
+            &mut raised
+        ));
         assert_eq!((counts[3], counts[5]), (36, 36));
         assert_eq!(raised.iter().filter(|r| r.is_some()).count(), 2);
         assert_eq!((raised[3], raised[5]), (Some(36), Some(36)));
@@ -737,12 +787,17 @@ mod tests {
             counts[3] = 12;
             counts[5] = 12;
             let mut raised = vec![None; 11];
-            balance_pass(&sided(cornered, false), &ideal, &mut counts, &members, &mut raised);
+            balance_pass(
+                &sided(cornered, false),
+                &ideal,
+                &mut counts,
+                &members,
+                &mut raised,
+            );
             assert_eq!((counts[3], counts[5]), (want, want), "cornered {cornered}");
             assert!(raised.iter().all(Option::is_none));
         }
     }
-
 
     /// The paper's example: ideal counts [9.4, 4.1, 10.6, 3.9] on a
     /// rectangle give [10, 4, 10, 4], where plain rounding gives [9, 4, 11, 4].

@@ -569,7 +569,11 @@ fn plan_curves_with(
     // the minimums may have raised a curve of a composite side: balance
     // again (the minimums then hold unless a balance undid one)
     let raised_again = balance_composite_sides(model, &ideal, &mut counts, &members);
-    let raised: Vec<bool> = raised.iter().zip(&raised_again).map(|(a, b)| *a || *b).collect();
+    let raised: Vec<bool> = raised
+        .iter()
+        .zip(&raised_again)
+        .map(|(a, b)| *a || *b)
+        .collect();
     enforce_minimum_counts(model, &mut counts, &members, &lengths);
     // counts nudged so that more faces fit a pattern (§6.1.2)
     let min_count = |c: usize| {
