@@ -612,8 +612,9 @@ fn check_options(model: &Model, opts: &SizeMapOptions) -> Result<(), SizeMapErro
 
 /// The lowered floor of every graph vertex ([`SizeMapOptions::floor_turn`],
 /// [`SizeMapOptions::floor_narrow`]): `turn / κ` or the width `w`, the
-/// smaller, on the vertices of each face where that is below the floor `lo`,
-/// graded over the graph (+∞ elsewhere); `None` when no face lowers it.
+/// smaller, on the vertices of each face where that is below the floor `lo`
+/// (unless [`narrow::keep_strips_off_wide_faces`] drops the face), graded
+/// over the graph (+∞ elsewhere); `None` when no face lowers it.
 fn turn_floors(
     graph: &BackgroundGraph,
     faces: &[FaceBackground<'_>],
@@ -672,20 +673,22 @@ fn turn_floors(
                 .unwrap_or(f64::INFINITY)
         })
         .collect();
-    narrow::keep_strips_off_wide_faces(graph, faces, lo, &mut by_width);
+    let mut by_face: Vec<f64> = by_turn
+        .iter()
+        .zip(&by_width)
+        .map(|(&t, &w)| Some(t.min(w)).filter(|&s| s < lo).unwrap_or(f64::INFINITY))
+        .collect();
+    narrow::keep_strips_off_wide_faces(graph, faces, lo, &mut by_face);
+    if by_face.iter().all(|s| !s.is_finite()) {
+        return None;
+    }
     let mut floors = vec![f64::INFINITY; graph.len()];
-    let mut lowered = false;
-    for (i, (&by_turn, &by_width)) in by_turn.iter().zip(&by_width).enumerate() {
-        let s = by_turn.min(by_width);
-        if s < lo {
-            lowered = true;
+    for (i, &s) in by_face.iter().enumerate() {
+        if s.is_finite() {
             for &g in &graph.face_vertices[i] {
                 floors[g as usize] = floors[g as usize].min(s);
             }
         }
-    }
-    if !lowered {
-        return None;
     }
     grade(graph, &mut floors, opts.gradient);
     Some(floors)
