@@ -131,8 +131,8 @@ pub fn verify(
         .iter()
         .map(|s| {
             format!(
-                "{:.1e}/{:.1e}/{:.1e}",
-                s.residuals.boundary, s.residuals.features, s.residuals.holonomy
+                "{:.1e}/{:.1e}/{:.1e} ({:.1e} rad)",
+                s.residuals.boundary, s.residuals.features, s.residuals.holonomy, s.max_angle_error
             )
         })
         .collect::<Vec<_>>()

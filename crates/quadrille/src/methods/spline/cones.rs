@@ -10,7 +10,7 @@ use super::SplineMethodError;
 use crate::cones::{check_cones, ConeSummary};
 use crate::cut::{cut_to_disk, CutMesh, CutTarget};
 use crate::immersion::{immerse, CutTransition, Immersion};
-use crate::layout_energy::{minimise, LayoutEnergyOptions, LayoutMap};
+use crate::layout_energy::{minimise, LayoutEnergyError, LayoutEnergyOptions, LayoutMap};
 use crate::ricci::{
     boundary_corner_cones, refine_cone_rings, ricci_flow, Cone, RicciMetric, RicciOptions,
 };
@@ -70,11 +70,12 @@ pub struct CoreTimes {
 pub struct EnergySummary {
     /// Q1–Q4 passed.
     pub converged: bool,
-    /// Largest constraint residual (plane units).
+    /// Largest constraint residual (plane units); when the energy failed,
+    /// the value of the check that failed.
     pub residual: f64,
-    /// Its tolerance, 1e-7 × the diagonal of ψ.
+    /// Its tolerance (1e-7 × the diagonal of ψ for residuals).
     pub tolerance: f64,
-    /// Smallest det J.
+    /// Smallest det J (NaN when the energy failed).
     pub min_det: f64,
     /// Newton iterations over all stages.
     pub iterations: usize,
@@ -217,7 +218,7 @@ pub fn cone_core(
 
 /// The layout energy (S6–S7, [`minimise`]) on a core's Ω from its ψ_R,
 /// with no feature edges (the spline path has none yet).
-pub fn layout_energy(core: &ConeCore) -> Result<LayoutMap, crate::layout_energy::LayoutEnergyError> {
+pub fn layout_energy(core: &ConeCore) -> Result<LayoutMap, LayoutEnergyError> {
     minimise(
         &core.shell,
         &core.topo,
@@ -265,10 +266,30 @@ pub fn refuse_unless_corner_cones(
             ),
             EnergySummary::of(map),
         ),
-        Err(e) => (
-            format!("{e}; the tracing of cone separatrices (S8) is not built either"),
-            EnergySummary::default(),
-        ),
+        Err(e) => {
+            let mut summary = EnergySummary::default();
+            if let LayoutEnergyError::Violated {
+                value,
+                limit,
+                stages,
+                iterations,
+                ..
+            } = e
+            {
+                summary = EnergySummary {
+                    converged: false,
+                    residual: *value,
+                    tolerance: *limit,
+                    min_det: f64::NAN,
+                    iterations: *iterations,
+                    stages: *stages,
+                };
+            }
+            (
+                format!("{e}; the tracing of cone separatrices (S8) is not built either"),
+                summary,
+            )
+        }
     };
     Err(SplineMethodError::NeedsLayoutEnergy {
         message: format!(
