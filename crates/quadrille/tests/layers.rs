@@ -26,6 +26,7 @@ const LAYERS: [&str; 18] = [
     "cones",
     "cut",
     "immersion",
+    "layout_energy",
     "layout",
     "methods",
 ];

@@ -109,7 +109,7 @@ impl LayoutMap {
     pub fn describe(&self) -> String {
         let [u, v] = self.constraints.axis_counts();
         format!(
-            "layout energy converged: residual {:.1e} (tolerance {:.1e}; boundary {:.1e}, features {:.1e}, cuts {:.1e}), min det J {:.3e}, max angle-sum error {:.1e} rad, iterations {} in {} stages (λ up to {:.0e}); Γ_u {u}, Γ_v {v} edges, {} cut paths; E5 not built",
+            "layout energy converged: residual {:.1e} (tolerance {:.1e}; boundary {:.1e}, features {:.1e}, cuts {:.1e}), min det J {:.3e}, max angle-sum error {:.1e} rad, iterations {} in {} stages (λ up to {:.0e}; per stage iterations/residual/angle: {}); Γ_u {u}, Γ_v {v} edges, {} cut paths; E5 not built",
             self.residuals.max(),
             self.tolerance,
             self.residuals.boundary,
@@ -120,6 +120,16 @@ impl LayoutMap {
             self.iterations,
             self.stages.len(),
             self.stages.last().map_or(0.0, |s| s.lambda),
+            self.stages
+                .iter()
+                .map(|s| format!(
+                    "{}/{:.1e}/{:.1e}",
+                    s.iterations,
+                    s.residuals.max(),
+                    s.max_angle_error
+                ))
+                .collect::<Vec<_>>()
+                .join(", "),
             self.constraints.holonomy.len(),
         )
     }
