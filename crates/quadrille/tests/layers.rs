@@ -9,7 +9,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The folders of `src`, bottom to top (ARCHITECTURE.md, "The `quadrille` crate").
-const LAYERS: [&str; 18] = [
+const LAYERS: [&str; 19] = [
     "core",
     "combinatorics",
     "curves",
