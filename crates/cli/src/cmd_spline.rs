@@ -101,13 +101,44 @@ pub fn run(args: &SplineArgs) -> Result<()> {
     let result = match splines_from_checked_shell(&shell, &topo, &opts) {
         Ok(r) => r,
         Err(e) => {
-            if let (true, SplineMethodError::NeedsLayoutEnergy { times: t, .. }) =
-                (args.timings, &e)
+            if let SplineMethodError::NeedsLayoutEnergy {
+                times: t, energy, ..
+            } = &e
             {
-                eprintln!(
-                    "time: load+triangulate {t_load:.3} s, check {t_check:.3} s, cones {t_cones:.3} s, refine {:.3} s, ricci {:.3} s, cut {:.3} s, immersion {:.3} s (stopped: no layout energy)",
-                    t.refine, t.ricci, t.cut, t.immersion
-                );
+                if args.timings {
+                    eprintln!(
+                        "time: load+triangulate {t_load:.3} s, check {t_check:.3} s, cones {t_cones:.3} s, refine {:.3} s, ricci {:.3} s, cut {:.3} s, immersion {:.3} s, layout energy {:.3} s (stopped: no separatrix tracing)",
+                        t.refine, t.ricci, t.cut, t.immersion, t.energy
+                    );
+                }
+                if args.json {
+                    // The stages that ran, before the refusal (stdout).
+                    println!(
+                        "{}",
+                        serde_json::to_string_pretty(&serde_json::json!({
+                            "triangles": shell.triangles.len(),
+                            "stopped": "tracing of cone separatrices (S8) not built",
+                            "layout_energy": {
+                                "converged": energy.converged,
+                                "residual": energy.residual,
+                                "tolerance": energy.tolerance,
+                                "min_det_j": energy.min_det,
+                                "iterations": energy.iterations,
+                                "stages": energy.stages,
+                            },
+                            "seconds": {
+                                "load": t_load,
+                                "check": t_check,
+                                "cones": t_cones,
+                                "refine": t.refine,
+                                "ricci": t.ricci,
+                                "cut": t.cut,
+                                "immersion": t.immersion,
+                                "layout_energy": t.energy,
+                            }
+                        }))?
+                    );
+                }
             }
             return Err(anyhow::Error::new(e).context(name.clone()));
         }

@@ -53,6 +53,7 @@ pub mod fixtures;
 pub mod frontal;
 pub mod immersion;
 pub mod layout;
+pub mod layout_energy;
 pub mod methods;
 pub mod ricci;
 pub mod shell;

@@ -9,7 +9,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The folders of `src`, bottom to top (ARCHITECTURE.md, "The `quadrille` crate").
-const LAYERS: [&str; 18] = [
+const LAYERS: [&str; 19] = [
     "core",
     "combinatorics",
     "curves",
@@ -26,6 +26,7 @@ const LAYERS: [&str; 18] = [
     "cones",
     "cut",
     "immersion",
+    "layout_energy",
     "layout",
     "methods",
 ];

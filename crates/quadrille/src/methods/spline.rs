@@ -33,7 +33,10 @@ use crate::shell::{Shell, ShellError, ShellTopology};
 
 mod cones;
 mod fit;
-pub use cones::{cone_core, refuse_unless_corner_cones, ConeChoice, ConeCore, CoreTimes};
+pub use cones::{
+    cone_core, layout_energy, refuse_unless_corner_cones, ConeChoice, ConeCore, CoreTimes,
+    EnergySummary,
+};
 pub use fit::{Interior, Segments, SEGMENT_CHOICES};
 
 /// ψ's boundary runs must be straight and axis-aligned within this share of
@@ -177,13 +180,16 @@ pub enum SplineMethodError {
     /// The cone set is not usable.
     #[error("{0}")]
     Cones(#[from] crate::cones::ConeError),
-    /// Cones were placed, but their layout needs S6–S7.
+    /// Cones were placed and the layout energy (S6–S7) ran, but the
+    /// tracing of their separatrices (S8) is not built.
     #[error("{message}")]
     NeedsLayoutEnergy {
         /// What was placed and why it stops.
         message: String,
         /// Stage times of the core run with the cones.
         times: CoreTimes,
+        /// How the layout energy ended.
+        energy: EnergySummary,
     },
     /// The shell falls apart.
     #[error("the shell has {0} connected components; give the faces of one with --faces")]

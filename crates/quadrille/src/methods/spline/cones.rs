@@ -1,7 +1,8 @@
 //! Shells with interior cones (issue 31 S2): the geometric core with the
 //! cones (one-rings of interior cones refined, Ricci flow, cut, immersion,
-//! the cut transitions), and the refusal of the spline output while the
-//! seamless layout energy (S6–S7) is not built.
+//! the cut transitions), the layout energy (S6–S7) on it, and the refusal
+//! of the spline output while the tracing of cone separatrices (S8) is not
+//! built.
 
 use std::time::Instant;
 
@@ -9,6 +10,7 @@ use super::SplineMethodError;
 use crate::cones::{check_cones, ConeSummary};
 use crate::cut::{cut_to_disk, CutMesh, CutTarget};
 use crate::immersion::{immerse, CutTransition, Immersion};
+use crate::layout_energy::{minimise, LayoutEnergyError, LayoutEnergyOptions, LayoutMap};
 use crate::ricci::{
     boundary_corner_cones, refine_cone_rings, ricci_flow, Cone, RicciMetric, RicciOptions,
 };
@@ -58,6 +60,40 @@ pub struct CoreTimes {
     pub cut: f64,
     /// Immersion with the cut transitions.
     pub immersion: f64,
+    /// Layout energy (S6–S7), when it ran.
+    pub energy: f64,
+}
+
+/// What the layout energy reported on a shell with cones (the `--json`
+/// report of a refusal).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EnergySummary {
+    /// Q1–Q4 passed.
+    pub converged: bool,
+    /// Largest constraint residual (plane units); when the energy failed,
+    /// the value of the check that failed.
+    pub residual: f64,
+    /// Its tolerance (1e-7 × the diagonal of ψ for residuals).
+    pub tolerance: f64,
+    /// Smallest det J (NaN when the energy failed).
+    pub min_det: f64,
+    /// Newton iterations over all stages.
+    pub iterations: usize,
+    /// Outer (penalty) stages.
+    pub stages: usize,
+}
+
+impl EnergySummary {
+    fn of(map: &LayoutMap) -> EnergySummary {
+        EnergySummary {
+            converged: true,
+            residual: map.residuals.max(),
+            tolerance: map.tolerance,
+            min_det: map.min_det,
+            iterations: map.iterations,
+            stages: map.stages.len(),
+        }
+    }
 }
 
 impl ConeCore {
@@ -166,6 +202,7 @@ pub fn cone_core(
         ricci,
         cut: cut_time,
         immersion: t3.elapsed().as_secs_f64(),
+        energy: 0.0,
     };
     Ok(ConeCore {
         shell: refined,
@@ -179,10 +216,26 @@ pub fn cone_core(
     })
 }
 
+/// The layout energy (S6–S7, [`minimise`]) on a core's Ω from its ψ_R,
+/// with no feature edges (the spline path has none yet).
+pub fn layout_energy(core: &ConeCore) -> Result<LayoutMap, LayoutEnergyError> {
+    minimise(
+        &core.shell,
+        &core.topo,
+        &core.cut,
+        &core.cones,
+        &core.metric,
+        &core.immersion,
+        &[],
+        &LayoutEnergyOptions::default(),
+    )
+}
+
 /// `Ok` when `cones` are exactly the boundary corners of `shell` (of
 /// topology `topo`; the cone-free path can go on); otherwise runs
-/// [`cone_core`] with them and refuses with one line saying what was placed
-/// and that the seamless layout energy (S6–S7) is not built yet.
+/// [`cone_core`] and the layout energy with them and refuses with one line
+/// saying what was placed, how the energy ended and that the tracing of
+/// cone separatrices (S8) is not built yet.
 pub fn refuse_unless_corner_cones(
     shell: &Shell,
     topo: &ShellTopology,
@@ -201,14 +254,52 @@ pub fn refuse_unless_corner_cones(
     } else {
         "boundary cones other than the shell's corners"
     };
+    let t = Instant::now();
+    let energy = layout_energy(&core);
+    let mut times = core.times;
+    times.energy = t.elapsed().as_secs_f64();
+    let (stage, summary) = match &energy {
+        Ok(map) => (
+            format!(
+                "{}; patches on these cones need the tracing of cone separatrices (S8), which is not built yet",
+                map.describe()
+            ),
+            EnergySummary::of(map),
+        ),
+        Err(e) => {
+            let mut summary = EnergySummary::default();
+            if let LayoutEnergyError::Violated {
+                value,
+                limit,
+                stages,
+                iterations,
+                ..
+            } = e
+            {
+                summary = EnergySummary {
+                    converged: false,
+                    residual: *value,
+                    tolerance: *limit,
+                    min_det: f64::NAN,
+                    iterations: *iterations,
+                    stages: *stages,
+                };
+            }
+            (
+                format!("{e}; the tracing of cone separatrices (S8) is not built either"),
+                summary,
+            )
+        }
+    };
     Err(SplineMethodError::NeedsLayoutEnergy {
         message: format!(
-            "{what}: {}; patches on these cones need the seamless layout energy (S6–S7), which is not built yet (boundary Σ I = {}, interior Σ I = {})",
+            "{what}: {}; S6–S7 {stage} (boundary Σ I = {}, interior Σ I = {})",
             core.describe(),
             core.summary.boundary_sum,
             core.summary.interior_sum,
         ),
-        times: core.times,
+        times,
+        energy: summary,
     })
 }
 
