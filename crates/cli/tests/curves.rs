@@ -102,7 +102,12 @@ fn the_rounded_cube_face_loops_mesh_without_inverted_quads() {
 /// its own sampling, with 220 open edges; now those quads are untangled and
 /// the counts applied: 140). Every cycle meshed, no quad inverted by the
 /// CAD normals (174 on the half-cylinders before they were bridged along
-/// their axes) nor by element geometry, none non-manifold.
+/// their axes) nor by element geometry, none non-manifold. The band round
+/// the plate's thickness left 15 intervals of mismatch (a poly-chord loop
+/// closing with a shift) and 69 open edges between cycles; the common
+/// vertices ending the unbalanced primary segments are now made secondary
+/// (the segments joined): mismatch 0, open edges 80 → 10 (4 between cycles,
+/// 6 inside), at 2703 → 4532 quads.
 #[test]
 fn rings_that_break_the_interval_program_are_split_by_two_connectors() {
     let dir = tempfile::tempdir().unwrap();
@@ -127,21 +132,22 @@ fn rings_that_break_the_interval_program_are_split_by_two_connectors() {
     // 8 before the ends of cuts and connectors were pinned (moving them
     // opened the seams inside cycles; pinned, fewer T-junctions merge): the
     // open edges are the watertightness measure.
-    assert!(mismatch <= 15, "interval mismatch {mismatch}");
+    assert_eq!(mismatch, 0, "interval mismatch");
+    assert!(report["network"]["joined"].as_u64().unwrap() > 0, "{}", report["network"]);
     assert!(!stderr.contains("the network stage's layout failed"), "{stderr}");
     let stats: serde_json::Value = serde_json::from_str(&stats_json(&out, &model)).unwrap();
     assert_eq!(stats["inverted_quads"], 0, "inverted by the CAD normals");
     assert_eq!(stats["inverted_quads_element_geometry"], 0);
     assert_eq!(stats["non_manifold_edges"], 0);
     let open = stats["open_edges"].as_u64().unwrap();
-    assert!(open <= 80, "open edges {open}");
+    assert!(open <= 10, "open edges {open}");
     // every open edge is on a curve two meshed cycles share or inside a
     // cycle (no cycle is skipped); the report counts them from the mesh
     let o = &report["open_edges"];
     assert_eq!(o["total"].as_u64(), Some(open), "{o}");
     assert_eq!(o["on_unshared_curves"], 0, "{o}");
-    assert!(o["between_cycles"].as_u64().unwrap() <= 69, "{o}");
-    assert!(o["inside_cycles"].as_u64().unwrap() <= 11, "{o}");
+    assert!(o["between_cycles"].as_u64().unwrap() <= 4, "{o}");
+    assert!(o["inside_cycles"].as_u64().unwrap() <= 6, "{o}");
 }
 
 /// i01o_m1: cycle 7 (a 16-curve outline with one round hole) was refused

@@ -320,13 +320,16 @@ impl SharedCurve {
     }
 
     /// The primary segments: consecutive positions where both sides have a
-    /// vertex (within `tol`), the curve's ends included.
-    pub fn primary_segments(&self, tol: f64) -> Vec<(f64, f64)> {
+    /// vertex (within `tol`), the curve's ends included, except the
+    /// positions in `joined` (common vertices made secondary on both sides
+    /// by [`demote_common_vertex`]: the segments either side are one).
+    pub fn primary_segments(&self, tol: f64, joined: &[f64]) -> Vec<(f64, f64)> {
         let other = self.vertices(1);
         let common: Vec<f64> = self
             .vertices(0)
             .into_iter()
             .filter(|&u| other.iter().any(|&w| (u - w).abs() <= tol))
+            .filter(|&u| !joined.iter().any(|&j| (u - j).abs() <= tol))
             .collect();
         common.windows(2).map(|w| (w[0], w[1])).collect()
     }
@@ -616,6 +619,55 @@ fn resolve_one(
     None
 }
 
+/// Makes the vertex both sides of `sc` have at curve position `u` (inside
+/// the curve) secondary on both sides: the primary segments either side of
+/// it join into one, whose one equal sum replaces their two (a relaxation:
+/// the program's least mismatch can only fall), and
+/// [`snap_secondary_vertices`] then places each side's vertex by its own
+/// counts on the joined segment's one sampling. Refused (false, nothing
+/// changed) when a side has no single vertex there, or it is an input
+/// corner or junction (`fixed`) or an end of a cut or connector.
+pub fn demote_common_vertex(
+    sc: &SharedCurve,
+    u: f64,
+    leaves: &mut [NetLeaf],
+    tol: f64,
+    fixed: &dyn Fn(Vec3) -> bool,
+) -> bool {
+    if !(u > tol && u < sc.length - tol) {
+        return false;
+    }
+    let mut found = Vec::with_capacity(2);
+    for side in 0..2 {
+        let mut here: Vec<(usize, usize)> = Vec::new();
+        for s in &sc.sides[side] {
+            let at = if (s.from - u).abs() <= tol {
+                Some(s.segment)
+            } else if (s.to - u).abs() <= tol {
+                Some((s.segment + 1) % leaves[s.leaf].paired.starts.len())
+            } else {
+                None
+            };
+            if let Some(k) = at {
+                if !here.contains(&(s.leaf, k)) {
+                    here.push((s.leaf, k));
+                }
+            }
+        }
+        let [(li, k)] = here[..] else {
+            return false;
+        };
+        if pinned(&leaves[li], k) || fixed(point_of(&leaves[li], k)) {
+            return false;
+        }
+        found.push((li, k));
+    }
+    for (li, k) in found {
+        leaves[li].primary[k] = false;
+    }
+    true
+}
+
 /// The position of segment start `k` of a part.
 fn point_of(leaf: &NetLeaf, k: usize) -> Vec3 {
     leaf.paired.points[leaf.paired.starts[k]]
@@ -625,17 +677,21 @@ fn point_of(leaf: &NetLeaf, k: usize) -> Vec3 {
 /// interval counts give it: in a primary segment `[a, b]` of `N` intervals,
 /// the vertex after `m` intervals goes to `a + m/N·(b − a)`, so both sides
 /// sample the primary segment at the same points. `intervals(leaf, s)` is the
-/// interval count of segment `s` of part `leaf`. Returns the vertices moved.
+/// interval count of segment `s` of part `leaf`; `joined` the (curve,
+/// position) of common vertices made secondary ([`demote_common_vertex`]).
+/// Returns the vertices moved.
 pub fn snap_secondary_vertices(
     net: &CurveNetwork,
     leaves: &mut [NetLeaf],
     tol: f64,
     intervals: &dyn Fn(usize, usize) -> usize,
+    joined: &[(usize, f64)],
 ) -> usize {
     let mut moved = 0;
     let (curves, _) = shared_curves(net, leaves, tol);
     for sc in &curves {
-        for (a, b) in sc.primary_segments(tol) {
+        let here: Vec<f64> = joined.iter().filter(|j| j.0 == sc.curve).map(|j| j.1).collect();
+        for (a, b) in sc.primary_segments(tol, &here) {
             for side in 0..2 {
                 let segs = sc.inside(side, a, b, tol);
                 let total: usize = segs.iter().map(|s| intervals(s.leaf, s.segment)).sum();
@@ -742,5 +798,41 @@ mod tests {
         assert!(!leaf.changed);
         assert!(move_start(&mut leaf, 3, -0.5));
         assert_eq!(point_of(&leaf, 3), [0.5, 1.0, 0.0]);
+    }
+
+    /// Two parts split the bottom side (curve positions 0..2) at x = 1 and
+    /// agree there: two primary segments. Demoting the common vertex makes
+    /// it secondary on both sides and joins them into one (the band rule's
+    /// relaxation); a curve end, an input corner and a connector end are
+    /// refused and change nothing.
+    #[test]
+    fn a_demoted_common_vertex_joins_two_primary_segments() {
+        let mut leaves = [square_leaf(), square_leaf()];
+        for leaf in &mut leaves {
+            assert!(split_chord(leaf, 0, 0.5));
+        }
+        let seg = |leaf, segment, from, to| SideSegment { leaf, segment, from, to };
+        let sc = SharedCurve {
+            curve: 0,
+            length: 2.0,
+            cycles: [0, 1],
+            sides: [
+                vec![seg(0, 0, 0.0, 1.0), seg(0, 1, 1.0, 2.0)],
+                vec![seg(1, 0, 2.0, 1.0), seg(1, 1, 1.0, 0.0)],
+            ],
+        };
+        let tol = 1e-9;
+        assert_eq!(sc.primary_segments(tol, &[]), vec![(0.0, 1.0), (1.0, 2.0)]);
+        let never = |_: Vec3| false;
+        assert!(!demote_common_vertex(&sc, 0.0, &mut leaves, tol, &never));
+        let corner = |p: Vec3| p == [1.0, 0.0, 0.0];
+        assert!(!demote_common_vertex(&sc, 1.0, &mut leaves, tol, &corner));
+        leaves[1].paired.unsplittable[1] = true;
+        assert!(!demote_common_vertex(&sc, 1.0, &mut leaves, tol, &never));
+        assert!(leaves[0].primary[1] && leaves[1].primary[1]);
+        leaves[1].paired.unsplittable[1] = false;
+        assert!(demote_common_vertex(&sc, 1.0, &mut leaves, tol, &never));
+        assert!(!leaves[0].primary[1] && !leaves[1].primary[1]);
+        assert_eq!(sc.primary_segments(tol, &[1.0]), vec![(0.0, 2.0)]);
     }
 }

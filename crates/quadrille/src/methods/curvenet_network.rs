@@ -19,11 +19,14 @@ use std::time::Instant;
 
 use crate::core::work_queue::map_in_order;
 use crate::curvenet::geometry::{segment_points, Polyline};
-use crate::curvenet::intervals::{solve_intervals, IntervalProgram};
+use geometry::vec3::Vec3;
+
+use crate::curvenet::intervals::{solve_intervals, IntervalProgram, IntervalSolution};
 use crate::curvenet::layout::embed;
 use crate::curvenet::sample::sample_layout_with_intervals;
 use crate::curvenet::tjunction::{
-    resolve_t_junctions, shared_curves, snap_secondary_vertices, NetLeaf, TJunctionReport,
+    demote_common_vertex, resolve_t_junctions, shared_curves, snap_secondary_vertices, NetLeaf,
+    SharedCurve, TJunctionReport,
 };
 use crate::curvenet::{CurveNetwork, PairedCycle};
 
@@ -42,8 +45,13 @@ pub struct NetworkReport {
     pub primary_segments: usize,
     /// `Σ |mismatch|` of the interval solution (0: watertight).
     pub mismatch: usize,
+    /// `Σ n` of the interval solution: the program's second term.
+    pub intervals: usize,
     /// Seconds in the interval solver.
     pub interval_seconds: f64,
+    /// Common vertices made secondary on both sides because a primary
+    /// segment they end stayed unbalanced (`join_unbalanced`).
+    pub joined: usize,
     /// Secondary vertices snapped onto the shared sampling.
     pub snapped: usize,
     /// Parts laid out again after their pairing changed.
@@ -52,6 +60,48 @@ pub struct NetworkReport {
     pub notes: Vec<String>,
     /// Wall time of the whole stage, seconds.
     pub seconds: f64,
+}
+
+/// Rounds of [`join_unbalanced`] (each solves the program again).
+const MAX_JOIN_ROUNDS: usize = 4;
+
+/// The interval program can be unbalanceable by counts alone: a band of thin
+/// faces round a plate's thickness carries the chords of its two big faces,
+/// which are paired independently, and a poly-chord loop round the band can
+/// close with a shift (the soft equalities read `x + y = x`). The common
+/// vertices ending each primary segment left unbalanced by `solved` are made
+/// secondary on both sides (`tjunction::demote_common_vertex`): the segments
+/// either side join, the shift is absorbed inside the joined segment, and the
+/// snapping places both sides' vertices on its one sampling. Returns the
+/// (curve, position) of the vertices demoted and every part's primary flags
+/// before (to undo when the joined program does not lower the mismatch).
+/// The network stage keeps the joins only when they reach mismatch 0 (a
+/// partial balance moves vertices without closing any curve).
+fn join_unbalanced(
+    prog: &IntervalProgram,
+    places: &[(usize, f64, f64)],
+    curves: &[SharedCurve],
+    solved: &IntervalSolution,
+    leaves: &mut [NetLeaf],
+    tol: f64,
+    fixed: &dyn Fn(Vec3) -> bool,
+) -> (Vec<(usize, f64)>, Vec<Vec<bool>>) {
+    let kept: Vec<Vec<bool>> = leaves.iter().map(|l| l.primary.clone()).collect();
+    let sum = |v: &[usize]| v.iter().map(|&x| solved.counts[x]).sum::<usize>();
+    let mut tried: Vec<(usize, f64)> = Vec::new();
+    for ((left, right), &(ci, a, b)) in prog.equal_sums.iter().zip(places) {
+        if sum(left) == sum(right) {
+            continue;
+        }
+        let sc = &curves[ci];
+        for u in [a, b] {
+            let known = tried.iter().any(|&(c, w)| c == sc.curve && (u - w).abs() <= tol);
+            if !known && demote_common_vertex(sc, u, leaves, tol, fixed) {
+                tried.push((sc.curve, u));
+            }
+        }
+    }
+    (tried, kept)
 }
 
 /// Runs the network stage on the meshed cycles' parts, in place (module
@@ -98,22 +148,7 @@ pub(super) fn network_stage(
             v
         })
         .collect();
-    let mut prog = IntervalProgram {
-        lower,
-        ..Default::default()
-    };
     let (curves, _) = shared_curves(net, &leaves, tol);
-    for sc in &curves {
-        for (a, b) in sc.primary_segments(tol) {
-            let side = |k: usize| -> Vec<usize> {
-                sc.inside(k, a, b, tol)
-                    .iter()
-                    .map(|s| seg_var[s.leaf][s.segment])
-                    .collect()
-            };
-            prog.equal_sums.push((side(0), side(1)));
-        }
-    }
     let weld = Welder::new(tolerance);
     let mut by_key: BTreeMap<(usize, [[i64; 3]; 2]), Vec<usize>> = BTreeMap::new();
     for (li, leaf) in leaves.iter().enumerate() {
@@ -124,14 +159,76 @@ pub(super) fn network_stage(
             }
         }
     }
-    for vars in by_key.values() {
-        prog.equal.extend(vars.windows(2).map(|w| (w[0], w[1])));
+    let equal: Vec<(usize, usize)> = by_key
+        .values()
+        .flat_map(|vars| vars.windows(2).map(|w| (w[0], w[1])))
+        .collect();
+    // the program with the common vertices `joined` made secondary, and
+    // per soft equality its (shared curve, primary segment)
+    let program = |joined: &[(usize, f64)]| {
+        let mut prog = IntervalProgram {
+            lower: lower.clone(),
+            equal: equal.clone(),
+            ..Default::default()
+        };
+        let mut places = Vec::new();
+        for (ci, sc) in curves.iter().enumerate() {
+            let here: Vec<f64> = joined.iter().filter(|j| j.0 == sc.curve).map(|j| j.1).collect();
+            for (a, b) in sc.primary_segments(tol, &here) {
+                let side = |k: usize| -> Vec<usize> {
+                    sc.inside(k, a, b, tol)
+                        .iter()
+                        .map(|s| seg_var[s.leaf][s.segment])
+                        .collect()
+                };
+                prog.equal_sums.push((side(0), side(1)));
+                places.push((ci, a, b));
+            }
+        }
+        (prog, places)
+    };
+    let mut joined: Vec<(usize, f64)> = Vec::new();
+    let (mut prog, mut places) = program(&joined);
+    let mut solved = solve_intervals(&prog);
+    let fixed = |p| net.is_fixed_point(p);
+    let first_primary: Vec<Vec<bool>> = leaves.iter().map(|l| l.primary.clone()).collect();
+    for _ in 0..MAX_JOIN_ROUNDS {
+        let Ok(s) = &solved else { break };
+        if s.mismatch == 0 {
+            break;
+        }
+        let (tried, kept) = join_unbalanced(&prog, &places, &curves, s, &mut leaves, tol, &fixed);
+        if tried.is_empty() {
+            break;
+        }
+        let all: Vec<(usize, f64)> = joined.iter().chain(&tried).copied().collect();
+        let (p2, pl2) = program(&all);
+        let s2 = solve_intervals(&p2);
+        if matches!(&s2, Ok(x) if x.mismatch < s.mismatch) {
+            (joined, prog, places, solved) = (all, p2, pl2, s2);
+        } else {
+            for (leaf, primary) in leaves.iter_mut().zip(kept) {
+                leaf.primary = primary;
+            }
+            break;
+        }
     }
+    if !joined.is_empty() && !matches!(&solved, Ok(x) if x.mismatch == 0) {
+        // joining without reaching watertightness only moves vertices
+        for (leaf, primary) in leaves.iter_mut().zip(&first_primary) {
+            leaf.primary.clone_from(primary);
+        }
+        joined.clear();
+        (prog, _) = program(&joined);
+        solved = solve_intervals(&prog);
+    }
+    report.joined = joined.len();
     report.chords = prog.lower.len();
     report.primary_segments = prog.equal_sums.len();
-    let counts = match solve_intervals(&prog) {
+    let counts = match solved {
         Ok(s) => {
             report.mismatch = s.mismatch;
+            report.intervals = s.counts.iter().sum();
             report.interval_seconds = s.seconds;
             s.counts
         }
@@ -142,8 +239,13 @@ pub(super) fn network_stage(
             prog.lower.clone()
         }
     };
-    report.snapped =
-        snap_secondary_vertices(net, &mut leaves, tol, &|li, s| counts[seg_var[li][s]]);
+    report.snapped = snap_secondary_vertices(
+        net,
+        &mut leaves,
+        tol,
+        &|li, s| counts[seg_var[li][s]],
+        &joined,
+    );
     // lay out and sample again, in parallel, in order
     let mut flat: Vec<&mut Leaf> = meshed
         .iter_mut()
@@ -226,7 +328,10 @@ fn in_pool<T: Sync, R: Send>(threads: Option<usize>, items: &[T], job: impl Fn(&
 /// without the ring (the two-connector split, whose halves have chords
 /// from the outer loop to itself) and the network stage rerun from `before`
 /// (the leaves before the stage); then each ring is put back unless that
-/// raises the mismatch. The outcome with the least mismatch is kept
+/// raises the mismatch, or at equal mismatch the interval total (a ring's
+/// equal counts can inflate the counts round it, which the joined primary
+/// segments of [`join_unbalanced`] otherwise let through). The outcome with
+/// the least mismatch is kept
 /// (`meshed`, the report's cycles and network), the rings when no split
 /// helps.
 pub(super) fn rings_to_splits(
@@ -278,7 +383,7 @@ pub(super) fn rings_to_splits(
     for i in 0..split.len() {
         chosen[i] = false;
         let (m, r) = stage(&chosen);
-        if r.mismatch <= best_report.mismatch {
+        if (r.mismatch, r.intervals) <= (best_report.mismatch, best_report.intervals) {
             (best, best_report) = (m, r);
         } else {
             chosen[i] = true;
