@@ -651,7 +651,7 @@ fn turn_floors(
             _ => f64::INFINITY,
         })
         .collect();
-    let mut by_width: Vec<f64> = faces
+    let by_width: Vec<f64> = faces
         .iter()
         .zip(&by_turn)
         .map(|(f, &by_turn)| {
