@@ -110,35 +110,31 @@ pub fn terms(x: &[[f64; 2]; 3], r: &ReferenceTriangle) -> Option<TriangleTerms> 
                     - 2.0 * s * d3 * hd(p, q));
         }
     }
-    let h = project_psd(h);
-    // B: ∂J/∂x, 4 × 6. J[i][c] depends on x_p's coordinate i through w_p[c].
-    let mut b = [[0.0; 6]; 4];
-    for i in 0..2 {
-        for col in 0..2 {
-            let w = [
-                -r.dinv[0][col] - r.dinv[1][col],
-                r.dinv[0][col],
-                r.dinv[1][col],
-            ];
-            for (p, wp) in w.iter().enumerate() {
-                b[2 * i + col][2 * p + i] = *wp;
+    let h = project_twist(h, &j, a);
+    // ∂J/∂x: J[i][c] depends on corner p's coordinate i through w[c][p].
+    let w = [0, 1].map(|c| [-r.dinv[0][c] - r.dinv[1][c], r.dinv[0][c], r.dinv[1][c]]);
+    let mut gradient = [0.0; 6];
+    for p in 0..3 {
+        for i in 0..2 {
+            gradient[2 * p + i] = w[0][p] * grad_j[2 * i] + w[1][p] * grad_j[2 * i + 1];
+        }
+    }
+    // H·B (4 × 6), then Bᵀ·(H·B).
+    let mut hb = [[0.0; 6]; 4];
+    for (row, hrow) in hb.iter_mut().zip(&h) {
+        for q in 0..3 {
+            for k in 0..2 {
+                row[2 * q + k] = hrow[2 * k] * w[0][q] + hrow[2 * k + 1] * w[1][q];
             }
         }
     }
-    let mut gradient = [0.0; 6];
-    for m in 0..6 {
-        gradient[m] = (0..4).map(|k| b[k][m] * grad_j[k]).sum();
-    }
-    let mut hb = [[0.0; 6]; 4];
-    for p in 0..4 {
-        for m in 0..6 {
-            hb[p][m] = (0..4).map(|q| h[p][q] * b[q][m]).sum();
-        }
-    }
     let mut hessian = [[0.0; 6]; 6];
-    for m in 0..6 {
-        for n in 0..6 {
-            hessian[m][n] = (0..4).map(|p| b[p][m] * hb[p][n]).sum();
+    for p in 0..3 {
+        for i in 0..2 {
+            let out = &mut hessian[2 * p + i];
+            for m in 0..6 {
+                out[m] = w[0][p] * hb[2 * i][m] + w[1][p] * hb[2 * i + 1][m];
+            }
         }
     }
     Some(TriangleTerms {
@@ -148,9 +144,68 @@ pub fn terms(x: &[[f64; 2]; 3], r: &ReferenceTriangle) -> Option<TriangleTerms> 
     })
 }
 
+/// The PSD projection of E_t's Hessian `h` in J (area `a` included) in
+/// closed form. E1 per unit area is σ1² + σ2² + σ1⁻² + σ2⁻² in the singular
+/// values of J (separable), so of the four eigenvalues of its Hessian in J
+/// (the analytic eigensystem of isotropic energies, Smith, de Goes & Kim
+/// 2019) the two scaling ones 2 + 6σᵢ⁻⁴ and the flip one
+/// 2 + 2(σ1² + σ1σ2 + σ2²)/(σ1σ2)³ are positive; only the twist one,
+/// 2 − 2(σ1² − σ1σ2 + σ2²)/(σ1σ2)³, along T = R·Q/√2 (Q the polar rotation
+/// of J, R the quarter turn) can be negative, and is then removed.
+pub fn project_twist(h: [[f64; 4]; 4], j: &[[f64; 2]; 2], a: f64) -> [[f64; 4]; 4] {
+    let d = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+    // σ1σ2 = det J, σ1² + σ2² = ‖J‖²: σ1² − σ1σ2 + σ2² = ‖J‖² − det J.
+    let s = j[0][0] * j[0][0] + j[0][1] * j[0][1] + j[1][0] * j[1][0] + j[1][1] * j[1][1];
+    let twist = 2.0 - 2.0 * (s - d) / (d * d * d);
+    if twist >= 0.0 {
+        return h;
+    }
+    // Q = [[α, −β], [β, α]]; R·Q = [[−β, −α], [α, −β]] (row-major order).
+    let (p, q) = (j[0][0] + j[1][1], j[1][0] - j[0][1]);
+    let norm = (p * p + q * q).sqrt() * std::f64::consts::SQRT_2;
+    let t = [-q / norm, -p / norm, p / norm, -q / norm];
+    let mut out = h;
+    for r in 0..4 {
+        for c in 0..4 {
+            out[r][c] -= a * twist * t[r] * t[c];
+        }
+    }
+    out
+}
+
+/// True when the symmetric 4 × 4 matrix `h` has a Cholesky factorization
+/// with pivots above 1e-12 × its largest diagonal entry (so it is positive
+/// definite and its projection is itself).
+fn cholesky_succeeds(h: &[[f64; 4]; 4]) -> bool {
+    let floor = 1e-12 * (0..4).fold(0.0f64, |m, k| m.max(h[k][k].abs()));
+    let mut l = [[0.0f64; 4]; 4];
+    for j in 0..4 {
+        let mut d = h[j][j];
+        for k in 0..j {
+            d -= l[j][k] * l[j][k];
+        }
+        if !(d > floor) {
+            return false;
+        }
+        let d = d.sqrt();
+        l[j][j] = d;
+        for i in j + 1..4 {
+            let mut v = h[i][j];
+            for k in 0..j {
+                v -= l[i][k] * l[j][k];
+            }
+            l[i][j] = v / d;
+        }
+    }
+    true
+}
+
 /// The symmetric 4 × 4 matrix `h` with its negative eigenvalues set to zero
-/// (cyclic Jacobi rotations).
+/// (cyclic Jacobi rotations; `h` itself when it is positive definite).
 pub fn project_psd(h: [[f64; 4]; 4]) -> [[f64; 4]; 4] {
+    if cholesky_succeeds(&h) {
+        return h;
+    }
     let mut a = h;
     let mut v = [[0.0; 4]; 4];
     for (k, row) in v.iter_mut().enumerate() {
