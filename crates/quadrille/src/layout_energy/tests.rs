@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use super::dirichlet::{flip_free_step, project_psd, project_twist, terms, ReferenceTriangle};
 use super::*;
-use crate::methods::spline::{cone_core, ConeCore};
+use crate::methods::spline::{cone_core, layout_energy, ConeCore};
 
 /// A flat grid of n × n cells over the unit square, each split in two,
 /// mapped by `map`.
@@ -39,16 +39,7 @@ fn core(shell: &Shell, cones: &[Cone]) -> ConeCore {
 
 fn run(name: &str, core: &ConeCore) -> Result<LayoutMap, LayoutEnergyError> {
     let t = Instant::now();
-    let r = minimise(
-        &core.shell,
-        &core.topo,
-        &core.cut,
-        &core.cones,
-        &core.metric,
-        &core.immersion,
-        &[],
-        &LayoutEnergyOptions::default(),
-    );
+    let r = layout_energy(core);
     match &r {
         Ok(m) => {
             eprintln!(
