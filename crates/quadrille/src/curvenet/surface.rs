@@ -37,6 +37,83 @@ impl CycleSurface {
         Some((q, n))
     }
 
+    /// [`CycleSurface::closest`], with no normal where the closest point is a
+    /// singular point of the parametrization (a cone apex, whose normal
+    /// depends on the side it is approached from: `du × dv` there is the
+    /// normal along whichever generatrix the projection's u happens to
+    /// name). An element corner there takes [`CycleSurface::corner_normals`].
+    pub fn closest_regular(&self, p: Vec3) -> Option<(Vec3, Option<Vec3>)> {
+        let (uv, q) = self.surface.project(p, None)?;
+        Some((q, self.regular_normal(uv)))
+    }
+
+    /// The face's oriented normal at `uv`, `None` at a singular point
+    /// (`geometry::model::SINGULAR_RATIO`, as `Face::is_singular`) or where
+    /// the surface gives none.
+    fn regular_normal(&self, uv: [f64; 2]) -> Option<Vec3> {
+        let d = self.surface.first_derivs(uv);
+        let ratio = vec3::norm(vec3::cross(d.du, d.dv)) / (vec3::dot(d.du, d.du) + vec3::dot(d.dv, d.dv));
+        if ratio.is_nan() || ratio < geometry::model::SINGULAR_RATIO {
+            return None;
+        }
+        self.oriented(self.surface.normal(uv)?)
+    }
+
+    /// `n` flipped for a reversed face.
+    fn oriented(&self, n: Vec3) -> Option<Vec3> {
+        let n = if self.reversed { vec3::scale(n, -1.0) } else { n };
+        n.iter().all(|x| x.is_finite()).then_some(n)
+    }
+
+    /// The face's normals at the four corners `p` of an element, as `stats
+    /// --cad` reads them (`Face::corner_normal`): at an ordinary point the
+    /// normal at the corner's closest point; at a singular point (a cone
+    /// apex) the limit normal approached from the element, taken
+    /// `geometry::model::POLE_OFFSET` of the way toward the element's
+    /// (u, v) centre after sliding the corner along the parameter whose
+    /// derivative vanishes to the centre's. The centre is the
+    /// element's 3D centroid projected (not a mean of the corners' (u, v):
+    /// on i04o's half cones a quad spans exactly half the period, and
+    /// moving the corners into one's period tips at ½ period to the other
+    /// half, which is what `stats --cad` does there).
+    /// `None` where a projection fails or no normal is defined.
+    pub fn corner_normals(&self, p: &[Vec3; 4]) -> [Option<Vec3>; 4] {
+        let uvs = p.map(|q| self.surface.project(q, None).map(|(uv, _)| uv));
+        let normals = uvs.map(|uv| uv.and_then(|uv| self.regular_normal(uv)));
+        let periods = self.surface.periods();
+        let unwrap = |uv: [f64; 2], target: [f64; 2]| {
+            let mut out = uv;
+            for d in 0..2 {
+                if let Some(t) = periods[d].filter(|t| *t > 0.0) {
+                    out[d] += ((target[d] - uv[d]) / t).round() * t;
+                }
+            }
+            out
+        };
+        if normals.iter().all(Option::is_some) {
+            return normals;
+        }
+        let mean = vec3::scale(p.iter().fold([0.0; 3], |a, &q| vec3::add(a, q)), 0.25);
+        let Some((centre, _)) = self.surface.project(mean, None) else { return normals };
+        let mut out = normals;
+        for k in 0..4 {
+            let Some(uv) = uvs[k].filter(|_| normals[k].is_none()) else { continue };
+            let c = unwrap(centre, uv);
+            let d = self.surface.first_derivs(uv);
+            let (uu, vv) = (vec3::dot(d.du, d.du), vec3::dot(d.dv, d.dv));
+            let mut at = uv;
+            if uu < 1e-6 * vv {
+                at[0] = c[0];
+            } else if vv < 1e-6 * uu {
+                at[1] = c[1];
+            }
+            let off = geometry::model::POLE_OFFSET;
+            let w = [at[0] + off * (c[0] - at[0]), at[1] + off * (c[1] - at[1])];
+            out[k] = self.surface.normal(w).or_else(|| self.surface.normal(c)).and_then(|n| self.oriented(n));
+        }
+        out
+    }
+
     /// The face's unit normal at the closest point to `p`.
     pub fn normal_at(&self, p: Vec3) -> Option<Vec3> {
         self.closest(p).map(|(_, n)| n)

@@ -48,19 +48,20 @@ impl Facing {
     /// their closest points on the surface (the Coons patches span the
     /// boundary curves, not the face: on a cylinder they cut through it),
     /// and the CAD normal at every node (`None` where the projection fails
-    /// or the normal is undefined). `None` without a surface.
+    /// or the normal is undefined or depends on the element, at a cone
+    /// apex: [`Facing::corner_normals`]). `None` without a surface.
     fn surface_nodes(&self, q: &CycleQuads) -> Option<(Vec<Vec3>, Vec<Option<Vec3>>)> {
         let surface = self.surface.as_ref()?;
         let mut nodes = q.nodes.clone();
         let mut normals = Vec::with_capacity(q.nodes.len());
         for (v, node) in nodes.iter_mut().enumerate() {
-            let found = surface.closest(*node);
+            let found = surface.closest_regular(*node);
             if let Some((on, _)) = found {
                 if !q.boundary[v] {
                     *node = on;
                 }
             }
-            normals.push(found.map(|(_, n)| n));
+            normals.push(found.and_then(|(_, n)| n));
         }
         Some((nodes, normals))
     }
@@ -69,9 +70,25 @@ impl Facing {
     /// the face's normal there; without a surface (or where the projection
     /// fails) the point itself and no normal.
     fn place(&self, p: Vec3) -> (Vec3, Option<Vec3>) {
-        match self.surface.as_ref().and_then(|s| s.closest(p)) {
-            Some((on, n)) => (on, Some(n)),
+        match self.surface.as_ref().and_then(|s| s.closest_regular(p)) {
+            Some((on, n)) => (on, n),
             None => (p, None),
+        }
+    }
+
+    /// The CAD normals at the corners of the quad `p`, its nodes' normals
+    /// `cad` where known, the others ([`Facing::surface_nodes`] leaves a
+    /// cone apex without one) as `stats --cad` reads them: the limit normal
+    /// approached from the quad (`CycleSurface::corner_normals`). On i04o
+    /// the apex's own `du × dv` (along the generatrix the projection's u
+    /// named) let six corner quads pass that `stats` found inverted.
+    fn corner_normals(&self, p: &[Vec3; 4], cad: [Option<Vec3>; 4]) -> [Option<Vec3>; 4] {
+        match &self.surface {
+            Some(surface) if cad.iter().any(Option::is_none) => {
+                let limit = surface.corner_normals(p);
+                [0, 1, 2, 3].map(|k| cad[k].or(limit[k]))
+            }
+            _ => cad,
         }
     }
 
@@ -82,7 +99,7 @@ impl Facing {
     /// (cosine to the Newell normal above −0.5).
     fn quality(&self, p: &[Vec3; 4], cad: [Option<Vec3>; 4]) -> f64 {
         let element = mesh::quality::quad_element_sicn(p);
-        let facing = if let [Some(a), Some(b), Some(c), Some(d)] = cad {
+        let facing = if let [Some(a), Some(b), Some(c), Some(d)] = self.corner_normals(p, cad) {
             mesh::quality::quad_sicn(p, &[a, b, c, d])
         } else {
             match self.normal {
@@ -105,7 +122,7 @@ impl Facing {
         if mesh::quality::quad_element_sicn(p) < 0.0 {
             return true;
         }
-        if let Some([Some(a), Some(b), Some(c), Some(d)]) = cad {
+        if let Some([Some(a), Some(b), Some(c), Some(d)]) = cad.map(|n| self.corner_normals(p, n)) {
             return mesh::quality::quad_sicn(p, &[a, b, c, d]) < 0.0;
         }
         let Some(u) = self.normal else { return false };
@@ -184,3 +201,69 @@ pub(super) fn unfolded(mut q: CycleQuads, facing: &Facing, by_count: bool) -> Re
     Err(LayoutError::Folded { quads: folded, of: q.quads.len() })
 }
 
+
+#[cfg(test)]
+mod tests {
+    use std::f64::consts::FRAC_PI_4;
+
+    use geometry::{CornerId, FaceId};
+    use mesh::quadmesh::{NodeClass, QuadMesh};
+
+    use super::*;
+
+    /// A fan of 4 quads round the apex of `primitives::cone(1, 1)` (apex,
+    /// ring u_{2i+2}, ring u_{2i+1}, ring u_{2i}, the ring at half height
+    /// every 45°, as `mesh::stats`' apex test): the mesher's judge reads the
+    /// apex corner as `stats --cad` does, the limit normal along the quad's
+    /// middle generatrix, not the apex's own `du × dv` (the normal along
+    /// whichever generatrix the projection names), which it used to take.
+    #[test]
+    fn curvenet_facing_reads_a_cone_apex_corner_as_stats_does() {
+        let model = geometry::primitives::cone(1.0, 1.0);
+        let face = &model.faces[0];
+        let surface = CycleSurface::new(face.surface.clone(), face.reversed);
+        let facing = Facing { normal: None, planar: false, surface: Some(surface.clone()) };
+        let v = 0.5 * face.uv_bounds.vmin;
+        let ring = |k: usize| face.surface.eval([FRAC_PI_4 * k as f64, v]);
+        // the cone's oriented normal along generatrix u (half-angle 45°)
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let n = |k: usize| {
+            let u = FRAC_PI_4 * k as f64;
+            [s * u.cos(), s * u.sin(), -s]
+        };
+        let mut m = QuadMesh::default();
+        m.nodes.push([0.0; 3]);
+        m.node_class.push(NodeClass::Corner(CornerId(0)));
+        for k in 0..8 {
+            m.nodes.push(ring(k));
+            m.node_class.push(NodeClass::Face(FaceId(0), Some([FRAC_PI_4 * k as f64, v])));
+        }
+        for i in 0..4u32 {
+            m.quads.push([0, 1 + (2 * i + 2) % 8, 2 + 2 * i, 1 + 2 * i]);
+            m.quad_face.push(FaceId(0));
+        }
+        let by_stats = mesh::stats::quad_sicn_values(&m, Some(&model));
+        // the apex has no normal of its own now; the old one (closest point)
+        let (_, own) = surface.closest_regular([0.0; 3]).expect("the apex projects");
+        assert!(own.is_none());
+        let (_, old) = surface.closest([0.0; 3]).expect("the apex projects");
+        let mut differed = 0;
+        for i in 0..4usize {
+            let p = m.quads[i].map(|v| m.nodes[v as usize]);
+            let cad = [None, Some(n((2 * i + 2) % 8)), Some(n(2 * i + 1)), Some(n(2 * i))];
+            let got = facing.corner_normals(&p, cad);
+            let apex = got[0].expect("a limit normal at the apex");
+            assert!(vec3::dist(apex, n(2 * i + 1)) < 1e-6, "quad {i}: {apex:?}");
+            let ours = mesh::quality::quad_sicn(&p, &got.map(|x| x.unwrap_or([0.0; 3])));
+            assert!((ours - by_stats[i]).abs() < 1e-9, "quad {i}: {ours} vs stats {}", by_stats[i]);
+            assert!(ours > 0.3, "quad {i}: {ours}");
+            assert!(!facing.inverted(&p, Some(cad)));
+            assert!((facing.quality(&p, cad) - ours.min(mesh::quality::quad_element_sicn(&p))).abs() < 1e-12);
+            let before = mesh::quality::quad_sicn(&p, &[old, n((2 * i + 2) % 8), n(2 * i + 1), n(2 * i)]);
+            differed += usize::from((before - by_stats[i]).abs() > 0.1);
+        }
+        // one generatrix's normal cannot serve four quads 90° apart: the
+        // two whose middles are 135° from it read more than 0.1 off
+        assert!(differed >= 2, "{differed}");
+    }
+}
