@@ -334,19 +334,7 @@ impl Scatter {
             }
             out
         };
-        let triangles = corners
-            .iter()
-            .map(|c| {
-                local(&[
-                    2 * c[0],
-                    2 * c[0] + 1,
-                    2 * c[1],
-                    2 * c[1] + 1,
-                    2 * c[2],
-                    2 * c[2] + 1,
-                ])
-            })
-            .collect();
+        let triangles = corners.iter().map(|c| local(&triangle_dofs(c))).collect();
         let terms = penalties.all().map(|t| local(&t.dofs[..t.len])).collect();
         Scatter {
             pattern,
@@ -354,6 +342,11 @@ impl Scatter {
             terms,
         }
     }
+}
+
+/// The six unknowns (u, v of each corner) of the triangle with `corners`.
+fn triangle_dofs(c: &[usize; 3]) -> [usize; 6] {
+    [2 * c[0], 2 * c[0] + 1, 2 * c[1], 2 * c[1] + 1, 2 * c[2], 2 * c[2] + 1]
 }
 
 /// The pattern of the Hessian: every triangle's and every term's unknowns.
@@ -369,14 +362,7 @@ fn hessian_pattern(n: usize, corners: &[[usize; 3]], penalties: &Penalties) -> L
         }
     };
     for c in corners {
-        couple(&[
-            2 * c[0],
-            2 * c[0] + 1,
-            2 * c[1],
-            2 * c[1] + 1,
-            2 * c[2],
-            2 * c[2] + 1,
-        ]);
+        couple(&triangle_dofs(c));
     }
     for t in penalties.all() {
         couple(&t.dofs[..t.len]);
