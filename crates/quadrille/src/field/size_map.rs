@@ -33,9 +33,7 @@ use crate::field::crossfield::FaceTopology;
 use crate::field::scaling::scaling_constant;
 
 mod narrow;
-pub use narrow::{
-    boundary_loop_count, width_evenness, NARROW_EVENNESS, NARROW_MIN_FRACTION,
-};
+pub use narrow::boundary_loop_count;
 
 /// Default largest size gradient `g` of Eq. 10: the size grows by at most
 /// 20 % of the distance travelled (spec §5.3; useful range 0.1–0.5).
@@ -54,7 +52,7 @@ pub const DEFAULT_GRADIENT: f64 = 0.2;
 /// keep the arc: bounded too, the gears' tiny root fillets
 /// (`t_gear_60_teeth`, a held-out spur gear) lost 0.7–0.9 points of
 /// irregular share and took twice the time. The same quarter as the width
-/// rule's [`NARROW_MIN_FRACTION`].
+/// rule's [`narrow::NARROW_MIN_FRACTION`].
 pub const TURN_MIN_FRACTION: f64 = 0.25;
 
 /// Distances below this fraction of the model diagonal are contact, not a
@@ -107,8 +105,8 @@ pub struct SizeMapOptions {
     /// A strip-like face narrower than [`SizeMapOptions::min_size`] (width
     /// `w = 2 A / P` from its area and boundary length, at least
     /// [`narrow::NARROW_ELONGATION`] times as long, at least
-    /// [`NARROW_MIN_FRACTION`] of the floor wide, of even width along it,
-    /// [`NARROW_EVENNESS`], and with one boundary loop,
+    /// [`narrow::NARROW_MIN_FRACTION`] of the floor wide, of even width along it,
+    /// [`narrow::NARROW_EVENNESS`], and with one boundary loop,
     /// [`boundary_loop_count`]) lowers the floor on its vertices to `w`,
     /// graded like the sizes: its two quads across (the curves' smallest
     /// count) are 1 : 2, not stretched along it to the floor. Tapering faces
@@ -651,28 +649,10 @@ fn turn_floors(
             _ => f64::INFINITY,
         })
         .collect();
-    let by_width: Vec<f64> = faces
-        .iter()
-        .zip(&by_turn)
-        .map(|(f, &by_turn)| {
-            if !opts.floor_narrow {
-                return f64::INFINITY;
-            }
-            narrow::narrow_width(f.topo)
-                .filter(|&w| w >= NARROW_MIN_FRACTION * lo && w < lo.min(by_turn))
-                .filter(|&w| {
-                    let loops = boundary_loop_count(f.topo);
-                    let even = width_evenness(f.topo);
-                    tracing::debug!(
-                        "width rule: face {} width {w:.4} (floor {lo:.4}) loops {loops:?} \
-                         evenness {even:?}",
-                        f.face.idx() + 1
-                    );
-                    loops == Some(1) && even.is_some_and(|e| e >= NARROW_EVENNESS)
-                })
-                .unwrap_or(f64::INFINITY)
-        })
-        .collect();
+    let by_width: Vec<f64> = match opts.floor_narrow {
+        true => narrow::width_floors(faces, &by_turn, lo),
+        false => vec![f64::INFINITY; faces.len()],
+    };
     let mut by_face: Vec<f64> = by_turn
         .iter()
         .zip(&by_width)

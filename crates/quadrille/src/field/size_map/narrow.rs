@@ -241,6 +241,33 @@ pub(super) fn weighted_quantile(values: &[(f64, f64)], q: f64) -> Option<f64> {
     sorted.last().map(|x| x.0)
 }
 
+/// The width rule's lowered floor per face
+/// ([`super::SizeMapOptions::floor_narrow`]): the mean width `w` of a strip
+/// ([`narrow_width`]) at least [`NARROW_MIN_FRACTION`] of the floor `lo`,
+/// below both `lo` and the face's turn floor `by_turn[i]`, with one boundary
+/// loop and an even width ([`NARROW_EVENNESS`]); +∞ for every other face.
+pub(super) fn width_floors(faces: &[FaceBackground<'_>], by_turn: &[f64], lo: f64) -> Vec<f64> {
+    faces
+        .iter()
+        .zip(by_turn)
+        .map(|(f, &by_turn)| {
+            narrow_width(f.topo)
+                .filter(|&w| w >= NARROW_MIN_FRACTION * lo && w < lo.min(by_turn))
+                .filter(|&w| {
+                    let loops = boundary_loop_count(f.topo);
+                    let even = width_evenness(f.topo);
+                    tracing::debug!(
+                        "width rule: face {} width {w:.4} (floor {lo:.4}) loops {loops:?} \
+                         evenness {even:?}",
+                        f.face.idx() + 1
+                    );
+                    loops == Some(1) && even.is_some_and(|e| e >= NARROW_EVENNESS)
+                })
+                .unwrap_or(f64::INFINITY)
+        })
+        .collect()
+}
+
 /// Drops the lowered floor (the turn rule's 90° arc or the width rule's
 /// width) from faces whose lowered floor would spill into a wide face along
 /// a straight side: a face (lowered floor `floors[i]`, +∞ when neither rule

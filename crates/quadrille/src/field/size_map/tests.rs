@@ -1,3 +1,4 @@
+use super::narrow::{width_evenness, NARROW_EVENNESS, NARROW_MIN_FRACTION};
 use super::*;
 use crate::core::options::Size;
 use crate::curves::curve_mesh::{discretize_curve, plan_curves, plan_curves_sized};
