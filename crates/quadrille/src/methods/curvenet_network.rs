@@ -192,6 +192,7 @@ pub(super) fn network_stage(
     let mut solved = solve_intervals(&prog);
     let fixed = |p| net.is_fixed_point(p);
     let first_primary: Vec<Vec<bool>> = leaves.iter().map(|l| l.primary.clone()).collect();
+    let first = (prog.clone(), solved.clone());
     for _ in 0..MAX_JOIN_ROUNDS {
         let Ok(s) = &solved else { break };
         if s.mismatch == 0 {
@@ -219,8 +220,7 @@ pub(super) fn network_stage(
             leaf.primary.clone_from(primary);
         }
         joined.clear();
-        (prog, _) = program(&joined);
-        solved = solve_intervals(&prog);
+        (prog, solved) = first;
     }
     report.joined = joined.len();
     report.chords = prog.lower.len();
