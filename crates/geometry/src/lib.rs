@@ -15,5 +15,5 @@ pub use model::{
     Bounds2, Corner, CornerId, CornerUv, CurveEntity, CurveId, CurveUse, Face, FaceId, Loop, Model,
     ModelError,
 };
-pub use traits::{Curve, Curve2d, Surface, SurfaceDerivs};
+pub use traits::{nearest_period, nearest_periodic_uv, Curve, Curve2d, Surface, SurfaceDerivs};
 pub use vec3::Vec3;

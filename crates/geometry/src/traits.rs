@@ -22,6 +22,25 @@ pub struct SurfaceDerivs {
     pub dvv: Vec3,
 }
 
+/// Shifts `x` by whole periods to the representative nearest `target`.
+pub fn nearest_period(x: f64, period: f64, target: f64) -> f64 {
+    x + ((target - x) / period).round() * period
+}
+
+/// `uv` with each periodic coordinate (a positive period in `periods`, as
+/// [`Surface::periods`] gives them) moved to the representative nearest
+/// `target`'s: the corners of an element on a cylinder brought into one
+/// period before they are averaged or compared.
+pub fn nearest_periodic_uv(uv: [f64; 2], periods: [Option<f64>; 2], target: [f64; 2]) -> [f64; 2] {
+    let mut out = uv;
+    for d in 0..2 {
+        if let Some(p) = periods[d].filter(|p| *p > 0.0) {
+            out[d] = nearest_period(uv[d], p, target[d]);
+        }
+    }
+    out
+}
+
 /// A parametric surface S(u, v) → R³ (the geometry of a face, without trimming).
 ///
 /// The natural normal is `du × dv`; a [`crate::Face`] may reverse it.
@@ -89,4 +108,27 @@ pub trait Curve2d: Send + Sync + std::fmt::Debug {
     fn eval(&self, t: f64) -> [f64; 2];
     /// c'(t).
     fn deriv(&self, t: f64) -> [f64; 2];
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nearest_period_picks_the_closest_representative() {
+        let p = std::f64::consts::TAU;
+        assert!((nearest_period(0.1, p, 6.0) - (0.1 + p)).abs() < 1e-15);
+        assert!((nearest_period(6.2, p, 0.0) - (6.2 - p)).abs() < 1e-15);
+        assert_eq!(nearest_period(1.0, p, 1.5), 1.0);
+    }
+
+    #[test]
+    fn only_periodic_coordinates_move_toward_the_target() {
+        let p = std::f64::consts::TAU;
+        let uv = nearest_periodic_uv([0.1, 5.0], [Some(p), None], [6.0, -3.0]);
+        assert!((uv[0] - (0.1 + p)).abs() < 1e-15);
+        assert_eq!(uv[1], 5.0);
+        // a zero period is no period
+        assert_eq!(nearest_periodic_uv([0.1, 5.0], [Some(0.0), Some(0.0)], [6.0, -3.0]), [0.1, 5.0]);
+    }
 }

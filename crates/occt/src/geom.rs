@@ -18,11 +18,6 @@ use crate::ffi::{self, Curve2dPtr, CurvePtr, SurfPtr};
 
 const NAN3: Vec3 = [f64::NAN; 3];
 
-/// Shifts `x` by whole periods to the representative nearest `target`.
-fn nearest_period(x: f64, period: f64, target: f64) -> f64 {
-    x + ((target - x) / period).round() * period
-}
-
 /// The surface of one face: an OCCT `Geom_Surface` with the face location
 /// applied, plus the face's uv bounds (`BRepTools::UVBounds`).
 #[derive(Debug)]
@@ -146,13 +141,7 @@ impl OcctSurface {
     /// Moves periodic coordinates to the representative nearest `target`
     /// (the hint, else the middle of the face bounds).
     fn wrap(&self, uv: [f64; 2], target: [f64; 2]) -> [f64; 2] {
-        let mut out = uv;
-        for k in 0..2 {
-            if let Some(p) = self.periods[k] {
-                out[k] = nearest_period(uv[k], p, target[k]);
-            }
-        }
-        out
+        geometry::nearest_periodic_uv(uv, self.periods, target)
     }
 
     /// Damped Newton (Levenberg–Marquardt) on ½|S(u,v) − p|² from `start`.
@@ -668,14 +657,6 @@ impl Curve for PcurveOnSurface {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn nearest_period_picks_the_closest_representative() {
-        let p = std::f64::consts::TAU;
-        assert!((nearest_period(0.1, p, 6.0) - (0.1 + p)).abs() < 1e-15);
-        assert!((nearest_period(6.2, p, 0.0) - (6.2 - p)).abs() < 1e-15);
-        assert_eq!(nearest_period(1.0, p, 1.5), 1.0);
-    }
 
     /// Newton on a unit circle: off-curve points project radially, and the
     /// range clamps (a point beyond the end projects to the end).

@@ -11,11 +11,6 @@ use crate::model::*;
 use crate::traits::*;
 use crate::vec3::{self, add, cross, dot, scale, sub, Vec3};
 
-/// Shifts `x` by whole periods to the representative nearest `target`.
-fn nearest_period(x: f64, period: f64, target: f64) -> f64 {
-    x + ((target - x) / period).round() * period
-}
-
 /// The plane `origin + u·xdir + v·ydir` (xdir, ydir orthonormal).
 #[derive(Clone, Debug)]
 pub struct Plane {

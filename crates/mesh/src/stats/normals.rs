@@ -399,15 +399,7 @@ impl<'a> CadNormals<'a> {
             return [None; 4];
         };
         let periods = face.surface.periods();
-        let unwrap = |uv: [f64; 2], target: [f64; 2]| {
-            let mut out = uv;
-            for d in 0..2 {
-                if let Some(p) = periods[d].filter(|p| *p > 0.0) {
-                    out[d] += ((target[d] - uv[d]) / p).round() * p;
-                }
-            }
-            out
-        };
+        let unwrap = |uv: [f64; 2], target: [f64; 2]| geometry::nearest_periodic_uv(uv, periods, target);
         let known: Vec<[f64; 2]> = uvs.iter().flatten().map(|&uv| unwrap(uv, hint)).collect();
         let centre = known
             .iter()

@@ -81,15 +81,7 @@ impl CycleSurface {
         let uvs = p.map(|q| self.surface.project(q, None).map(|(uv, _)| uv));
         let normals = uvs.map(|uv| uv.and_then(|uv| self.regular_normal(uv)));
         let periods = self.surface.periods();
-        let unwrap = |uv: [f64; 2], target: [f64; 2]| {
-            let mut out = uv;
-            for d in 0..2 {
-                if let Some(t) = periods[d].filter(|t| *t > 0.0) {
-                    out[d] += ((target[d] - uv[d]) / t).round() * t;
-                }
-            }
-            out
-        };
+        let unwrap = |uv: [f64; 2], target: [f64; 2]| geometry::nearest_periodic_uv(uv, periods, target);
         if normals.iter().all(Option::is_some) {
             return normals;
         }
