@@ -129,6 +129,9 @@ mod tests {
         assert!((uv[0] - (0.1 + p)).abs() < 1e-15);
         assert_eq!(uv[1], 5.0);
         // a zero period is no period
-        assert_eq!(nearest_periodic_uv([0.1, 5.0], [Some(0.0), Some(0.0)], [6.0, -3.0]), [0.1, 5.0]);
+        assert_eq!(
+            nearest_periodic_uv([0.1, 5.0], [Some(0.0), Some(0.0)], [6.0, -3.0]),
+            [0.1, 5.0]
+        );
     }
 }

@@ -399,7 +399,8 @@ impl<'a> CadNormals<'a> {
             return [None; 4];
         };
         let periods = face.surface.periods();
-        let unwrap = |uv: [f64; 2], target: [f64; 2]| geometry::nearest_periodic_uv(uv, periods, target);
+        let unwrap =
+            |uv: [f64; 2], target: [f64; 2]| geometry::nearest_periodic_uv(uv, periods, target);
         let known: Vec<[f64; 2]> = uvs.iter().flatten().map(|&uv| unwrap(uv, hint)).collect();
         let centre = known
             .iter()

@@ -52,7 +52,8 @@ impl CycleSurface {
     /// the surface gives none.
     fn regular_normal(&self, uv: [f64; 2]) -> Option<Vec3> {
         let d = self.surface.first_derivs(uv);
-        let ratio = vec3::norm(vec3::cross(d.du, d.dv)) / (vec3::dot(d.du, d.du) + vec3::dot(d.dv, d.dv));
+        let ratio =
+            vec3::norm(vec3::cross(d.du, d.dv)) / (vec3::dot(d.du, d.du) + vec3::dot(d.dv, d.dv));
         if ratio.is_nan() || ratio < geometry::model::SINGULAR_RATIO {
             return None;
         }
@@ -61,7 +62,11 @@ impl CycleSurface {
 
     /// `n` flipped for a reversed face.
     fn oriented(&self, n: Vec3) -> Option<Vec3> {
-        let n = if self.reversed { vec3::scale(n, -1.0) } else { n };
+        let n = if self.reversed {
+            vec3::scale(n, -1.0)
+        } else {
+            n
+        };
         n.iter().all(|x| x.is_finite()).then_some(n)
     }
 
@@ -81,15 +86,20 @@ impl CycleSurface {
         let uvs = p.map(|q| self.surface.project(q, None).map(|(uv, _)| uv));
         let normals = uvs.map(|uv| uv.and_then(|uv| self.regular_normal(uv)));
         let periods = self.surface.periods();
-        let unwrap = |uv: [f64; 2], target: [f64; 2]| geometry::nearest_periodic_uv(uv, periods, target);
+        let unwrap =
+            |uv: [f64; 2], target: [f64; 2]| geometry::nearest_periodic_uv(uv, periods, target);
         if normals.iter().all(Option::is_some) {
             return normals;
         }
         let mean = vec3::scale(p.iter().fold([0.0; 3], |a, &q| vec3::add(a, q)), 0.25);
-        let Some((centre, _)) = self.surface.project(mean, None) else { return normals };
+        let Some((centre, _)) = self.surface.project(mean, None) else {
+            return normals;
+        };
         let mut out = normals;
         for k in 0..4 {
-            let Some(uv) = uvs[k].filter(|_| normals[k].is_none()) else { continue };
+            let Some(uv) = uvs[k].filter(|_| normals[k].is_none()) else {
+                continue;
+            };
             let c = unwrap(centre, uv);
             let d = self.surface.first_derivs(uv);
             let (uu, vv) = (vec3::dot(d.du, d.du), vec3::dot(d.dv, d.dv));
@@ -101,7 +111,11 @@ impl CycleSurface {
             }
             let off = geometry::model::POLE_OFFSET;
             let w = [at[0] + off * (c[0] - at[0]), at[1] + off * (c[1] - at[1])];
-            out[k] = self.surface.normal(w).or_else(|| self.surface.normal(c)).and_then(|n| self.oriented(n));
+            out[k] = self
+                .surface
+                .normal(w)
+                .or_else(|| self.surface.normal(c))
+                .and_then(|n| self.oriented(n));
         }
         out
     }

@@ -95,7 +95,9 @@ fn join_unbalanced(
         }
         let sc = &curves[ci];
         for u in [a, b] {
-            let known = tried.iter().any(|&(c, w)| c == sc.curve && (u - w).abs() <= tol);
+            let known = tried
+                .iter()
+                .any(|&(c, w)| c == sc.curve && (u - w).abs() <= tol);
             if !known && demote_common_vertex(sc, u, leaves, tol, fixed) {
                 tried.push((sc.curve, u));
             }
@@ -173,7 +175,11 @@ pub(super) fn network_stage(
         };
         let mut places = Vec::new();
         for (ci, sc) in curves.iter().enumerate() {
-            let here: Vec<f64> = joined.iter().filter(|j| j.0 == sc.curve).map(|j| j.1).collect();
+            let here: Vec<f64> = joined
+                .iter()
+                .filter(|j| j.0 == sc.curve)
+                .map(|j| j.1)
+                .collect();
             for (a, b) in sc.primary_segments(tol, &here) {
                 let side = |k: usize| -> Vec<usize> {
                     sc.inside(k, a, b, tol)
@@ -313,8 +319,17 @@ pub(super) fn network_stage(
 }
 
 /// Cycles meshed again (without the ring), or run in a pool of `threads`.
-fn in_pool<T: Sync, R: Send>(threads: Option<usize>, items: &[T], job: impl Fn(&T) -> R + Sync + Send) -> Vec<R> {
-    match threads.and_then(|n| rayon::ThreadPoolBuilder::new().num_threads(n.max(1)).build().ok()) {
+fn in_pool<T: Sync, R: Send>(
+    threads: Option<usize>,
+    items: &[T],
+    job: impl Fn(&T) -> R + Sync + Send,
+) -> Vec<R> {
+    match threads.and_then(|n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n.max(1))
+            .build()
+            .ok()
+    }) {
         Some(pool) => pool.install(|| map_in_order(items, job)),
         None => map_in_order(items, job),
     }
@@ -348,7 +363,9 @@ pub(super) fn rings_to_splits(
         return;
     }
     let h = report.h;
-    let rings: Vec<usize> = (0..before.len()).filter(|&k| before[k].1.iter().any(|l| l.ring)).collect();
+    let rings: Vec<usize> = (0..before.len())
+        .filter(|&k| before[k].1.iter().any(|l| l.ring))
+        .collect();
     let redo = |&k: &usize| -> Option<(usize, Vec<Leaf>, CycleSummary)> {
         let t0 = Instant::now();
         let loops = net.cycle_loops(before[k].0).ok()?;
@@ -357,7 +374,10 @@ pub(super) fn rings_to_splits(
         summary.seconds = t0.elapsed().as_secs_f64();
         Some((k, leaves, summary))
     };
-    let split: Vec<(usize, Vec<Leaf>, CycleSummary)> = in_pool(opts.threads, &rings, redo).into_iter().flatten().collect();
+    let split: Vec<(usize, Vec<Leaf>, CycleSummary)> = in_pool(opts.threads, &rings, redo)
+        .into_iter()
+        .flatten()
+        .collect();
     if split.is_empty() {
         return;
     }
@@ -463,7 +483,10 @@ mod tests {
             assert!(mesh::quality::quad_sicn(&p, &[[0.0, 0.0, 1.0]; 4]) > 0.0);
         }
         // the same without the network stage: the shared side stays open
-        let alone = CurvesOptions { network: false, ..opts };
+        let alone = CurvesOptions {
+            network: false,
+            ..opts
+        };
         let (own, own_report) = mesh_curve_network(&net, &alone).unwrap();
         assert_eq!(own_report.network.t_junctions.split, 0);
         let mut own_uses: BTreeMap<(u32, u32), usize> = BTreeMap::new();
