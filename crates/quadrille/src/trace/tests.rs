@@ -146,30 +146,23 @@ fn ring(rings: usize, sectors: usize) -> (Shell, Vec<Cone>) {
 }
 
 #[test]
-fn the_flat_ring_with_cones_plus_and_minus_one_traces_to_quads() {
+fn the_flat_ring_with_cones_plus_and_minus_one_traces_to_six_quads() {
+    // Fig. 3/8 after the layout energy (converged through the exact snap).
     let (shell, cones) = ring(6, 32);
     let layout = patches(&core(&shell, &cones));
-    for (i, p) in layout.patches.iter().enumerate() {
-        eprintln!(
-            "patch {i}: {} sides, {} corners, {} odd",
-            p.sides.len(),
-            p.corners,
-            p.odd_turns
-        );
-    }
-    for t in &layout.traces {
-        eprintln!(
-            "trace from {} at {:.4}: {} segments, end {:?}, length {:.3}",
-            t.cone,
-            t.fan_angle,
-            t.segments.len(),
-            t.end,
-            t.length
-        );
-    }
-    // +1 sends 3 separatrices, −1 sends 5 (one may join them).
-    assert!(layout.traces.len() == 8 || layout.traces.len() == 7);
-    layout.check().expect("quads");
+    // 3 + 5 rays; one ray of each cone runs round the ring back into its
+    // own cone, so its reverse is the same curve: 6 separatrices.
+    assert_eq!(layout.traces.len(), 6);
+    let loops = layout
+        .traces
+        .iter()
+        .filter(|t| t.end == TraceEnd::Cone(t.cone))
+        .count();
+    assert_eq!(loops, 2);
+    assert_eq!(layout.crossings(), 2);
+    assert_eq!(layout.patches.len(), 6);
+    assert_eq!(layout.euler, 0);
+    layout.check().expect("six quads");
 }
 
 #[test]
@@ -185,9 +178,19 @@ fn the_torus_tube_and_drilled_cylinder_traces_to_quads_both_ways() {
     let map = layout_energy(&core).expect("the energy converges");
     let run = |stop_at_traces: bool| {
         let opts = TraceOptions { stop_at_traces };
-        let layout = trace_patches(&core.shell, &core.topo, &core.cut, &core.cones, &map.uv, &opts)
-            .expect("every separatrix ends");
-        eprintln!("n10o, stop at traces {stop_at_traces}: {}", layout.describe());
+        let layout = trace_patches(
+            &core.shell,
+            &core.topo,
+            &core.cut,
+            &core.cones,
+            &map.uv,
+            &opts,
+        )
+        .expect("every separatrix ends");
+        eprintln!(
+            "n10o, stop at traces {stop_at_traces}: {}",
+            layout.describe()
+        );
         layout
     };
     let complete = run(false);
@@ -195,11 +198,15 @@ fn the_torus_tube_and_drilled_cylinder_traces_to_quads_both_ways() {
     let rays: usize = core.cones.iter().map(|c| (4 - c.index) as usize).sum();
     assert_eq!(rays, 28);
     assert!(complete.traces.len() <= rays && complete.traces.len() >= rays / 2);
-    complete.check().expect("complete tracing: every patch a quad");
+    complete
+        .check()
+        .expect("complete tracing: every patch a quad");
     assert_eq!(complete.euler, -1);
     assert!(complete.crossings() > 0);
     // Ending on earlier traces: fewer patches (T-junctions), still quads.
     let stopped = run(true);
     assert!(stopped.patches.len() < complete.patches.len());
-    stopped.check().expect("T-junction layout: every patch a quad");
+    stopped
+        .check()
+        .expect("T-junction layout: every patch a quad");
 }
