@@ -107,8 +107,8 @@ pub fn run(args: &SplineArgs) -> Result<()> {
             {
                 if args.timings {
                     eprintln!(
-                        "time: load+triangulate {t_load:.3} s, check {t_check:.3} s, cones {t_cones:.3} s, refine {:.3} s, ricci {:.3} s, cut {:.3} s, immersion {:.3} s, layout energy {:.3} s (stopped: no separatrix tracing)",
-                        t.refine, t.ricci, t.cut, t.immersion, t.energy
+                        "time: load+triangulate {t_load:.3} s, check {t_check:.3} s, cones {t_cones:.3} s, refine {:.3} s, ricci {:.3} s, cut {:.3} s, immersion {:.3} s, layout energy {:.3} s, trace {:.3} s (stopped: no splines on a traced layout)",
+                        t.refine, t.ricci, t.cut, t.immersion, t.energy, t.trace
                     );
                 }
                 if args.json {
@@ -117,7 +117,7 @@ pub fn run(args: &SplineArgs) -> Result<()> {
                         "{}",
                         serde_json::to_string_pretty(&serde_json::json!({
                             "triangles": shell.triangles.len(),
-                            "stopped": "tracing of cone separatrices (S8) not built",
+                            "stopped": "splines on a traced layout (S9 across cut charts) not built",
                             "layout_energy": {
                                 "converged": energy.converged,
                                 "residual": energy.residual,
@@ -125,6 +125,11 @@ pub fn run(args: &SplineArgs) -> Result<()> {
                                 "min_det_j": energy.min_det,
                                 "iterations": energy.iterations,
                                 "stages": energy.stages,
+                            },
+                            "trace": {
+                                "separatrices": energy.separatrices,
+                                "patches": energy.patches,
+                                "quads": energy.quads,
                             },
                             "seconds": {
                                 "load": t_load,
@@ -135,6 +140,7 @@ pub fn run(args: &SplineArgs) -> Result<()> {
                                 "cut": t.cut,
                                 "immersion": t.immersion,
                                 "layout_energy": t.energy,
+                                "trace": t.trace,
                             }
                         }))?
                     );

@@ -335,7 +335,8 @@ fn cones_out_is_written_and_a_shell_with_interior_cones_is_refused_without_outpu
         err.contains("interior cones")
             && err.contains("Σ I = -4, 4χ = -4")
             && err.contains("S6–S7 layout energy converged: residual")
-            && err.contains("tracing of cone separatrices (S8), which is not built yet"),
+            && err.contains("S8 traced")
+            && err.contains("spline patches on a traced layout (S9 across the cuts' charts) are not built yet"),
         "{err}"
     );
     assert!(!out.exists());

@@ -59,6 +59,7 @@ pub mod ricci;
 pub mod shell;
 pub mod smoothing;
 pub mod topology;
+pub mod trace;
 pub mod triangulate;
 
 pub use core::error::{FaceError, MeshError, TooManyQuads};

@@ -9,7 +9,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The folders of `src`, bottom to top (ARCHITECTURE.md, "The `quadrille` crate").
-const LAYERS: [&str; 19] = [
+const LAYERS: [&str; 20] = [
     "core",
     "combinatorics",
     "curves",
@@ -27,6 +27,7 @@ const LAYERS: [&str; 19] = [
     "cut",
     "immersion",
     "layout_energy",
+    "trace",
     "layout",
     "methods",
 ];

@@ -1,7 +1,8 @@
 //! The constraint sets of the layout energy, classified once from ψ_R
 //! (spec §8.2): Γ_u / Γ_v for the boundary edges and for the feature
 //! edges (one vote per run between corners, so a straight run never mixes
-//! sets), and Γ_Hol_k for each cut path (k by the argmin rule). Each
+//! sets; boundary runs voted in their loop's frame, [`frame_offset`]), and
+//! Γ_Hol_k for each cut path (k by the argmin rule). Each
 //! constraint becomes linear terms c·φ whose squares E2–E4 sum.
 
 use crate::cut::{CutEdgeSides, CutMesh};
@@ -116,8 +117,33 @@ fn runs(edges: &[[usize; 2]], is_break: impl Fn(usize) -> bool) -> Vec<Vec<usize
     groups.into_values().collect()
 }
 
+/// The frame offset of a set of child edges: the angle in (−π/4, π/4]
+/// their directions keep mod π/2, ¼ arg Σ |d| e^{4iθ} (each edge weighted
+/// by its length in ψ). Ricci straightens each boundary loop and turns it
+/// by exact quarter turns at corners and cut ends, so every run of one loop
+/// keeps one offset; a loop twisted against the axes (the holed shells'
+/// inner loops) is voted in its own frame, so its runs agree.
+fn frame_offset(uv: &[[f64; 2]], pairs: impl Iterator<Item = [usize; 2]>) -> f64 {
+    let (mut re, mut im) = (0.0, 0.0);
+    for [a, b] in pairs {
+        let (du, dv) = (uv[b][0] - uv[a][0], uv[b][1] - uv[a][1]);
+        let l = du.hypot(dv);
+        if l > 0.0 {
+            let t = 4.0 * dv.atan2(du);
+            re += l * t.cos();
+            im += l * t.sin();
+        }
+    }
+    if re == 0.0 && im == 0.0 {
+        return 0.0;
+    }
+    0.25 * f64::atan2(im, re)
+}
+
 /// Aligned child edges of the shell edges `edges` (both children of an edge
-/// on a cut), one vote per run.
+/// on a cut), one vote per run. `group` names the set a shell edge's runs
+/// share a frame with (its boundary loop; `None`: the plain axes), see
+/// [`frame_offset`].
 fn aligned(
     shell: &Shell,
     topo: &ShellTopology,
@@ -125,6 +151,7 @@ fn aligned(
     uv: &[[f64; 2]],
     edges: &[usize],
     is_break: &[bool],
+    group: impl Fn([usize; 2]) -> Option<usize>,
 ) -> Vec<AlignedEdge> {
     let mut children: Vec<([usize; 2], [usize; 2])> = Vec::new();
     for &e in edges {
@@ -142,13 +169,30 @@ fn aligned(
         }
     }
     let pairs: Vec<[usize; 2]> = children.iter().map(|c| c.0).collect();
+    let mut offsets: std::collections::BTreeMap<usize, f64> = Default::default();
+    for c in &children {
+        if let Some(g) = group(c.1) {
+            offsets.entry(g).or_insert_with(|| {
+                frame_offset(
+                    uv,
+                    children
+                        .iter()
+                        .filter(|d| group(d.1) == Some(g))
+                        .map(|d| d.0),
+                )
+            });
+        }
+    }
     let mut out = Vec::new();
     for run in runs(&pairs, |c| is_break[cut.parent[c]]) {
+        let offset = group(children[run[0]].1).map_or(0.0, |g| offsets[&g]);
+        let (s, c) = (-offset).sin_cos();
         let (mut du, mut dv) = (0.0, 0.0);
         for &i in &run {
             let [a, b] = children[i].0;
-            du += (uv[b][0] - uv[a][0]).abs();
-            dv += (uv[b][1] - uv[a][1]).abs();
+            let (x, y) = (uv[b][0] - uv[a][0], uv[b][1] - uv[a][1]);
+            du += (c * x - s * y).abs();
+            dv += (s * x + c * y).abs();
         }
         let held = if du <= dv { HeldAxis::U } else { HeldAxis::V };
         for &i in &run {
@@ -188,8 +232,22 @@ pub fn classify(
     let feature_edges: Vec<usize> = (0..topo.edges.len())
         .filter(|&e| features.get(e) == Some(&true) && !topo.is_boundary_edge(e))
         .collect();
-    let boundary = aligned(shell, topo, cut, uv, &boundary_edges, &is_break);
-    let features = aligned(shell, topo, cut, uv, &feature_edges, &is_break);
+    let mut loop_of = vec![usize::MAX; shell.vertices.len()];
+    for (i, lp) in topo.boundary_loops.iter().enumerate() {
+        for &v in lp {
+            loop_of[v] = i;
+        }
+    }
+    let boundary = aligned(
+        shell,
+        topo,
+        cut,
+        uv,
+        &boundary_edges,
+        &is_break,
+        |p: [usize; 2]| Some(loop_of[p[0]]),
+    );
+    let features = aligned(shell, topo, cut, uv, &feature_edges, &is_break, |_| None);
     let holonomy = cut
         .paths
         .iter()

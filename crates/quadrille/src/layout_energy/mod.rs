@@ -6,11 +6,14 @@
 //! (×100 per outer stage: the residuals fall ×100 with it, in half the
 //! stages of ×10 and fewer Newton iterations), the reference of E1
 //! alternating between the Ricci metric and the 3D triangles. It stops when every constraint residual is
-//! below 1e-7 × the diagonal of ψ with every det J > 0, then checks Q1–Q4
-//! (`verify`). E5 (the user's separatrix connections Γ_topo) is not built.
+//! below 1e-7 × the diagonal of ψ with every det J > 0, or earlier when the
+//! exact snap (`snap`: the stage's map projected onto the constraints, tried
+//! once the residuals are below 1e-5 × the diagonal) passes, then checks
+//! Q1–Q4 (`verify`). E5 (the user's separatrix connections Γ_topo) is not built.
 
 pub mod constraints;
 pub mod dirichlet;
+pub mod snap;
 pub mod verify;
 
 use thiserror::Error;
@@ -42,6 +45,10 @@ pub struct LayoutEnergyOptions {
     pub tolerance_share: f64,
     /// Q2: largest |angle sum − target| (radians).
     pub angle_tolerance: f64,
+    /// The exact snap (`snap`) is tried after a stage whose residuals are
+    /// below this share of ψ's diagonal (0: never) and ends the
+    /// minimisation when the snapped map passes Q1–Q4.
+    pub snap_share: f64,
 }
 
 impl Default for LayoutEnergyOptions {
@@ -53,6 +60,7 @@ impl Default for LayoutEnergyOptions {
             max_newton: 200,
             tolerance_share: 1e-7,
             angle_tolerance: 1e-6,
+            snap_share: 1e-5,
         }
     }
 }
@@ -104,6 +112,8 @@ pub struct LayoutMap {
     pub min_det: f64,
     /// Largest |angle sum − target| over the shell vertices (Q2, radians).
     pub max_angle_error: f64,
+    /// When the exact snap ended it: the largest move of one coordinate.
+    pub snap_shift: Option<f64>,
 }
 
 impl LayoutMap {
@@ -111,7 +121,7 @@ impl LayoutMap {
     pub fn describe(&self) -> String {
         let [u, v] = self.constraints.axis_counts();
         format!(
-            "layout energy converged: residual {:.1e} (tolerance {:.1e}; boundary {:.1e}, features {:.1e}, cuts {:.1e}), min det J {:.3e}, max angle-sum error {:.1e} rad, iterations {} in {} stages (λ up to {:.0e}; per stage iterations/residual/angle: {}); Γ_u {u}, Γ_v {v} edges, {} cut paths; E5 not built",
+            "layout energy converged: residual {:.1e} (tolerance {:.1e}; boundary {:.1e}, features {:.1e}, cuts {:.1e}), min det J {:.3e}, max angle-sum error {:.1e} rad, iterations {} in {} stages (λ up to {:.0e}; per stage iterations/residual/angle: {}); {}; Γ_u {u}, Γ_v {v} edges, {} cut paths; E5 not built",
             self.residuals.max(),
             self.tolerance,
             self.residuals.boundary,
@@ -132,6 +142,10 @@ impl LayoutMap {
                 ))
                 .collect::<Vec<_>>()
                 .join(", "),
+            match self.snap_shift {
+                Some(s) => format!("exact snap after the last stage (moves ≤ {s:.1e})"),
+                None => "no snap".to_string(),
+            },
             self.constraints.holonomy.len(),
         )
     }
@@ -346,7 +360,14 @@ impl Scatter {
 
 /// The six unknowns (u, v of each corner) of the triangle with `corners`.
 fn triangle_dofs(c: &[usize; 3]) -> [usize; 6] {
-    [2 * c[0], 2 * c[0] + 1, 2 * c[1], 2 * c[1] + 1, 2 * c[2], 2 * c[2] + 1]
+    [
+        2 * c[0],
+        2 * c[0] + 1,
+        2 * c[1],
+        2 * c[1] + 1,
+        2 * c[2],
+        2 * c[2] + 1,
+    ]
 }
 
 /// The pattern of the Hessian: every triangle's and every term's unknowns.
@@ -510,7 +531,8 @@ pub fn minimise(
     if let (_, Some(face), count) = det_of(&phi) {
         return Err(LayoutEnergyError::InvertedStart { count, face });
     }
-    let tolerance = opts.tolerance_share * verify::diagonal(uv0);
+    let diagonal = verify::diagonal(uv0);
+    let tolerance = opts.tolerance_share * diagonal;
     let pattern = hessian_pattern(n, &cut.corners, &penalties);
     let scatter = Scatter::new(pattern.clone(), &cut.corners, &penalties, 0);
     let spd = SparseSpd::analyze(pattern, None).map_err(|e| LayoutEnergyError::Solver {
@@ -570,7 +592,28 @@ pub fn minimise(
             last.max_angle_error = angle;
         }
         let done = res.max() < tolerance && min_det > 0.0 && angle <= opts.angle_tolerance;
-        if done || lambda * opts.lambda_factor > opts.lambda_max * (1.0 + 1e-9) {
+        // The exact snap (spec §8.4): kept when the projected map passes.
+        let mut snapped = None;
+        if !done && res.max() < opts.snap_share * diagonal {
+            let rows: Vec<&LinearTerm> = penalties.all().collect();
+            if let Some((sphi, shift)) = snap::snap(&rows, &phi, 20 * rows.len() + 100) {
+                let suv: Vec<[f64; 2]> = sphi.chunks(2).map(|p| [p[0], p[1]]).collect();
+                let sres = residuals(&constraints, &suv);
+                let (sdet, _, _) = det_of(&sphi);
+                let sangle = verify::angle_errors(shell, topo, cut, metric, &suv)
+                    .iter()
+                    .fold(0.0f64, |m, e| m.max(e.abs()));
+                if sres.max() < tolerance && sdet > 0.0 && sangle <= opts.angle_tolerance {
+                    snapped = Some((suv, sres, sdet, shift));
+                }
+            }
+        }
+        let last = lambda * opts.lambda_factor > opts.lambda_max * (1.0 + 1e-9);
+        if done || last || snapped.is_some() {
+            let (uv, res, min_det, snap_shift) = match snapped {
+                Some((suv, sres, sdet, shift)) => (suv, sres, sdet, Some(shift)),
+                None => (uv, res, min_det, None),
+            };
             let map = LayoutMap {
                 uv,
                 constraints,
@@ -580,6 +623,7 @@ pub fn minimise(
                 tolerance,
                 min_det,
                 max_angle_error: 0.0,
+                snap_shift,
             };
             return verify::verify(shell, topo, cut, metric, map, opts);
         }

@@ -12,11 +12,13 @@
 //! right side), interiors by the exact Coons patch of §9.4 or fitted to the
 //! shell (ours).
 //!
-//! Not built yet: the layout energy (S6–S7), so a shell with more loops,
-//! an annulus with boundary corners, Σ I ≠ 4χ over its corners, interior
-//! cones (S2, `cones`: given through [`SplineOptions::cones`], run through
-//! the flow, cut and immersion by [`cone_core`] and then refused) or whose
-//! ψ is not orthogonal is refused with one error line.
+//! Not built yet: splines on a traced layout with cones (S9 across the
+//! cuts' charts), so a shell with more loops, an annulus with boundary
+//! corners, Σ I ≠ 4χ over its corners, interior cones (S2, `cones`: given
+//! through [`SplineOptions::cones`], run through the flow, cut, immersion,
+//! layout energy and separatrix tracing by [`cone_core`] and
+//! `refuse_unless_corner_cones`, then refused) or whose ψ is not orthogonal
+//! is refused with one error line.
 
 use std::time::Instant;
 
@@ -180,8 +182,8 @@ pub enum SplineMethodError {
     /// The cone set is not usable.
     #[error("{0}")]
     Cones(#[from] crate::cones::ConeError),
-    /// Cones were placed and the layout energy (S6–S7) ran, but the
-    /// tracing of their separatrices (S8) is not built.
+    /// Cones were placed, the layout energy (S6–S7) and the tracing (S8)
+    /// ran, but splines on a traced layout are not built.
     #[error("{message}")]
     NeedsLayoutEnergy {
         /// What was placed and why it stops.

@@ -1,8 +1,9 @@
 //! Shells with interior cones (issue 31 S2): the geometric core with the
 //! cones (one-rings of interior cones refined, Ricci flow, cut, immersion,
-//! the cut transitions), the layout energy (S6–S7) on it, and the refusal
-//! of the spline output while the tracing of cone separatrices (S8) is not
-//! built.
+//! the cut transitions), the layout energy (S6–S7) on it, the tracing of
+//! its separatrices and the patches (S8, `trace`), and the refusal of the
+//! spline output while splines on a traced layout (S9 across the cuts'
+//! charts) are not built.
 
 use std::time::Instant;
 
@@ -15,6 +16,7 @@ use crate::ricci::{
     boundary_corner_cones, refine_cone_rings, ricci_flow, Cone, RicciMetric, RicciOptions,
 };
 use crate::shell::{Shell, ShellTopology};
+use crate::trace::{trace_patches, TraceOptions};
 
 /// Which cones [`super::splines_from_shell`] uses.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -62,6 +64,8 @@ pub struct CoreTimes {
     pub immersion: f64,
     /// Layout energy (S6–S7), when it ran.
     pub energy: f64,
+    /// Separatrix tracing and patches (S8), when it ran.
+    pub trace: f64,
 }
 
 /// What the layout energy reported on a shell with cones (the `--json`
@@ -81,6 +85,12 @@ pub struct EnergySummary {
     pub iterations: usize,
     /// Outer (penalty) stages.
     pub stages: usize,
+    /// S8: separatrices traced (0 when it did not run or failed).
+    pub separatrices: usize,
+    /// S8: faces of the layout.
+    pub patches: usize,
+    /// S8: faces with four corners.
+    pub quads: usize,
 }
 
 impl EnergySummary {
@@ -92,6 +102,9 @@ impl EnergySummary {
             min_det: map.min_det,
             iterations: map.iterations,
             stages: map.stages.len(),
+            separatrices: 0,
+            patches: 0,
+            quads: 0,
         }
     }
 }
@@ -203,6 +216,7 @@ pub fn cone_core(
         cut: cut_time,
         immersion: t3.elapsed().as_secs_f64(),
         energy: 0.0,
+        trace: 0.0,
     };
     Ok(ConeCore {
         shell: refined,
@@ -233,9 +247,9 @@ pub fn layout_energy(core: &ConeCore) -> Result<LayoutMap, LayoutEnergyError> {
 
 /// `Ok` when `cones` are exactly the boundary corners of `shell` (of
 /// topology `topo`; the cone-free path can go on); otherwise runs
-/// [`cone_core`] and the layout energy with them and refuses with one line
-/// saying what was placed, how the energy ended and that the tracing of
-/// cone separatrices (S8) is not built yet.
+/// [`cone_core`], the layout energy and the tracing (S8) with them and
+/// refuses with one line saying what was placed, how the energy and the
+/// tracing ended and that splines on a traced layout are not built yet.
 pub fn refuse_unless_corner_cones(
     shell: &Shell,
     topo: &ShellTopology,
@@ -259,13 +273,38 @@ pub fn refuse_unless_corner_cones(
     let mut times = core.times;
     times.energy = t.elapsed().as_secs_f64();
     let (stage, summary) = match &energy {
-        Ok(map) => (
-            format!(
-                "{}; patches on these cones need the tracing of cone separatrices (S8), which is not built yet",
-                map.describe()
-            ),
-            EnergySummary::of(map),
-        ),
+        Ok(map) => {
+            let mut summary = EnergySummary::of(map);
+            let t = Instant::now();
+            let traced = trace_patches(
+                &core.shell,
+                &core.topo,
+                &core.cut,
+                &core.cones,
+                &map.uv,
+                &TraceOptions::default(),
+            );
+            times.trace = t.elapsed().as_secs_f64();
+            let s8 = match &traced {
+                Ok(layout) => {
+                    summary.separatrices = layout.traces.len();
+                    summary.patches = layout.patches.len();
+                    summary.quads = layout.quads();
+                    match layout.check() {
+                        Ok(()) => layout.describe(),
+                        Err(e) => format!("{}, refused: {e}", layout.describe()),
+                    }
+                }
+                Err(e) => e.to_string(),
+            };
+            (
+                format!(
+                    "{}; {s8}; spline patches on a traced layout (S9 across the cuts' charts) are not built yet",
+                    map.describe()
+                ),
+                summary,
+            )
+        }
         Err(e) => {
             let mut summary = EnergySummary::default();
             if let LayoutEnergyError::Violated {
@@ -283,10 +322,11 @@ pub fn refuse_unless_corner_cones(
                     min_det: f64::NAN,
                     iterations: *iterations,
                     stages: *stages,
+                    ..EnergySummary::default()
                 };
             }
             (
-                format!("{e}; the tracing of cone separatrices (S8) is not built either"),
+                format!("{e}; no separatrix traced (S8 needs Q1–Q4)"),
                 summary,
             )
         }

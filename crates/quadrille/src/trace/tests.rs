@@ -1,0 +1,212 @@
+//! S8 on shells built here through the core and the layout energy: the
+//! issue's square with four corner cones (one patch), a house with one
+//! interior −1 cone (five separatrices, five quads), and the flat ring
+//! with cones ±1 (Fig. 3/8).
+
+use super::*;
+use crate::methods::spline::{cone_core, layout_energy, ConeCore};
+
+/// A flat grid of n × n cells over the unit square, each split in two,
+/// mapped by `map`.
+fn grid(n: usize, map: impl Fn(f64, f64) -> [f64; 3]) -> Shell {
+    let mut vertices = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            vertices.push(map(i as f64 / n as f64, j as f64 / n as f64));
+        }
+    }
+    let id = |i: usize, j: usize| j * (n + 1) + i;
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    Shell {
+        vertices,
+        triangles,
+    }
+}
+
+fn core(shell: &Shell, cones: &[Cone]) -> ConeCore {
+    let topo = shell.check().expect("a valid shell");
+    cone_core(shell, &topo, cones).expect("the core runs")
+}
+
+fn patches(core: &ConeCore) -> PatchLayout {
+    let map = layout_energy(core).expect("the energy converges");
+    let layout = trace_patches(
+        &core.shell,
+        &core.topo,
+        &core.cut,
+        &core.cones,
+        &map.uv,
+        &TraceOptions::default(),
+    )
+    .expect("the tracing ends");
+    eprintln!("{}", layout.describe());
+    layout
+}
+
+#[test]
+fn a_square_with_four_corner_cones_is_one_patch() {
+    let n = 8;
+    let shell = grid(n, |u, v| [3.0 * u, 3.0 * v, 0.0]);
+    let cones: Vec<Cone> = [0, n, (n + 1) * (n + 1) - 1, n * (n + 1)]
+        .iter()
+        .map(|&vertex| Cone { vertex, index: 1 })
+        .collect();
+    let layout = patches(&core(&shell, &cones));
+    // A convex corner (I = 1) sends no separatrix: the boundary alone.
+    assert!(layout.traces.is_empty());
+    assert_eq!((layout.nodes.len(), layout.arcs.len()), (4, 4));
+    assert_eq!(layout.patches.len(), 1);
+    assert_eq!(layout.patches[0].corners, 4);
+    assert_eq!(layout.patches[0].sides.len(), 4);
+    assert_eq!(layout.euler, 1);
+    layout.check().expect("one quad");
+}
+
+/// A house: the square [0, 10]² with a roof to (5, 15); its five corners
+/// are +1 cones and a vertex near the middle a −1 cone (Σ I = 4).
+fn house(n: usize) -> (Shell, Vec<Cone>) {
+    let shell = grid(n, |s, t| {
+        [
+            10.0 * s,
+            10.0 * t + 5.0 * t * (1.0 - (2.0 * s - 1.0).abs()),
+            0.0,
+        ]
+    });
+    let id = |i: usize, j: usize| j * (n + 1) + i;
+    let mut cones: Vec<Cone> = [id(0, 0), id(n, 0), id(n, n), id(n / 2, n), id(0, n)]
+        .iter()
+        .map(|&vertex| Cone { vertex, index: 1 })
+        .collect();
+    cones.push(Cone {
+        vertex: id(n / 2 - 1, n / 2 - 1),
+        index: -1,
+    });
+    (shell, cones)
+}
+
+#[test]
+fn a_house_with_one_interior_minus_one_cone_is_five_quads() {
+    let (shell, cones) = house(12);
+    let layout = patches(&core(&shell, &cones));
+    // A −1 cone sends 4 − (−1) = 5 separatrices; each ends on a side.
+    assert_eq!(layout.traces.len(), 5);
+    assert!(layout
+        .traces
+        .iter()
+        .all(|t| matches!(t.end, TraceEnd::Boundary { .. })));
+    // 5 boundary corners + 5 hits + the cone; 5 traces + 10 boundary pieces.
+    assert_eq!(layout.crossings(), 0);
+    assert_eq!((layout.nodes.len(), layout.arcs.len()), (11, 15));
+    assert_eq!(layout.patches.len(), 5);
+    layout.check().expect("five quads");
+    assert_eq!(layout.quads(), 5);
+}
+
+/// A flat ring of radii 1 and 2 with cones +1 and −1 on its middle circle.
+fn ring(rings: usize, sectors: usize) -> (Shell, Vec<Cone>) {
+    let mut vertices = Vec::new();
+    for i in 0..=rings {
+        for j in 0..sectors {
+            let t = std::f64::consts::TAU * j as f64 / sectors as f64;
+            let r = 1.0 + i as f64 / rings as f64;
+            vertices.push([r * t.cos(), r * t.sin(), 0.0]);
+        }
+    }
+    let id = |i: usize, j: usize| i * sectors + j % sectors;
+    let mut triangles = Vec::new();
+    for i in 0..rings {
+        for j in 0..sectors {
+            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let cones = vec![
+        Cone {
+            vertex: id(rings / 2, 0),
+            index: 1,
+        },
+        Cone {
+            vertex: id(rings / 2, sectors / 2),
+            index: -1,
+        },
+    ];
+    (
+        Shell {
+            vertices,
+            triangles,
+        },
+        cones,
+    )
+}
+
+#[test]
+fn the_flat_ring_with_cones_plus_and_minus_one_traces_to_six_quads() {
+    // Fig. 3/8 after the layout energy (converged through the exact snap).
+    let (shell, cones) = ring(6, 32);
+    let layout = patches(&core(&shell, &cones));
+    // 3 + 5 rays; one ray of each cone runs round the ring back into its
+    // own cone, so its reverse is the same curve: 6 separatrices.
+    assert_eq!(layout.traces.len(), 6);
+    let loops = layout
+        .traces
+        .iter()
+        .filter(|t| t.end == TraceEnd::Cone(t.cone))
+        .count();
+    assert_eq!(loops, 2);
+    assert_eq!(layout.crossings(), 2);
+    assert_eq!(layout.patches.len(), 6);
+    assert_eq!(layout.euler, 0);
+    layout.check().expect("six quads");
+}
+
+#[test]
+fn the_torus_tube_and_drilled_cylinder_traces_to_quads_both_ways() {
+    // Issue 31 shell (c): n10o faces 5 and 7 with the proposed cones (χ = −1).
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/cad/n10o_qtorus_cyl.step");
+    let model = occt::load(&path).expect("n10o loads");
+    let shell = crate::shell::shell_from_model(&model, &[4, 6], model.diagonal() / 72.0).unwrap();
+    let topo = shell.check().unwrap();
+    let cones = crate::cones::propose_cones(&shell, &topo).unwrap();
+    let core = cone_core(&shell, &topo, &cones).unwrap();
+    let map = layout_energy(&core).expect("the energy converges");
+    let run = |stop_at_traces: bool| {
+        let opts = TraceOptions { stop_at_traces };
+        let layout = trace_patches(
+            &core.shell,
+            &core.topo,
+            &core.cut,
+            &core.cones,
+            &map.uv,
+            &opts,
+        )
+        .expect("every separatrix ends");
+        eprintln!(
+            "n10o, stop at traces {stop_at_traces}: {}",
+            layout.describe()
+        );
+        layout
+    };
+    let complete = run(false);
+    // 1 × (+1) and 5 × (−1): 3 + 25 rays, cone-to-cone ones kept once.
+    let rays: usize = core.cones.iter().map(|c| (4 - c.index) as usize).sum();
+    assert_eq!(rays, 28);
+    assert!(complete.traces.len() <= rays && complete.traces.len() >= rays / 2);
+    complete
+        .check()
+        .expect("complete tracing: every patch a quad");
+    assert_eq!(complete.euler, -1);
+    assert!(complete.crossings() > 0);
+    // Ending on earlier traces: fewer patches (T-junctions), still quads.
+    let stopped = run(true);
+    assert!(stopped.patches.len() < complete.patches.len());
+    stopped
+        .check()
+        .expect("T-junction layout: every patch a quad");
+}
