@@ -468,8 +468,8 @@ fn sanitized(mesh: &QuadMesh) -> QuadMesh {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use geometry::vec3::{add, scale, Vec3};
     use crate::fixtures;
+    use geometry::vec3::{add, scale, Vec3};
     use geometry::CurveId;
 
     /// Curve nodes with two quads per side are regular (on an open
@@ -691,6 +691,73 @@ mod tests {
         }
     }
 
+    /// Two quads each spanning half of `primitives::cone(1, 1)` round its
+    /// apex (i04o's corner quads): (ring u, ring u − π/2, ring u − π, apex)
+    /// for u = π and 2π, the ring at half height. The ring node at u = 0 is
+    /// read at u = 2π, so on the upper half the first corner's period puts
+    /// the corner at u = π exactly half a period away (the tie), and the
+    /// apex, as a pole corner or as a face node at an arbitrary u = π, must
+    /// still take the limit normal along the quad's own middle generatrix.
+    #[test]
+    fn a_half_cone_quad_at_the_apex_reads_its_own_half() {
+        use std::f64::consts::{FRAC_PI_2, PI, TAU};
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let n = |u: f64| [s * u.cos(), s * u.sin(), -s];
+        for apex_as_pole in [true, false] {
+            let model = geometry::primitives::cone(1.0, 1.0);
+            let va = model.faces[0].uv_bounds.vmin;
+            let v = 0.5 * va;
+            let mut mesh = QuadMesh::default();
+            mesh.nodes.push([0.0; 3]);
+            mesh.node_class.push(if apex_as_pole {
+                NodeClass::Corner(CornerId(0))
+            } else {
+                NodeClass::Face(FaceId(0), Some([PI, va]))
+            });
+            // ring nodes 1..=4 at u = 2π (the seam, read on its right side), π/2, π, 3π/2
+            for u in [TAU, FRAC_PI_2, PI, 3.0 * FRAC_PI_2] {
+                mesh.nodes.push(model.faces[0].surface.eval([u, v]));
+                mesh.node_class
+                    .push(NodeClass::Face(FaceId(0), Some([u, v])));
+            }
+            mesh.quads.push([3, 2, 1, 0]); // lower half: u = π, π/2, 0
+            mesh.quads.push([1, 4, 3, 0]); // upper half: u = 2π, 3π/2, π
+            mesh.quad_face.push(FaceId(0));
+            mesh.quad_face.push(FaceId(0));
+            // the fixture reaches the tie: π moved to 2π's period is 3π
+            let periods = model.faces[0].surface.periods();
+            let tied = geometry::nearest_periodic_uv([PI, v], periods, [TAU, v]);
+            assert!((tied[0] - 3.0 * PI).abs() < 1e-12, "{tied:?}");
+            let normals = quad_corner_normals(&mesh, Some(&model));
+            let expected = [
+                [n(PI), n(FRAC_PI_2), n(0.0), n(FRAC_PI_2)],
+                [n(TAU), n(3.0 * FRAC_PI_2), n(PI), n(3.0 * FRAC_PI_2)],
+            ];
+            for (qi, want) in expected.iter().enumerate() {
+                for k in 0..4 {
+                    let d = vec3::dist(normals[qi][k], want[k]);
+                    assert!(
+                        d < 1e-6,
+                        "pole {apex_as_pole} quad {qi} corner {k}: {:?} vs {:?}",
+                        normals[qi][k],
+                        want[k]
+                    );
+                }
+            }
+            let sicn = quad_sicn_values(&mesh, Some(&model));
+            for (qi, want) in expected.iter().enumerate() {
+                let hand = min4(corner_sicn(&quad_points(&mesh, &mesh.quads[qi]), want));
+                assert!(hand > 0.3, "{hand}");
+                assert!(
+                    (sicn[qi] - hand).abs() < 1e-6,
+                    "pole {apex_as_pole}: {sicn:?} vs {hand}"
+                );
+            }
+            let st = MeshStats::compute(&mesh, Some(&model));
+            assert_eq!(st.inverted_quads, 0, "pole {apex_as_pole}: {st}");
+        }
+    }
+
     /// A planar triangle face with a 5° angle at corner 0, split into 3 quads.
     fn wedge() -> (Model, QuadMesh) {
         let a = 5f64.to_radians();
@@ -727,13 +794,21 @@ mod tests {
         let (model, mut mesh) = wedge();
         mesh.quads[0] = bow_tie(mesh.quads[0]);
         let s = MeshStats::compute(&mesh, Some(&model));
-        assert_eq!((s.inverted_quads, s.inverted_quads_element_geometry), (1, 1), "{s}");
+        assert_eq!(
+            (s.inverted_quads, s.inverted_quads_element_geometry),
+            (1, 1),
+            "{s}"
+        );
         assert_eq!(s.inverted_quads_outside_sharp, 0, "{s}");
         assert_eq!(s.inverted_quads_element_geometry_outside_sharp, 0, "{s}");
         let (model, mut mesh) = wedge();
         mesh.quads[1] = bow_tie(mesh.quads[1]);
         let s = MeshStats::compute(&mesh, Some(&model));
-        assert_eq!((s.inverted_quads, s.inverted_quads_element_geometry), (1, 1), "{s}");
+        assert_eq!(
+            (s.inverted_quads, s.inverted_quads_element_geometry),
+            (1, 1),
+            "{s}"
+        );
         assert_eq!(s.inverted_quads_outside_sharp, 1, "{s}");
         assert_eq!(s.inverted_quads_element_geometry_outside_sharp, 1, "{s}");
         assert!(s.to_string().contains("1 / 1"), "{s}");

@@ -401,7 +401,14 @@ impl<'a> CadNormals<'a> {
         let periods = face.surface.periods();
         let unwrap =
             |uv: [f64; 2], target: [f64; 2]| geometry::nearest_periodic_uv(uv, periods, target);
-        let known: Vec<[f64; 2]> = uvs.iter().flatten().map(|&uv| unwrap(uv, hint)).collect();
+        // the centre: the mean of the ordinary corners (a singular corner's
+        // u is arbitrary), unwrapped with the least spread (a quad spanning
+        // half a period round a cone apex stays on its own half)
+        let mut known: Vec<[f64; 2]> = uvs.iter().flatten().copied().filter(regular).collect();
+        if known.is_empty() {
+            known = uvs.iter().flatten().copied().collect();
+        }
+        let known = least_spread_unwrap(&known, periods, hint);
         let centre = known
             .iter()
             .fold([0.0, 0.0], |c, uv| [c[0] + uv[0], c[1] + uv[1]]);
@@ -444,6 +451,59 @@ impl<'a> CadNormals<'a> {
         }
         out
     }
+}
+
+/// `uvs` moved by whole periods into one window of the least spread in
+/// each periodic coordinate, for their mean: first each to the
+/// representative nearest `hint`'s ([`geometry::nearest_periodic_uv`]), then,
+/// where that leaves a gap between two sorted values wider than the one
+/// across the period's end, the window is moved to start after the widest
+/// gap and shifted back by a period if that moved `hint`'s own value. A
+/// value exactly half a period from `hint` is rounded either way by the
+/// first step; this keeps a quad spanning half a period (a half cone round
+/// its apex) on its own half. Where the values span less than half a
+/// period the first step's result is returned unchanged (bit for bit).
+fn least_spread_unwrap(
+    uvs: &[[f64; 2]],
+    periods: [Option<f64>; 2],
+    hint: [f64; 2],
+) -> Vec<[f64; 2]> {
+    let mut out: Vec<[f64; 2]> = uvs
+        .iter()
+        .map(|&uv| geometry::nearest_periodic_uv(uv, periods, hint))
+        .collect();
+    for d in 0..2 {
+        let Some(p) = periods[d].filter(|p| *p > 0.0) else {
+            continue;
+        };
+        let mut sorted: Vec<f64> = out.iter().map(|uv| uv[d]).collect();
+        sorted.sort_by(f64::total_cmp);
+        let (Some(&lo), Some(&hi)) = (sorted.first(), sorted.last()) else {
+            continue;
+        };
+        // the widest inner gap, kept only when wider than the wrap gap
+        let mut cut: Option<(f64, f64)> = None; // (gap, the value before it)
+        for w in sorted.windows(2) {
+            let gap = w[1] - w[0];
+            if gap > lo + p - hi && cut.map_or(true, |c| gap > c.0) {
+                cut = Some((gap, w[0]));
+            }
+        }
+        let Some((_, before)) = cut else {
+            continue;
+        };
+        // hint's own value is unchanged by the first step
+        let hint_moves = hint[d] <= before;
+        for uv in &mut out {
+            if uv[d] <= before {
+                uv[d] += p;
+            }
+            if hint_moves {
+                uv[d] -= p;
+            }
+        }
+    }
+    out
 }
 
 /// True when `uv` lies in the face's (u, v) bounds, up to 1e-6 of their
