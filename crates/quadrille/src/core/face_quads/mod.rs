@@ -28,6 +28,10 @@ use geometry::vec3::{self, Vec3};
 use geometry::Face;
 use mesh::NodeClass;
 
+/// Fans up to this many quads get [`FaceQuads::ordered_star`]'s plain scan
+/// (k² rotations, cheapest when small); larger ones a sorted index.
+const STAR_SCAN_MAX: usize = 12;
+
 /// One vertex of a [`FaceQuads`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct QVertex {
@@ -233,6 +237,9 @@ impl FaceQuads {
     /// `None` when the fan is not one closed disk (boundary vertices).
     pub fn ordered_star(&self, c: u32) -> Option<Vec<(u32, [u32; 4])>> {
         let fan = &self.verts[c as usize].fan;
+        if fan.len() > STAR_SCAN_MAX {
+            return self.ordered_star_indexed(c);
+        }
         let first = *fan.iter().min()?;
         let mut out = Vec::with_capacity(fan.len());
         let mut q = first;
@@ -247,6 +254,44 @@ impl FaceQuads {
                 .iter()
                 .copied()
                 .find(|&p| p != q && self.rotated(p, c).is_some_and(|s| s[1] == r[3]))?;
+            if next == first {
+                break;
+            }
+            q = next;
+        }
+        (out.len() == fan.len()).then_some(out)
+    }
+
+    /// [`FaceQuads::ordered_star`] of a vertex with a large fan, with the same
+    /// result: each sector's successor looked up by its first link in a
+    /// sorted index (ties in fan order, as the linear scan takes them), so
+    /// the star costs k log k instead of k² rotations (a vertex of valence
+    /// 100–300 in a triangle split of a toothed face made the star 71 % of
+    /// t_gear_60_teeth's regularization).
+    fn ordered_star_indexed(&self, c: u32) -> Option<Vec<(u32, [u32; 4])>> {
+        let fan = &self.verts[c as usize].fan;
+        let first = *fan.iter().min()?;
+        // (first link, position in the fan, quad, rotated quad)
+        let mut index: Vec<(u32, usize, u32, [u32; 4])> = fan
+            .iter()
+            .enumerate()
+            .filter_map(|(i, &p)| self.rotated(p, c).map(|s| (s[1], i, p, s)))
+            .collect();
+        index.sort_unstable_by_key(|e| (e.0, e.1));
+        let mut out = Vec::with_capacity(fan.len());
+        let mut q = first;
+        loop {
+            let r = self.rotated(q, c)?;
+            out.push((q, r));
+            if out.len() > fan.len() {
+                return None;
+            }
+            let start = index.partition_point(|e| e.0 < r[3]);
+            let next = index[start..]
+                .iter()
+                .take_while(|e| e.0 == r[3])
+                .find(|e| e.2 != q)
+                .map(|e| e.2)?;
             if next == first {
                 break;
             }

@@ -189,3 +189,62 @@ fn a_pole_with_a_closed_fan_wants_the_valence_its_cone_angle_holds() {
     assert!(fq.is_irregular(0));
     assert!((fq.angle_sum(0) - 360.0).abs() < 1.0);
 }
+
+#[test]
+fn ordered_star_of_a_large_fan_matches_the_plain_scan() {
+    // a wheel: centre 0, rim 1..=2n, quad i = (0, r(2i), r(2i+1), r(2i+2)),
+    // listed in a shuffled order so that the fan is not already sorted
+    let n = 3 * STAR_SCAN_MAX as u32;
+    let rim = |k: u32| 1 + k % (2 * n);
+    let mut verts = vec![QVertex::interior(
+        [0.0, 0.0],
+        [0.0, 0.0, 0.0],
+        NodeClass::Face(FaceId(0), None),
+    )];
+    for k in 0..2 * n {
+        let a = std::f64::consts::TAU * k as f64 / (2 * n) as f64;
+        let r = if k % 2 == 0 { 1.0 } else { 1.2 };
+        let p = [r * a.cos(), r * a.sin()];
+        verts.push(QVertex::interior(
+            p,
+            [p[0], p[1], 0.0],
+            NodeClass::Face(FaceId(0), None),
+        ));
+    }
+    let order: Vec<u32> = (0..n).map(|i| (i * 7 + 3) % n).collect();
+    let quads: Vec<[u32; 4]> = order
+        .iter()
+        .map(|&i| [0, rim(2 * i), rim(2 * i + 1), rim(2 * i + 2)])
+        .collect();
+    let fq = FaceQuads::new(verts, quads).unwrap();
+    assert!(fq.verts[0].fan.len() > STAR_SCAN_MAX);
+    // the plain k² scan, as ordered_star runs it on small fans
+    let fan = &fq.verts[0].fan;
+    let first = *fan.iter().min().unwrap();
+    let mut plain = Vec::new();
+    let mut q = first;
+    loop {
+        let r = fq.rotated(q, 0).unwrap();
+        plain.push((q, r));
+        let next = fan
+            .iter()
+            .copied()
+            .find(|&p| p != q && fq.rotated(p, 0).is_some_and(|s| s[1] == r[3]))
+            .unwrap();
+        if next == first {
+            break;
+        }
+        q = next;
+    }
+    let star = fq.ordered_star(0).unwrap();
+    assert_eq!(star.len(), n as usize);
+    assert_eq!(star, plain);
+    // consecutive sectors share their edge: n_{i+1} of one is n_i of the next
+    for i in 0..star.len() {
+        assert_eq!(star[i].1[3], star[(i + 1) % star.len()].1[1]);
+    }
+    // a broken fan (one quad removed) has no closed star, as with the scan
+    let mut open = fq.clone();
+    open.kill_quad(star[5].0);
+    assert!(open.ordered_star(0).is_none());
+}

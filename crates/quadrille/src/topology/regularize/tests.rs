@@ -808,6 +808,34 @@ fn a_face_stops_at_its_work_budget_and_keeps_a_valid_result() {
 }
 
 #[test]
+fn the_per_face_bound_caps_the_budget_like_the_per_quad_one() {
+    let quads = split_patch(8).num_quads() as u64;
+    let opts = |work_per_quad: u64, work_per_face: u64| RegularizeOptions {
+        sweep_orders: 8,
+        wide_above: f64::INFINITY,
+        work_per_quad,
+        work_per_face,
+        ..Default::default()
+    };
+    // the same budget reached either way gives the same face and the same work
+    let (by_quad, rep_q) = regularized_split_patch(opts(20, 0));
+    let (by_face, rep_f) = regularized_split_patch(opts(0, 20 * quads));
+    let (both, rep_b) = regularized_split_patch(opts(1_000, 20 * quads));
+    assert_eq!(rep_f.work, rep_q.work);
+    assert_eq!(by_face.quads, by_quad.quads);
+    assert_eq!(rep_b.work, rep_q.work);
+    assert_eq!(both.quads, by_quad.quads);
+    // neither bound: the searches run on (more than 4 times that work)
+    let (_, free) = regularized_split_patch(opts(0, 0));
+    assert!(free.work > 4 * rep_q.work, "{} vs {}", free.work, rep_q.work);
+    // a bound above what the face uses changes nothing
+    let (loose, rep_l) = regularized_split_patch(opts(0, 2 * free.work));
+    assert_eq!(rep_l.work, free.work);
+    let (free_fq, _) = regularized_split_patch(opts(0, 0));
+    assert_eq!(loose.quads, free_fq.quads);
+}
+
+#[test]
 fn the_wider_pair_search_only_ever_lowers_the_irregular_count() {
     let run = |wide_above: f64| {
         let (fq, rep) = regularized_split_patch(RegularizeOptions {
