@@ -1,5 +1,9 @@
 //! Compiles the C++ shim (src/shim.cpp) against the system OpenCASCADE 7.6
-//! and links the toolkits it needs.
+//! and links the toolkits it needs; links its IGES half (src/shim_iges.cpp)
+//! into a shared object of its own, `$OUT_DIR/libquadrille_occt_iges.so`,
+//! which `src/ffi.rs` embeds and the shim loads on the first IGES read or
+//! write, so that a process reading STEP or BREP never loads (nor binds the
+//! symbols of) OCCT's IGES toolkits.
 //!
 //! The include directory can be overridden with `OCCT_INCLUDE_DIR`, the
 //! library directory with `OCCT_LIB_DIR`.
@@ -8,14 +12,12 @@ use std::env;
 use std::path::{Path, PathBuf};
 
 /// OCCT toolkits the shim uses, in link order (dependents before dependencies).
+/// No IGES toolkit: those are the IGES half's ([`IGES_LIBS`]).
 const LIBS: &[&str] = &[
-    "TKXDESTEP",
     "TKSTEP",
     "TKSTEPAttr",
     "TKSTEP209",
     "TKSTEPBase",
-    "TKXDEIGES",
-    "TKIGES",
     "TKXSBase",
     "TKShHealing",
     "TKTopAlgo",
@@ -28,8 +30,12 @@ const LIBS: &[&str] = &[
     "TKernel",
 ];
 
+/// OCCT toolkits the IGES half (src/shim_iges.cpp) links.
+const IGES_LIBS: &[&str] = &["TKIGES", "TKXSBase", "TKBRep", "TKMath", "TKernel"];
+
 fn main() {
     println!("cargo:rerun-if-changed=src/shim.cpp");
+    println!("cargo:rerun-if-changed=src/shim_iges.cpp");
     println!("cargo:rerun-if-env-changed=OCCT_INCLUDE_DIR");
     println!("cargo:rerun-if-env-changed=OCCT_LIB_DIR");
 
@@ -73,6 +79,35 @@ fn main() {
     println!("cargo:rustc-link-search=native={}", lib_dir.display());
     for lib in LIBS {
         println!("cargo:rustc-link-lib=dylib={lib}");
+    }
+    build_iges_half(&include, &lib_dir);
+}
+
+/// Compiles and links src/shim_iges.cpp into
+/// `$OUT_DIR/libquadrille_occt_iges.so` with the compiler `cc` picks for
+/// the shim.
+fn build_iges_half(include: &Path, lib_dir: &Path) {
+    let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"))
+        .join("libquadrille_occt_iges.so");
+    let compiler = cc::Build::new().cpp(true).opt_level(2).get_compiler();
+    let mut cmd = compiler.to_command();
+    cmd.args(["-shared", "-fPIC", "-std=c++17", "-DOCC_CONVERT_SIGNALS"])
+        .args(["-Wno-deprecated-declarations", "-Wno-unused-parameter"])
+        .arg("-I")
+        .arg(include)
+        .arg("src/shim_iges.cpp")
+        .arg("-o")
+        .arg(&out)
+        .arg(format!("-L{}", lib_dir.display()))
+        .arg("-Wl,--as-needed");
+    for lib in IGES_LIBS {
+        cmd.arg(format!("-l{lib}"));
+    }
+    let status = cmd
+        .status()
+        .unwrap_or_else(|e| panic!("could not run the C++ compiler for src/shim_iges.cpp: {e}"));
+    if !status.success() {
+        panic!("linking src/shim_iges.cpp into {} failed ({status})", out.display());
     }
 }
 

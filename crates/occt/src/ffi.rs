@@ -100,7 +100,22 @@ pub struct SewReport {
 /// `TopAbs_FORWARD`.
 pub const TOPABS_FORWARD: c_int = 0;
 
+/// The IGES half of the shim (`src/shim_iges.cpp`, the only code naming
+/// OCCT's IGES toolkits) as a shared object, linked by `build.rs`; the shim
+/// loads it on the first IGES read or write (see [`hand_over_iges`]).
+static IGES_IMAGE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/libquadrille_occt_iges.so"));
+
+/// Hands the IGES half's image to the shim (once per process; before any
+/// `occt_load` or `occt_write`), so that it can load it when a file is IGES.
+pub fn hand_over_iges() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    // SAFETY: a 'static byte slice, valid for the life of the process.
+    ONCE.call_once(|| unsafe { occt_iges_image(IGES_IMAGE.as_ptr(), IGES_IMAGE.len()) });
+}
+
 extern "C" {
+    /// Hands over the IGES half's image (bytes living as long as the process).
+    fn occt_iges_image(image: *const u8, len: usize);
     pub fn occt_load(
         path: *const c_char,
         kind: c_int,

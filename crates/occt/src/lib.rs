@@ -193,6 +193,7 @@ pub fn convert(input: &Path, output: &Path) -> Result<(), ConvertError> {
     let cpath = CString::new(output.as_os_str().as_bytes())
         .map_err(|_| write_err(format.name(), "the path holds a NUL byte".into()))?;
     let mut err = vec![0u8; 1024];
+    ffi::hand_over_iges();
     // SAFETY: live model, NUL-terminated path, err valid for its length.
     let rc = unsafe {
         ffi::occt_write(
@@ -310,6 +311,7 @@ fn open_with<T: Send + 'static>(
         };
         let mut err = vec![0u8; 1024];
         let mut out: *mut ffi::OcctModel = std::ptr::null_mut();
+        ffi::hand_over_iges();
         // SAFETY: cpath is NUL-terminated, out and err are valid for the call.
         let rc = unsafe {
             ffi::occt_load(

@@ -37,8 +37,6 @@
 #include <Interface_CheckIterator.hxx>
 #include <XSControl_Reader.hxx>
 #include <XSControl_WorkSession.hxx>
-#include <IGESControl_Reader.hxx>
-#include <IGESControl_Writer.hxx>
 #include <STEPControl_Controller.hxx>
 #include <STEPControl_Writer.hxx>
 #include <Message.hxx>
@@ -64,6 +62,10 @@
 #include <gp_Vec2d.hxx>
 
 #include <csignal>
+#include <dlfcn.h>
+#include <sys/mman.h>
+#include <unistd.h>
+#include <cstdlib>
 #include <pthread.h>
 #include <cstdio>
 #include <cstring>
@@ -328,7 +330,103 @@ static std::string structural_errors(XSControl_Reader& r) {
   return std::to_string(n) + " structural error(s) (unresolved references, bad syntax); the first: " + first;
 }
 
+
+// The IGES half of the shim (shim_iges.cpp), a shared object image embedded
+// in the Rust crate and handed over by occt_iges_image before any IGES read
+// or write. Loaded on first use: a process that reads no IGES never loads
+// OCCT's IGES toolkits, and the dynamic loader binds about a quarter fewer
+// symbols at its start.
+struct IgesFunctions {
+  XSControl_Reader* (*reader_new)();
+  void (*reader_free)(XSControl_Reader*);
+  int (*write)(const TopoDS_Shape*, const char*);
+};
+static std::atomic<const unsigned char*> g_iges_image{nullptr};
+static std::atomic<size_t> g_iges_image_len{0};
+
+// Writes the image to a file descriptor: an anonymous memory file, else a
+// temporary file (unlinked at once, kept open). -1 when neither works.
+static int iges_image_fd(const unsigned char* image, size_t len) {
+  int fd = memfd_create("quadrille-occt-iges", MFD_CLOEXEC);
+  if (fd < 0) {
+    const char* dir = std::getenv("TMPDIR");
+    std::string name = std::string(dir != nullptr && *dir != 0 ? dir : "/tmp") + "/quadrille-iges-XXXXXX";
+    std::vector<char> buf(name.begin(), name.end());
+    buf.push_back(0);
+    fd = mkstemp(buf.data());
+    if (fd < 0) return -1;
+    unlink(buf.data());
+  }
+  size_t done = 0;
+  while (done < len) {
+    ssize_t k = ::write(fd, image + done, len - done);
+    if (k <= 0) {
+      close(fd);
+      return -1;
+    }
+    done += (size_t)k;
+  }
+  return fd;
+}
+
+// The IGES functions, loaded once; null with the reason in `why` when the
+// image is missing or cannot be loaded.
+static const IgesFunctions* iges_functions(std::string& why) {
+  static std::once_flag once;
+  static IgesFunctions fns{nullptr, nullptr, nullptr};
+  static std::string failure;
+  std::call_once(once, [] {
+    const unsigned char* image = g_iges_image.load();
+    size_t len = g_iges_image_len.load();
+    if (image == nullptr || len == 0) {
+      failure = "the IGES part of the OCCT shim was not handed over";
+      return;
+    }
+    int fd = iges_image_fd(image, len);
+    if (fd < 0) {
+      failure = "the IGES part of the OCCT shim could not be written to a file";
+      return;
+    }
+    std::string path = "/proc/self/fd/" + std::to_string(fd);
+    void* h = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    close(fd);
+    if (h == nullptr) {
+      const char* e = dlerror();
+      failure = std::string("the IGES part of the OCCT shim could not be loaded: ") + (e ? e : "?");
+      return;
+    }
+    IgesFunctions f;
+    f.reader_new = reinterpret_cast<XSControl_Reader* (*)()>(dlsym(h, "quadrille_iges_reader_new"));
+    f.reader_free = reinterpret_cast<void (*)(XSControl_Reader*)>(dlsym(h, "quadrille_iges_reader_free"));
+    f.write = reinterpret_cast<int (*)(const TopoDS_Shape*, const char*)>(dlsym(h, "quadrille_iges_write"));
+    if (f.reader_new == nullptr || f.reader_free == nullptr || f.write == nullptr) {
+      failure = "the IGES part of the OCCT shim lacks its functions";
+      return;
+    }
+    fns = f;
+  });
+  if (fns.reader_new == nullptr) {
+    why = failure;
+    return nullptr;
+  }
+  return &fns;
+}
+
+// Owns a reader made by the IGES part.
+struct IgesReader {
+  const IgesFunctions* f;
+  XSControl_Reader* r;
+  ~IgesReader() { f->reader_free(r); }
+};
+
 extern "C" {
+
+/// Hands over the image of the IGES part (shim_iges.cpp as a shared object);
+/// the bytes must live as long as the process. Later calls are ignored.
+void occt_iges_image(const unsigned char* image, size_t len) {
+  const unsigned char* none = nullptr;
+  if (g_iges_image.compare_exchange_strong(none, image)) g_iges_image_len.store(len);
+}
 
 /// Reads a file. kind: 0 STEP, 1 IGES, 2 BREP. On success *out owns the model.
 int occt_load(const char* path, int kind, OcctModel** out, char* err, size_t errlen) {
@@ -361,7 +459,14 @@ int occt_load(const char* path, int kind, OcctModel** out, char* err, size_t err
           }
           shape = r.OneShape();
         } else {
-          IGESControl_Reader r;
+          std::string why;
+          const IgesFunctions* f = iges_functions(why);
+          if (f == nullptr) {
+            set_err(err, errlen, why);
+            return ERR_OPEN;
+          }
+          IgesReader owned{f, f->reader_new()};
+          XSControl_Reader& r = *owned.r;
           st = r.ReadFile(path);
           if (st != IFSelect_RetDone) {
             set_err(err, errlen, "the IGES reader could not parse it (status " + std::to_string((int)st) + ")");
@@ -428,8 +533,13 @@ int occt_write(const OcctModel* m, const char* path, int kind, char* err, size_t
       STEPControl_Writer w;
       ok = w.Transfer(m->shape, STEPControl_AsIs) == IFSelect_RetDone && w.Write(path) == IFSelect_RetDone;
     } else if (kind == 1) {
-      IGESControl_Writer w("MM", 1);
-      ok = w.AddShape(m->shape) && (w.ComputeModel(), w.Write(path));
+      std::string why;
+      const IgesFunctions* f = iges_functions(why);
+      if (f == nullptr) {
+        set_err(err, errlen, why);
+        return ERR_FAILED;
+      }
+      ok = f->write(&m->shape, path) != 0;
     } else if (kind == 2) {
       ok = BRepTools::Write(m->shape, path);
     } else {

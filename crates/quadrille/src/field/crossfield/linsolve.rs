@@ -6,13 +6,16 @@
 //! every numeric factorization with the same pattern reuses it
 //! ([`SparseSpd::factor`], and [`SparseSpd::refactor`] into the buffers of a
 //! previous factorization), which is what the multilevel cross-field solver
-//! relies on (one numeric factorization per diffusion level). Solves with a
-//! supernodal factor use this module's own triangular sweeps
-//! ([`Factor::solve_in_place`]), about twice as fast as faer's for one
-//! right-hand side on 2D meshes.
+//! relies on (one numeric factorization per diffusion level). Solves use this
+//! module's own triangular sweeps ([`Factor::solve_in_place`]): on a
+//! supernodal factor about twice as fast as faer's for one right-hand side
+//! on 2D meshes; on a simplicial one (small faces) faer's operations in
+//! faer's order, bit-identical, with the diagonal's reciprocals taken once
+//! per factorization.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::simplicial::SymbolicSimplicialCholesky;
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
@@ -193,6 +196,9 @@ pub struct Factor<'a, T: ComplexField> {
     work: std::cell::RefCell<Vec<T>>,
     /// `1 / L_jj` (supernodal factors).
     inv_diag: Vec<T::Real>,
+    /// `1 / L_jj` as faer's simplicial solve computes it, the complex
+    /// reciprocal of the stored diagonal (simplicial factors).
+    inv_diag_simplicial: Vec<T>,
     n: usize,
 }
 
@@ -281,6 +287,7 @@ impl SparseSpd {
             scratch: std::cell::RefCell::new(scratch),
             work: std::cell::RefCell::new(vec![T::zero_impl(); self.pattern.n + max_pattern]),
             inv_diag: Vec::new(),
+            inv_diag_simplicial: Vec::new(),
             n: self.pattern.n,
         };
         self.refactor(values, &mut f)?;
@@ -323,6 +330,14 @@ impl SparseSpd {
             .map_err(|e| {
                 CrossFieldError::Solver(format!("Cholesky factorization failed: {e:?}"))
             })?;
+        if let SymbolicCholeskyRaw::Simplicial(sym) = self.symbolic.raw() {
+            // the diagonal is the first stored entry of each column
+            let l = sym.factor();
+            f.inv_diag_simplicial.clear();
+            f.inv_diag_simplicial.extend(
+                (0..self.pattern.n).map(|j| T::recip_impl(&f.values[l.col_range(j).start])),
+            );
+        }
         if let SymbolicCholeskyRaw::Supernodal(sym) = self.symbolic.raw() {
             f.inv_diag.clear();
             for s in 0..sym.n_supernodes() {
@@ -349,6 +364,10 @@ impl<T: ComplexField> Factor<'_, T> {
             self.supernodal_solve(sym, rhs);
             return;
         }
+        if let SymbolicCholeskyRaw::Simplicial(sym) = self.symbolic.raw() {
+            self.simplicial_solve(sym, rhs);
+            return;
+        }
         let m = MatMut::from_column_major_slice_mut(rhs, self.n, 1);
         let mut buf = self.scratch.borrow_mut();
         LltRef::new(self.symbolic, &self.values).solve_in_place_with_conj(
@@ -357,6 +376,58 @@ impl<T: ComplexField> Factor<'_, T> {
             Par::Seq,
             MemStack::new(&mut buf),
         );
+    }
+
+    /// `L Lᴴ x = b` on the simplicial factor, one right-hand side: faer's
+    /// simplicial solve (the same operations in the same order, so the
+    /// result is bit-identical: `simplicial_solve_equals_faer_bit_for_bit`)
+    /// without its per-column complex reciprocal of the diagonal, taken once
+    /// per factorization instead ([`SparseSpd::refactor`]), and without its
+    /// generic matrix views. Small faces get simplicial factors; their
+    /// solves were a tenth of a small part's run (BENCHMARKS.md, session of
+    /// 2026-12-07, ninth).
+    fn simplicial_solve(&self, sym: &SymbolicSimplicialCholesky<usize>, rhs: &mut [T]) {
+        let mut work = self.work.borrow_mut();
+        let perm = self.symbolic.perm().map(|p| p.arrays());
+        let x: &mut [T] = match perm {
+            Some((fwd, _)) => {
+                for (k, &i) in fwd.iter().enumerate() {
+                    work[k] = rhs[i].clone();
+                }
+                &mut work[..self.n]
+            }
+            None => rhs,
+        };
+        let l = sym.factor();
+        let rows = l.row_idx();
+        let vals = &self.values[..];
+        let inv = &self.inv_diag_simplicial[..];
+        // forward: L y = b (faer: x_j ← x_j · (1 / L_jj); x_i −= L_ij · x_j)
+        for j in 0..self.n {
+            let r = l.col_range(j);
+            let xj = &x[j] * &inv[j];
+            for k in r.start + 1..r.end {
+                let v = &vals[k] * &xj;
+                x[rows[k]] -= v;
+            }
+            x[j] = xj;
+        }
+        // backward: Lᴴ x = y (faer: the column's products with conj(L_ij)
+        // summed from its last entry back, then (x_j − sum) · conj(1 / L_jj))
+        for j in (0..self.n).rev() {
+            let r = l.col_range(j);
+            let mut acc = T::zero_impl();
+            for k in (r.start + 1..r.end).rev() {
+                acc += &T::conj_impl(&vals[k]) * &x[rows[k]];
+            }
+            let xj = &x[j] - acc;
+            x[j] = xj * T::conj_impl(&inv[j]);
+        }
+        if let Some((_, back)) = perm {
+            for (i, &k) in back.iter().enumerate() {
+                rhs[i] = work[k].clone();
+            }
+        }
     }
 
     /// `L Lᴴ x = b` on the supernodal factor, one right-hand side. faer's
@@ -604,6 +675,55 @@ mod tests {
         let nr: f64 = r.iter().map(|v| v.norm_sqr()).sum::<f64>().sqrt();
         let nb: f64 = b.iter().map(|v| v.norm_sqr()).sum::<f64>().sqrt();
         nr / nb
+    }
+
+    #[test]
+    fn simplicial_solve_equals_faer_bit_for_bit() {
+        // faer's own solve on the same factor, the reference
+        fn faer_solve<T: ComplexField>(f: &Factor<'_, T>, x: &mut [T]) {
+            let n = x.len();
+            let mut buf = f.scratch.borrow_mut();
+            LltRef::new(f.symbolic, &f.values).solve_in_place_with_conj(
+                Conj::No,
+                MatMut::from_column_major_slice_mut(x, n, 1),
+                Par::Seq,
+                MemStack::new(&mut buf),
+            );
+        }
+        let (p, vals, coords) = disk_system(12);
+        let re: Vec<f64> = vals.iter().map(|v| v.re).collect();
+        let mut checked = 0;
+        for ordering in [Some(&coords[..]), None] {
+            let spd =
+                SparseSpd::analyze_with(p.clone(), ordering, SupernodalThreshold::FORCE_SIMPLICIAL)
+                    .unwrap();
+            assert!(matches!(spd.symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_)));
+            // a complex system (its diagonal's reciprocal is faer's complex one)
+            let f = spd.factor(&vals).unwrap();
+            for seed in 0..3 {
+                let b: Vec<c64> = (0..p.n)
+                    .map(|i| c64::new((i as f64 * 0.37 + seed as f64).sin(), (i as f64 * 0.11).cos()))
+                    .collect();
+                let (mut ours, mut theirs) = (b.clone(), b.clone());
+                f.solve_in_place(&mut ours);
+                faer_solve(&f, &mut theirs);
+                for (a, b) in ours.iter().zip(&theirs) {
+                    assert_eq!((a.re.to_bits(), a.im.to_bits()), (b.re.to_bits(), b.im.to_bits()));
+                }
+                assert!(residual(&p, &vals, &ours, &b) < 1e-12);
+                checked += 1;
+            }
+            // and a real one
+            let f = spd.factor(&re).unwrap();
+            let b: Vec<f64> = (0..p.n).map(|i| (i as f64 * 0.29).cos()).collect();
+            let (mut ours, mut theirs) = (b.clone(), b.clone());
+            f.solve_in_place(&mut ours);
+            faer_solve(&f, &mut theirs);
+            let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&ours), bits(&theirs));
+            checked += 1;
+        }
+        assert_eq!(checked, 8);
     }
 
     #[test]
