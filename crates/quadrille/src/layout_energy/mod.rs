@@ -632,4 +632,4 @@ pub fn minimise(
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -11,7 +11,7 @@ use crate::methods::spline::{cone_core, layout_energy, ConeCore};
 
 /// A flat grid of n × n cells over the unit square, each split in two,
 /// mapped by `map`.
-fn grid(n: usize, map: impl Fn(f64, f64) -> [f64; 3]) -> Shell {
+pub(crate) fn grid(n: usize, map: impl Fn(f64, f64) -> [f64; 3]) -> Shell {
     let mut vertices = Vec::new();
     for j in 0..=n {
         for i in 0..=n {
@@ -32,7 +32,7 @@ fn grid(n: usize, map: impl Fn(f64, f64) -> [f64; 3]) -> Shell {
     }
 }
 
-fn core(shell: &Shell, cones: &[Cone]) -> ConeCore {
+pub(crate) fn core(shell: &Shell, cones: &[Cone]) -> ConeCore {
     let topo = shell.check().expect("a valid shell");
     cone_core(shell, &topo, cones).expect("the core runs")
 }
@@ -247,7 +247,7 @@ fn a_flat_square_with_four_corner_cones_is_already_feasible() {
 
 /// A house: the square [0, 10]² with a roof to (5, 15); its five corners
 /// are +1 cones and a vertex near the middle a −1 cone (Σ I = 4).
-fn house(n: usize) -> (Shell, Vec<Cone>) {
+pub(crate) fn house(n: usize) -> (Shell, Vec<Cone>) {
     let shell = grid(n, |s, t| {
         [
             10.0 * s,
@@ -317,7 +317,7 @@ fn a_house_with_an_interior_minus_one_cone_becomes_seamless() {
 }
 
 /// A flat ring of radii 1 and 2 with cones +1 and −1 on its middle circle.
-fn ring(rings: usize, sectors: usize) -> (Shell, Vec<Cone>) {
+pub(crate) fn ring(rings: usize, sectors: usize) -> (Shell, Vec<Cone>) {
     let mut vertices = Vec::new();
     for i in 0..=rings {
         for j in 0..sectors {

@@ -4,35 +4,8 @@
 //! with cones ±1 (Fig. 3/8).
 
 use super::*;
+use crate::layout_energy::tests::{core, grid, house, ring};
 use crate::methods::spline::{cone_core, layout_energy, ConeCore};
-
-/// A flat grid of n × n cells over the unit square, each split in two,
-/// mapped by `map`.
-fn grid(n: usize, map: impl Fn(f64, f64) -> [f64; 3]) -> Shell {
-    let mut vertices = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            vertices.push(map(i as f64 / n as f64, j as f64 / n as f64));
-        }
-    }
-    let id = |i: usize, j: usize| j * (n + 1) + i;
-    let mut triangles = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    Shell {
-        vertices,
-        triangles,
-    }
-}
-
-fn core(shell: &Shell, cones: &[Cone]) -> ConeCore {
-    let topo = shell.check().expect("a valid shell");
-    cone_core(shell, &topo, cones).expect("the core runs")
-}
 
 fn patches(core: &ConeCore) -> PatchLayout {
     let map = layout_energy(core).expect("the energy converges");
@@ -68,28 +41,6 @@ fn a_square_with_four_corner_cones_is_one_patch() {
     layout.check().expect("one quad");
 }
 
-/// A house: the square [0, 10]² with a roof to (5, 15); its five corners
-/// are +1 cones and a vertex near the middle a −1 cone (Σ I = 4).
-fn house(n: usize) -> (Shell, Vec<Cone>) {
-    let shell = grid(n, |s, t| {
-        [
-            10.0 * s,
-            10.0 * t + 5.0 * t * (1.0 - (2.0 * s - 1.0).abs()),
-            0.0,
-        ]
-    });
-    let id = |i: usize, j: usize| j * (n + 1) + i;
-    let mut cones: Vec<Cone> = [id(0, 0), id(n, 0), id(n, n), id(n / 2, n), id(0, n)]
-        .iter()
-        .map(|&vertex| Cone { vertex, index: 1 })
-        .collect();
-    cones.push(Cone {
-        vertex: id(n / 2 - 1, n / 2 - 1),
-        index: -1,
-    });
-    (shell, cones)
-}
-
 #[test]
 fn a_house_with_one_interior_minus_one_cone_is_five_quads() {
     let (shell, cones) = house(12);
@@ -106,43 +57,6 @@ fn a_house_with_one_interior_minus_one_cone_is_five_quads() {
     assert_eq!(layout.patches.len(), 5);
     layout.check().expect("five quads");
     assert_eq!(layout.quads(), 5);
-}
-
-/// A flat ring of radii 1 and 2 with cones +1 and −1 on its middle circle.
-fn ring(rings: usize, sectors: usize) -> (Shell, Vec<Cone>) {
-    let mut vertices = Vec::new();
-    for i in 0..=rings {
-        for j in 0..sectors {
-            let t = std::f64::consts::TAU * j as f64 / sectors as f64;
-            let r = 1.0 + i as f64 / rings as f64;
-            vertices.push([r * t.cos(), r * t.sin(), 0.0]);
-        }
-    }
-    let id = |i: usize, j: usize| i * sectors + j % sectors;
-    let mut triangles = Vec::new();
-    for i in 0..rings {
-        for j in 0..sectors {
-            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    let cones = vec![
-        Cone {
-            vertex: id(rings / 2, 0),
-            index: 1,
-        },
-        Cone {
-            vertex: id(rings / 2, sectors / 2),
-            index: -1,
-        },
-    ];
-    (
-        Shell {
-            vertices,
-            triangles,
-        },
-        cones,
-    )
 }
 
 #[test]
