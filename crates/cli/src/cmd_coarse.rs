@@ -59,7 +59,6 @@ fn options(args: &MeshArgs) -> CoarseOptions {
         layout: LayoutOptions {
             alpha_degrees: c.alpha.unwrap_or(d.layout.alpha_degrees),
             ilp_time_limit: c.ilp_time_limit.unwrap_or(d.layout.ilp_time_limit),
-            exit_cut_rounds: c.exit_cuts.unwrap_or(d.layout.exit_cut_rounds),
         },
     }
 }
@@ -198,8 +197,6 @@ fn json_report(r: &CoarseReport, s: &HighOrderStats, t_load: f64) -> serde_json:
         "refused": l.refused,
         "round_figures": l.round_figures,
         "first_round_causes": l.first_round_causes,
-        "cut_figures": l.cut_figures,
-        "exit_cuts": l.exit_cuts,
         "predicted_blocks": l.predicted_blocks,
         "order": s.order,
         "invalid_elements": s.invalid_elements,

@@ -313,9 +313,6 @@ pub struct CoarseArgs {
     /// coarse: time limit of the integer program, seconds (0: keep the input layout) [default: 60].
     #[arg(long, value_name = "S")]
     ilp_time_limit: Option<f64>,
-    /// coarse: re-solves, in all, with cuts against layout vertices short of exits (0: none) [default: 0].
-    #[arg(long, value_name = "N")]
-    exit_cuts: Option<usize>,
     /// coarse: start from this all-quad MSH mesh of the same model instead of meshing it.
     #[arg(long, value_name = "F.msh")]
     from_mesh: Option<PathBuf>,
@@ -339,7 +336,6 @@ impl CoarseArgs {
             (self.order.is_some(), "--order"),
             (self.alpha.is_some(), "--alpha"),
             (self.ilp_time_limit.is_some(), "--ilp-time-limit"),
-            (self.exit_cuts.is_some(), "--exit-cuts"),
             (self.from_mesh.is_some(), "--from-mesh"),
             (self.layout.is_some(), "--layout"),
             (self.fine.is_some(), "--fine"),

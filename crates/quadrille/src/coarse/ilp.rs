@@ -33,9 +33,6 @@ pub(crate) enum RowKind {
     /// Ours: an arc whose collapse gave a layout that failed its checks,
     /// kept at length ≥ 1.
     Repair,
-    /// Ours: a cut `Σ q ≥ 1` over the collapsed arcs of a merged group that
-    /// was short of exits ([`super::layout::short_groups`]).
-    Exits,
 }
 
 /// One row: `Σ coeff · q_var  (= 0 | ≥ rhs)`.
@@ -119,9 +116,7 @@ impl Program {
 }
 
 /// Builds the program; the arcs in `fixed_arcs` keep their input length,
-/// those in `kept_open` a length ≥ 1, and each arc set of `cuts` a total
-/// length ≥ 1.
-#[allow(clippy::too_many_arguments)]
+/// those in `kept_open` a length ≥ 1.
 pub(crate) fn build_program(
     mesh: &QuadMesh,
     conn: &Connectivity,
@@ -130,7 +125,6 @@ pub(crate) fn build_program(
     tan_alpha: f64,
     fixed_arcs: &HashSet<u32>,
     kept_open: &HashSet<u32>,
-    cuts: &[Vec<u32>],
 ) -> Program {
     let na = tm.arcs.len();
     // single arcs of opposite sides share a variable
@@ -203,10 +197,6 @@ pub(crate) fn build_program(
     }
     for &a in kept_open {
         add(RowKind::Repair, &[(a, 1)], Some(1));
-    }
-    for cut in cuts {
-        let arcs: Vec<(u32, i32)> = cut.iter().map(|&a| (a, 1)).collect();
-        add(RowKind::Exits, &arcs, Some(1));
     }
     let mut rows: Vec<Row> = rows.into_iter().collect();
     rows.sort_by(|a, b| (a.kind, &a.coeffs, a.at_least).cmp(&(b.kind, &b.coeffs, b.at_least)));

@@ -11,9 +11,9 @@
 //! inside the block's face.
 
 use super::block_layout::{Block, BlockLayout, LayoutEdge};
-use super::centres::{deficits, describe_short, recentre};
+use super::centres::{deficits, recentre};
 use super::connectivity::Connectivity;
-use super::tmesh::{inner_position, PatchShape, TMesh};
+use super::tmesh::{PatchShape, SideArc, TMesh};
 use geometry::{vec3, CurveId, FaceId};
 use mesh::{NodeClass, QuadMesh};
 use std::cmp::Reverse;
@@ -99,6 +99,21 @@ impl Points {
     }
 }
 
+/// Input position along a side of quantized position `t` (piecewise linear
+/// per arc, rounded).
+fn side_input_position(tm: &TMesh, q: &[u32], side: &[SideArc], t: u32) -> u32 {
+    let (mut cq, mut cl) = (0u32, 0u32);
+    for &(a, _) in side {
+        let (qa, la) = (q[a as usize], tm.arcs[a as usize].len());
+        if qa > 0 && t <= cq + qa {
+            return cl + ((t - cq) as f64 * la as f64 / qa as f64).round() as u32;
+        }
+        cq += qa;
+        cl += la;
+    }
+    cl
+}
+
 /// One cell before the layout is numbered: corner points, face, and for each
 /// side the CAD curve it lies on.
 struct Cell {
@@ -114,29 +129,6 @@ pub(crate) fn build_layout(
     conn: &Connectivity,
     tm: &TMesh,
     q: &[u32],
-) -> Result<BlockLayout, LayoutFailure> {
-    build(mesh, conn, tm, q, None)
-}
-
-/// The layout vertices of arc lengths `q` that are short of exits after
-/// re-centring ([`deficits`]), each as the collapsed arcs (`q = 0`) with an
-/// end in its merged group, before any path is routed; `None` when the
-/// layout fails an earlier check (merges). Ours (issue 29): such a layout has
-/// no placement, so the integer program is asked again with one of those
-/// arcs open (a cut), instead of placing and repairing.
-pub(crate) fn short_groups(mesh: &QuadMesh, conn: &Connectivity, tm: &TMesh, q: &[u32]) -> Option<Vec<Vec<u32>>> {
-    let mut groups = Vec::new();
-    build(mesh, conn, tm, q, Some(&mut groups)).ok().map(|_| groups)
-}
-
-/// [`build_layout`]; with `probe`, stops before the paths and lists the
-/// short groups there ([`short_groups`]).
-fn build(
-    mesh: &QuadMesh,
-    conn: &Connectivity,
-    tm: &TMesh,
-    q: &[u32],
-    probe: Option<&mut Vec<Vec<u32>>>,
 ) -> Result<BlockLayout, LayoutFailure> {
     let mut pts =
         Points { parent: Vec::new(), anchor: Vec::new(), node_point: HashMap::new(), arc_base: Vec::new() };
@@ -170,10 +162,11 @@ fn build(
                 // inner points anchor on the grid; boundary points take their
                 // arc point's anchor through the union below
                 for j in 0..=q2 {
+                    let jj = side_input_position(tm, q, &sides[1], j);
                     for i in 0..=q1 {
+                        let ii = side_input_position(tm, q, &sides[0], i);
                         let inner = i > 0 && j > 0 && i < q1 && j < q2;
                         pts.push(if inner {
-                            let [ii, jj] = inner_position(tm, q, sides, *dims, i, j);
                             grid[ii as usize + (dims[0] as usize + 1) * jj as usize]
                         } else {
                             NO_ANCHOR
@@ -249,7 +242,7 @@ fn build(
             }
         }
     }
-    assemble(mesh, conn, tm, q, &mut pts, &cells, probe)
+    assemble(mesh, conn, tm, q, &mut pts, &cells)
 }
 
 /// Numbers the groups, checks the cells and edges, places the vertices and
@@ -261,7 +254,6 @@ fn assemble(
     q: &[u32],
     pts: &mut Points,
     cells: &[Cell],
-    probe: Option<&mut Vec<Vec<u32>>>,
 ) -> Result<BlockLayout, LayoutFailure> {
     let mut fail = LayoutFailure::default();
     // collapsed arcs by end node, to un-merge a failing group
@@ -407,18 +399,7 @@ fn assemble(
     let moved = recentre(mesh, conn, &mut layout, &edge_curve, &edge_face, &group_anchors);
     let short = deficits(mesh, conn, &layout, &edge_curve, &edge_face);
     if moved > 0 || !short.is_empty() {
-        tracing::debug!("coarse: {moved} layout vertices re-centred, {} still short of exits", short.len());
-    }
-    if let Some(groups) = probe {
-        for &(v, k, m) in &short {
-            let mut g = LayoutFailure::default();
-            separate(&group_anchors(v), &mut g);
-            describe_short(mesh, conn, &layout, v, (k, m), group_anchors(v).len(), g.separate.len());
-            let mut arcs: Vec<u32> = g.separate.into_iter().collect();
-            arcs.sort_unstable();
-            groups.push(arcs);
-        }
-        return Ok(layout);
+        tracing::debug!("coarse: {moved} layout vertices re-centred, {} still short of input edges", short.len());
     }
     let failed = edge_paths(mesh, conn, &mut layout, &edge_curve, &edge_face, &mut fail);
     // hold the arcs of the patches the failed edges' blocks came from, and

@@ -65,13 +65,6 @@ pub const REPAIR_ROUNDS: usize = 6;
 /// answer, while the count drops ([`ilp::area_weights`]; ours).
 pub const AREA_ROUNDS: usize = 4;
 
-/// Re-solves, in all, with cuts against merged groups short of exits
-/// ([`layout::short_groups`], [`ilp::RowKind::Exits`]; ours, issue 29), when
-/// asked for (`--exit-cuts`; the default is none: measured on M1–M2, the
-/// cuts move the short vertices elsewhere instead of removing them, and
-/// P_final rises — BENCHMARKS.md, ninth session).
-pub const EXIT_CUT_ROUNDS: usize = 10;
-
 /// The layout stages' options.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LayoutOptions {
@@ -79,14 +72,11 @@ pub struct LayoutOptions {
     pub alpha_degrees: f64,
     /// HiGHS time limit, seconds (0: no solve, `q = l`).
     pub ilp_time_limit: f64,
-    /// Re-solves, in all, with exit cuts (0: none, the default; e.g.
-    /// [`EXIT_CUT_ROUNDS`]).
-    pub exit_cut_rounds: usize,
 }
 
 impl Default for LayoutOptions {
     fn default() -> Self {
-        LayoutOptions { alpha_degrees: 45.0, ilp_time_limit: 60.0, exit_cut_rounds: 0 }
+        LayoutOptions { alpha_degrees: 45.0, ilp_time_limit: 60.0 }
     }
 }
 
@@ -126,11 +116,6 @@ pub struct LayoutReport {
     pub round_figures: Vec<(usize, usize)>,
     /// The first round's problems by cause ([`layout::LayoutFailure::causes`]).
     pub first_round_causes: BTreeMap<String, usize>,
-    /// Per solve, in order: (blocks Eq. (5) predicts, layout vertices short
-    /// of exits before the paths; [`layout::short_groups`]).
-    pub cut_figures: Vec<(usize, usize)>,
-    /// Exit cuts added ([`EXIT_CUT_ROUNDS`]).
-    pub exit_cuts: usize,
     /// Seconds for the traces, T-mesh, program and layout (solver excluded).
     pub layout_seconds: f64,
 }
@@ -172,8 +157,6 @@ pub(crate) fn coarse_layout(
         refused: Vec::new(),
         round_figures: Vec::new(),
         first_round_causes: BTreeMap::new(),
-        cut_figures: Vec::new(),
-        exit_cuts: 0,
         layout_seconds: 0.0,
     };
     let mut fixed: HashSet<u32> = HashSet::new();
@@ -182,46 +165,32 @@ pub(crate) fn coarse_layout(
     let identity: Vec<u32> = tm.arcs.iter().map(|a| a.len()).collect();
     let mut result = None;
     let last = REPAIR_ROUNDS + LAYOUT_ROUNDS;
-    let mut cuts: Vec<Vec<u32>> = Vec::new();
-    let mut cut_rounds = 0;
     for round in 0..=last {
+        let prog = ilp::build_program(mesh, &conn, &traces, &tm, alpha.tan(), &fixed, &kept_open);
         let (q, solve) = if round < last && hold_rounds < LAYOUT_ROUNDS {
-            let mut seconds = 0.0;
-            loop {
-                let prog = ilp::build_program(mesh, &conn, &traces, &tm, alpha.tan(), &fixed, &kept_open, &cuts);
-                if round == 0 && report.variables == 0 {
-                    report.variables = prog.num_vars();
-                    report.rows =
-                        prog.row_counts().into_iter().map(|(k, n)| (row_name(k).to_string(), n)).collect();
+            let (mut qv, mut solve) = ilp::solve(&prog, opts.ilp_time_limit);
+            if solve.status == SolveStatus::Optimal {
+                let mut blocks = predicted_blocks(&tm, &prog.arc_lengths(&qv));
+                for _ in 0..AREA_ROUNDS {
+                    let w = ilp::area_weights(&prog, &tm, &prog.arc_lengths(&qv));
+                    let (q2, s2) = ilp::solve_weighted(&prog, &w, &qv, opts.ilp_time_limit);
+                    solve.seconds += s2.seconds;
+                    let b2 = predicted_blocks(&tm, &prog.arc_lengths(&q2));
+                    if s2.status != SolveStatus::Optimal || b2 >= blocks {
+                        break;
+                    }
+                    (qv, blocks) = (q2, b2);
                 }
-                let (qv, mut solve) = solve_program(&prog, &tm, opts.ilp_time_limit);
-                seconds += solve.seconds;
-                solve.seconds = seconds;
-                let q = prog.arc_lengths(&qv);
-                if solve.status != SolveStatus::Optimal {
-                    break (q, solve);
-                }
-                let short = layout::short_groups(mesh, &conn, &tm, &q).unwrap_or_default();
-                report.cut_figures.push((predicted_blocks(&tm, &q), short.len()));
-                let new: Vec<Vec<u32>> =
-                    short.into_iter().filter(|g| !g.is_empty() && !cuts.contains(g)).collect();
-                tracing::info!(
-                    "coarse: solve {} ({} blocks predicted): {} new exit cuts",
-                    report.cut_figures.len(),
-                    predicted_blocks(&tm, &q),
-                    new.len()
-                );
-                if new.is_empty() || cut_rounds >= opts.exit_cut_rounds {
-                    break (q, solve);
-                }
-                cut_rounds += 1;
-                report.exit_cuts += new.len();
-                cuts.extend(new);
             }
+            (prog.arc_lengths(&qv), solve)
         } else {
             let why = format!("{LAYOUT_ROUNDS} rounds of refused layouts");
             (identity.clone(), ilp::SolveReport { status: SolveStatus::Identity(why), seconds: 0.0 })
         };
+        if round == 0 {
+            report.variables = prog.num_vars();
+            report.rows = prog.row_counts().into_iter().map(|(k, n)| (row_name(k).to_string(), n)).collect();
+        }
         report.ilp_seconds += solve.seconds;
         report.ilp_status = match &solve.status {
             SolveStatus::Optimal => "optimal".to_string(),
@@ -271,27 +240,6 @@ pub(crate) fn coarse_layout(
     Ok((layout, report))
 }
 
-/// Solves `prog` for objective (6), then re-solves with weights that
-/// linearize the block count (5) while the count drops ([`AREA_ROUNDS`]);
-/// the answer per variable and the solve's figures (seconds of all solves).
-fn solve_program(prog: &ilp::Program, tm: &tmesh::TMesh, time_limit: f64) -> (Vec<u32>, ilp::SolveReport) {
-    let (mut qv, mut solve) = ilp::solve(prog, time_limit);
-    if solve.status == SolveStatus::Optimal {
-        let mut blocks = predicted_blocks(tm, &prog.arc_lengths(&qv));
-        for _ in 0..AREA_ROUNDS {
-            let w = ilp::area_weights(prog, tm, &prog.arc_lengths(&qv));
-            let (q2, s2) = ilp::solve_weighted(prog, &w, &qv, time_limit);
-            solve.seconds += s2.seconds;
-            let b2 = predicted_blocks(tm, &prog.arc_lengths(&q2));
-            if s2.status != SolveStatus::Optimal || b2 >= blocks {
-                break;
-            }
-            (qv, blocks) = (q2, b2);
-        }
-    }
-    (qv, solve)
-}
-
 /// Eq. (5): `Σ Q1 · Q2` over grid patches, plus the quads of frozen ones.
 fn predicted_blocks(tm: &tmesh::TMesh, q: &[u32]) -> usize {
     tm.patches
@@ -314,6 +262,5 @@ fn row_name(k: RowKind) -> &'static str {
         RowKind::Geometric => "geometric",
         RowKind::Curve => "curve",
         RowKind::Repair => "repair",
-        RowKind::Exits => "exit cuts",
     }
 }

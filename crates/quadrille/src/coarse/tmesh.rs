@@ -90,38 +90,6 @@ impl TMesh {
     }
 }
 
-/// Input position along a side of quantized position `t`: the input node
-/// the arc's own point there stands for (each arc's `k`-th point is its
-/// node `round(k · l / q)` from its first node, whichever way the side runs
-/// it), so that a grid's inner points line up with its sides' points.
-fn side_input_position(tm: &TMesh, q: &[u32], side: &[SideArc], t: u32) -> u32 {
-    let (mut cq, mut cl) = (0u32, 0u32);
-    for &(a, rev) in side {
-        let (qa, la) = (q[a as usize], tm.arcs[a as usize].len());
-        if qa > 0 && t <= cq + qa {
-            let at = |k: u32| (k as f64 * la as f64 / qa as f64).round() as u32;
-            return cl + if rev { la - at(qa - (t - cq)) } else { at(t - cq) };
-        }
-        cq += qa;
-        cl += la;
-    }
-    cl
-}
-
-/// The input grid position of inner point `(i, j)` of a grid patch
-/// quantized to `q1 × q2` with input dims `dims`: between the points of the
-/// opposite sides at the same `i` (and `j`), so that the rows and columns
-/// next to a side meet that side's points (ours; the paper places the
-/// vertices anywhere on their group).
-pub(crate) fn inner_position(tm: &TMesh, q: &[u32], sides: &[Vec<SideArc>; 4], dims: [u32; 2], i: u32, j: u32) -> [u32; 2] {
-    let (q1, q2) = (sides[0].iter().map(|&(a, _)| q[a as usize]).sum::<u32>(), sides[1].iter().map(|&(a, _)| q[a as usize]).sum::<u32>());
-    let pos = |s: usize, t: u32| side_input_position(tm, q, &sides[s], t) as f64;
-    let (p0, p2) = (pos(0, i), dims[0] as f64 - pos(2, q1 - i));
-    let (p3, p1) = (dims[1] as f64 - pos(3, q2 - j), pos(1, j));
-    let (s, r) = (j as f64 / q2 as f64, i as f64 / q1 as f64);
-    [(p0 + (p2 - p0) * s).round() as u32, (p3 + (p1 - p3) * r).round() as u32]
-}
-
 /// Builds the T-mesh of `traces` on `mesh`.
 pub(crate) fn build_tmesh(mesh: &QuadMesh, conn: &Connectivity, traces: &Traces) -> TMesh {
     let nn = mesh.nodes.len();
