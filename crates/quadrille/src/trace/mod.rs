@@ -504,9 +504,7 @@ pub fn trace_separatrices(
                 o.end == TraceEnd::Cone(t.cone)
                     && t.end == TraceEnd::Cone(o.cone)
                     && (o.length - t.length).abs() <= 1e-3 * o.length.max(t.length)
-                    && ((m[0] - mid[0]).powi(2) + (m[1] - mid[1]).powi(2) + (m[2] - mid[2]).powi(2))
-                        .sqrt()
-                        <= 1e-3 * o.length.max(t.length)
+                    && geometry::vec3::dist(*m, mid) <= 1e-3 * o.length.max(t.length)
             });
             if !duplicate {
                 for (si, s) in t.segments.iter().enumerate() {

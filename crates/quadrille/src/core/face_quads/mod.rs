@@ -235,12 +235,42 @@ impl FaceQuads {
     /// The cyclic star of a vertex with a closed fan: sectors `(c, n_i, o_i, n_{i+1})`
     /// in counter-clockwise order, as quad ids (each rotated to start at `c`).
     /// `None` when the fan is not one closed disk (boundary vertices).
+    ///
+    /// Each sector's successor is the fan's first quad (in fan order) whose
+    /// first link is the sector's last. A fan of more than
+    /// [`STAR_SCAN_MAX`] quads finds it in a sorted index (k log k instead
+    /// of k² rotations: a vertex of valence 100–300 in a triangle split of a
+    /// toothed face made the star 71 % of t_gear_60_teeth's regularization),
+    /// with the same ties, so the same star.
     pub fn ordered_star(&self, c: u32) -> Option<Vec<(u32, [u32; 4])>> {
         let fan = &self.verts[c as usize].fan;
-        if fan.len() > STAR_SCAN_MAX {
-            return self.ordered_star_indexed(c);
-        }
         let first = *fan.iter().min()?;
+        // (first link, position in the fan, quad), sorted, for large fans
+        let index: Option<Vec<(u32, usize, u32)>> = (fan.len() > STAR_SCAN_MAX).then(|| {
+            let mut ix: Vec<(u32, usize, u32)> = fan
+                .iter()
+                .enumerate()
+                .filter_map(|(i, &p)| self.rotated(p, c).map(|s| (s[1], i, p)))
+                .collect();
+            ix.sort_unstable_by_key(|e| (e.0, e.1));
+            ix
+        });
+        let successor = |q: u32, link: u32| -> Option<u32> {
+            match &index {
+                Some(ix) => {
+                    let start = ix.partition_point(|e| e.0 < link);
+                    ix[start..]
+                        .iter()
+                        .take_while(|e| e.0 == link)
+                        .find(|e| e.2 != q)
+                        .map(|e| e.2)
+                }
+                None => fan
+                    .iter()
+                    .copied()
+                    .find(|&p| p != q && self.rotated(p, c).is_some_and(|s| s[1] == link)),
+            }
+        };
         let mut out = Vec::with_capacity(fan.len());
         let mut q = first;
         loop {
@@ -250,48 +280,7 @@ impl FaceQuads {
                 return None;
             }
             // next sector: the quad holding c → r[3]
-            let next = fan
-                .iter()
-                .copied()
-                .find(|&p| p != q && self.rotated(p, c).is_some_and(|s| s[1] == r[3]))?;
-            if next == first {
-                break;
-            }
-            q = next;
-        }
-        (out.len() == fan.len()).then_some(out)
-    }
-
-    /// [`FaceQuads::ordered_star`] of a vertex with a large fan, with the same
-    /// result: each sector's successor looked up by its first link in a
-    /// sorted index (ties in fan order, as the linear scan takes them), so
-    /// the star costs k log k instead of k² rotations (a vertex of valence
-    /// 100–300 in a triangle split of a toothed face made the star 71 % of
-    /// t_gear_60_teeth's regularization).
-    fn ordered_star_indexed(&self, c: u32) -> Option<Vec<(u32, [u32; 4])>> {
-        let fan = &self.verts[c as usize].fan;
-        let first = *fan.iter().min()?;
-        // (first link, position in the fan, quad, rotated quad)
-        let mut index: Vec<(u32, usize, u32, [u32; 4])> = fan
-            .iter()
-            .enumerate()
-            .filter_map(|(i, &p)| self.rotated(p, c).map(|s| (s[1], i, p, s)))
-            .collect();
-        index.sort_unstable_by_key(|e| (e.0, e.1));
-        let mut out = Vec::with_capacity(fan.len());
-        let mut q = first;
-        loop {
-            let r = self.rotated(q, c)?;
-            out.push((q, r));
-            if out.len() > fan.len() {
-                return None;
-            }
-            let start = index.partition_point(|e| e.0 < r[3]);
-            let next = index[start..]
-                .iter()
-                .take_while(|e| e.0 == r[3])
-                .find(|e| e.2 != q)
-                .map(|e| e.2)?;
+            let next = successor(q, r[3])?;
             if next == first {
                 break;
             }
