@@ -245,8 +245,10 @@ pub const WORK_PER_QUAD: u64 = 250_000;
 /// (0.22 µs per unit on ball_bearing_8_22_7). The twelve balls of that part
 /// (sphere faces of 430–520 quads with two poles) used 30–33 M each, 83 s of
 /// CPU for the part; the largest use of any other face measured on the
-/// industrial corpus is 21.7 M (button_head_collar_screw_m5x12 face 12), so
-/// the bound acts on no other face measured.
+/// industrial corpus is 21.7 M (button_head_collar_screw_m5x12 face 12).
+/// Yet one default-method mesh of the 74 measured changed with this bound's
+/// branch (i05o_m5: 3734 → 3714 quads, irregular 2.58 → 1.86 %), by this
+/// bound or by the star's index: not isolated (BENCHMARKS.md, ninth session).
 pub const WORK_PER_FACE: u64 = 24_000_000;
 
 /// The quad count a face should approach during regularization.
